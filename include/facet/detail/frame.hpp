@@ -1,0 +1,76 @@
+// facet internals: the types handed from stage to stage inside one draw call.
+//   vertex stage  -> ClipVertices   (pos_clip + varyings per vertex)
+//   front end     -> TriangleSetup  (assembled, clipped, culled, projected, snapped, set up) + bins
+//   coverage      -> TileCoverage   (one bit per pixel of a tile)
+//   fragment stage (shade.hpp)      -> Framebuffer pixels
+// Shared by the compiled stages in src/ and the shader-templated ones in the headers.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "facet/math/vec.hpp"
+#include "facet/pipeline.hpp"
+
+namespace facet::detail {
+
+// 8 sub-pixel bits: vertices snap to 1/256 pixel, as in llvmpipe and D3D. Together with
+// k_max_target_size and the guard band this keeps coordinates within 2^22 and edge steps in 32 bits.
+constexpr int k_subpixel_bits = 8;
+constexpr int k_subpixel_one = 1 << k_subpixel_bits;
+
+// Screen-space x and y are clipped to within k_guard_band_pixels of the viewport centre. Triangles
+// reaching past the viewport but inside this band are rasterized without clipping (the bounding box
+// is clamped instead); only larger ones are cut. 8192 keeps |x| <= 16384 px = 2^22 in fixed point.
+constexpr float k_guard_band_pixels = 8192.0f;
+
+// Tiles are square; a row of coverage is one 64-bit word, so at most 64 pixels wide.
+constexpr int k_max_tile_size = 64;
+
+// Vertex stage output, structure of arrays: pos[i] and varyings[i * stride .. + stride).
+struct ClipVertices {
+    std::vector<Vec4> pos;
+    std::vector<float> varyings;
+    int stride = 0;
+    void resize(std::size_t n, int stride_) {
+        stride = stride_;
+        pos.resize(n);
+        varyings.resize(n * static_cast<std::size_t>(stride_));
+    }
+    const float* varyings_of(std::uint32_t i) const { return varyings.data() + static_cast<std::size_t>(i) * stride; }
+};
+
+// A triangle ready for rasterization. Edge i is e(ix, iy) = a*ix + b*iy + c in pixel units, where
+// (ix, iy) is a pixel index and its centre is (ix + 0.5, iy + 0.5); the pixel is covered when all
+// three are >= 0 (the top-left rule is folded into c). Attribute planes are evaluated relative to
+// (x0, y0), the first vertex, so precision does not depend on where the triangle is on screen.
+struct TriangleSetup {
+    std::int32_t a[3], b[3];         // |a|, |b| < 2^24: differences of snapped coordinates
+    std::int64_t c[3];
+    int min_x, min_y, max_x, max_y;  // inclusive pixel bounds, already clamped to the scissor
+    float x0, y0;
+    float z0, dzdx, dzdy;            // window depth, linear in screen space
+    float q0, dqdx, dqdy;            // q = 1/w, linear in screen space
+    float l1_0, dl1dx, dl1dy;        // barycentric b1 times q
+    float l2_0, dl2dx, dl2dy;        // barycentric b2 times q
+    std::uint32_t vertex[3];         // varyings: ClipVertices index, or k_clipped_bit | index into the clip extras
+    bool front_facing;
+};
+
+constexpr std::uint32_t k_clipped_bit = 0x80000000u;
+
+// One bit per pixel: rows[r] bit i is pixel (tile_x + i, tile_y + r).
+struct TileCoverage {
+    std::uint64_t rows[k_max_tile_size];
+    int first_row, last_row;  // rows outside [first_row, last_row] are empty (last < first: nothing)
+};
+
+struct PixelRect {
+    int x0, y0, x1, y1;  // half-open: [x0, x1) x [y0, y1)
+};
+
+// Coverage of one triangle within one tile (clamped to the triangle's bounds). Exact: integer
+// edge functions, top-left rule. Returns false when no pixel is covered.
+bool rasterize_tile(const TriangleSetup& tri, PixelRect tile, TileCoverage& out);
+
+}  // namespace facet::detail

@@ -1,0 +1,34 @@
+// facet internals: the front end of a draw call, compiled once (not per shader).
+// In: ClipVertices from the vertex stage and the draw's indices. Per triangle: assemble, reject
+// invalid, clip in homogeneous space, project (divide by w, keeping 1/w), snap to fixed point,
+// cull, set up edge functions and attribute planes, and bin into screen tiles.
+// Out: one FrontEndChunk per contiguous range of triangles; their order is submission order.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "facet/detail/frame.hpp"
+
+namespace facet::detail {
+
+struct FrontEndParams {
+    DrawState state;
+    PixelRect scissor;            // viewport clamped to the target
+    float vp_x, vp_y, vp_w, vp_h;  // the viewport, in pixels
+    int tile_size;
+    int tiles_x, tiles_y;
+};
+
+struct FrontEndChunk {
+    std::vector<TriangleSetup> triangles;
+    ClipVertices extras;                        // vertices made by clipping
+    std::vector<std::vector<std::uint32_t>> bins;  // per tile (row-major), indices into triangles
+    DrawStats stats;
+    void reset(std::size_t tile_count, int stride);
+};
+
+void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::size_t first_triangle,
+                   std::size_t end_triangle, const FrontEndParams& params, FrontEndChunk& out);
+
+}  // namespace facet::detail

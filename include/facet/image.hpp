@@ -1,0 +1,71 @@
+// facet: pixels. Image is plain RGBA8 data (what PNG files hold); Framebuffer is the render target:
+// RGBA8 colour plus a float depth buffer, row-major, first row at the top of the picture.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "facet/math/vec.hpp"
+
+namespace facet {
+
+struct Rgba8 {
+    std::uint8_t r = 0, g = 0, b = 0, a = 0;
+    friend constexpr bool operator==(Rgba8, Rgba8) = default;
+};
+
+// Converts a colour in [0, 1] to 8 bits per channel with rounding; out-of-range values are clamped
+// and NaN becomes 0, so no shader can write garbage.
+inline Rgba8 to_rgba8(Vec4 c) {
+    auto q = [](float v) -> std::uint8_t {
+        v = v > 0 ? v : 0;  // also maps NaN to 0
+        v = v < 1 ? v : 1;
+        return static_cast<std::uint8_t>(v * 255.0f + 0.5f);
+    };
+    return {q(c.x), q(c.y), q(c.z), q(c.w)};
+}
+
+inline Vec4 to_vec4(Rgba8 c) { return Vec4{c.r / 255.0f, c.g / 255.0f, c.b / 255.0f, c.a / 255.0f}; }
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<Rgba8> pixels;  // width * height, row-major, top row first
+    Rgba8& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
+    Rgba8 at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
+};
+
+// The largest width or height of a render target. Bounded so that snapped screen coordinates, with
+// the guard band around the viewport, fit in 24 bits (8 of them sub-pixel): see the rasterizer's
+// fixed-point notes in docs/architecture.md.
+constexpr int k_max_target_size = 8192;
+
+class Framebuffer {
+public:
+    // Throws FacetError unless 1 <= width, height <= k_max_target_size.
+    Framebuffer(int width, int height);
+
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+    void clear(Vec4 colour, float depth = 1.0f);
+    void clear_colour(Vec4 colour);
+    void clear_depth(float depth = 1.0f);
+
+    Rgba8* colour_data() { return colour_.data(); }
+    const Rgba8* colour_data() const { return colour_.data(); }
+    float* depth_data() { return depth_.data(); }
+    const float* depth_data() const { return depth_.data(); }
+
+    Rgba8 colour(int x, int y) const { return colour_[index(x, y)]; }
+    float depth(int x, int y) const { return depth_[index(x, y)]; }
+
+    Image to_image() const { return Image{width_, height_, colour_}; }
+
+private:
+    std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
+    int width_, height_;
+    std::vector<Rgba8> colour_;
+    std::vector<float> depth_;
+};
+
+}  // namespace facet

@@ -1,0 +1,25 @@
+// facet io: reading and writing image files. Writes are atomic: the data goes to a temporary file
+// in the same directory, which is renamed over the destination only when complete, so a failed or
+// interrupted write never leaves a partial file behind.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "facet/error.hpp"
+#include "facet/image.hpp"
+
+namespace facet {
+
+// RGBA8 PNG.
+Status write_png(const std::string& path, const Image& image);
+// 16-bit grayscale PNG of width * height values, first row at the top.
+Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values);
+// Any PNG, converted to RGBA8.
+Result<Image> read_png(const std::string& path);
+
+// Writes `bytes` to `path` through a temporary file and a rename.
+Status write_file_atomic(const std::string& path, const void* bytes, std::size_t size);
+
+}  // namespace facet

@@ -1,0 +1,119 @@
+// facet: what a draw call is made of. The fixed-function state (culling, depth, blending), the
+// varyings that flow from the vertex to the fragment stage, and the Shader concept: a shader is a
+// plain type with vertex() and fragment() members, so draw<Shader> inlines them into the pixel loop.
+#pragma once
+
+#include <array>
+#include <concepts>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <type_traits>
+
+#include "facet/math/vec.hpp"
+
+namespace facet {
+
+enum class CullMode { none, back, front };
+enum class FrontFace { ccw, cw };  // winding of front faces as the viewer sees them
+enum class DepthTest { never, less, lequal, equal, greater, always };
+enum class Blend { none, alpha };  // alpha: src * a + dst * (1 - a)
+
+// A rectangle of pixels; width == 0 means "the whole render target".
+struct Rect {
+    int x = 0, y = 0, width = 0, height = 0;
+};
+
+struct DrawState {
+    CullMode cull = CullMode::back;
+    FrontFace front_face = FrontFace::ccw;
+    DepthTest depth_test = DepthTest::less;
+    bool depth_write = true;
+    Blend blend = Blend::none;
+    Rect viewport;  // clip space maps onto this rectangle; pixels outside it are never written
+};
+
+// N floats that the vertex stage writes per vertex and the fragment stage receives interpolated
+// (perspective-correct) per pixel.
+template <int N>
+struct Varyings {
+    std::array<float, (N > 0 ? N : 1)> v{};
+    constexpr float& operator[](int i) { return v[static_cast<std::size_t>(i)]; }
+    constexpr float operator[](int i) const { return v[static_cast<std::size_t>(i)]; }
+    Vec2 vec2(int i) const { return {v[i], v[i + 1]}; }
+    Vec3 vec3(int i) const { return {v[i], v[i + 1], v[i + 2]}; }
+    Vec4 vec4(int i) const { return {v[i], v[i + 1], v[i + 2], v[i + 3]}; }
+    void set(int i, Vec2 a) { v[i] = a.x, v[i + 1] = a.y; }
+    void set(int i, Vec3 a) { v[i] = a.x, v[i + 1] = a.y, v[i + 2] = a.z; }
+    void set(int i, Vec4 a) { v[i] = a.x, v[i + 1] = a.y, v[i + 2] = a.z, v[i + 3] = a.w; }
+};
+
+// Everything the fragment stage knows about one pixel. ddx/ddy (the exact screen-space derivatives
+// of the perspective-correct varyings) are filled only for shaders that set k_derivatives = true;
+// they are what flat normals and texture mip selection need.
+template <int N>
+struct FragmentIn {
+    Varyings<N> v;
+    Varyings<N> ddx, ddy;
+    Vec2 pos_screen;   // pixel centre, origin top-left
+    float depth = 0;   // window depth in [0, 1]
+    bool front_facing = true;
+};
+
+namespace detail {
+template <class S>
+constexpr bool wants_derivatives() {
+    if constexpr (requires { S::k_derivatives; }) return S::k_derivatives;
+    return false;
+}
+}  // namespace detail
+
+// A shader type:
+//   static constexpr int k_varyings;                                   number of floats passed on
+//   Vec4 vertex(std::uint32_t index, Varyings<k_varyings>& out) const;  returns pos_clip
+//   fragment(const FragmentIn<k_varyings>& in) const  -> Vec4 colour, or std::optional<Vec4>
+//                                                         where nullopt discards the pixel
+// Optional: static constexpr bool k_derivatives = true; to receive in.ddx / in.ddy.
+template <class S>
+concept Shader = requires(const S& s, std::uint32_t index, Varyings<S::k_varyings>& out,
+                          const FragmentIn<S::k_varyings>& in) {
+    { S::k_varyings } -> std::convertible_to<int>;
+    { s.vertex(index, out) } -> std::same_as<Vec4>;
+    requires std::same_as<decltype(s.fragment(in)), Vec4> ||
+                 std::same_as<decltype(s.fragment(in)), std::optional<Vec4>>;
+};
+
+// A shader from two lambdas, for quick work:
+//   auto shader = make_shader<3>([&](uint32_t i, Varyings<3>& out) { ...; return pos_clip; },
+//                                [&](const FragmentIn<3>& in) { return Vec4{...}; });
+template <int N, class VertexFn, class FragmentFn>
+struct LambdaShader {
+    static constexpr int k_varyings = N;
+    VertexFn vertex_fn;
+    FragmentFn fragment_fn;
+    Vec4 vertex(std::uint32_t index, Varyings<N>& out) const { return vertex_fn(index, out); }
+    auto fragment(const FragmentIn<N>& in) const { return fragment_fn(in); }
+};
+
+template <int N, class VertexFn, class FragmentFn>
+LambdaShader<N, VertexFn, FragmentFn> make_shader(VertexFn vertex_fn, FragmentFn fragment_fn) {
+    return {std::move(vertex_fn), std::move(fragment_fn)};
+}
+
+// What to draw: `vertex_count` vertices, assembled into triangles by `indices` (three per
+// triangle) or, when indices is empty, by consecutive triples.
+struct DrawInput {
+    std::uint32_t vertex_count = 0;
+    std::span<const std::uint32_t> indices;
+};
+
+// What a draw call did, for tests, statistics and warnings.
+struct DrawStats {
+    std::uint64_t triangles_in = 0;        // assembled from the input
+    std::uint64_t triangles_invalid = 0;   // dropped: index out of range or non-finite position
+    std::uint64_t triangles_culled = 0;    // dropped: back/front face or zero area
+    std::uint64_t triangles_clipped = 0;   // crossed a clip plane and were cut
+    std::uint64_t triangles_rasterized = 0;  // set up and binned (after clipping)
+};
+
+}  // namespace facet

@@ -1,0 +1,139 @@
+// facet: the Renderer runs draw calls into a Framebuffer.
+//   vertex stage (shader.vertex per vertex, in parallel blocks)
+//   -> front end (assemble, clip, cull, project, snap, set up, bin; in parallel chunks)
+//   -> tiles (coverage, then shader.fragment per covered pixel; one thread per tile, in parallel)
+// Output is identical byte for byte whatever the thread count or tile size: per tile, triangles are
+// drawn in submission order, and every value is computed the same way wherever it is computed.
+// A Renderer keeps its scratch memory between draws, so steady-state drawing does not allocate.
+// It is not itself thread-safe: use one per thread that draws.
+#pragma once
+
+#include <algorithm>
+#include <memory>
+#include <vector>
+
+#include "facet/detail/front_end.hpp"
+#include "facet/detail/shade.hpp"
+#include "facet/detail/thread_pool.hpp"
+#include "facet/error.hpp"
+#include "facet/image.hpp"
+#include "facet/pipeline.hpp"
+
+namespace facet {
+
+struct RendererConfig {
+    int threads = 0;     // 0: one per core
+    int tile_size = 64;  // pixels, a power of two from 8 to 64
+};
+
+class Renderer {
+public:
+    explicit Renderer(RendererConfig config = {});
+
+    int threads() const { return pool_.size(); }
+    int tile_size() const { return tile_size_; }
+
+    // Draws triangles with `shader`. Invalid geometry (indices out of range, NaN or infinite
+    // positions, zero-area triangles, parts behind the eye) is dropped and counted in the returned
+    // stats; the rest renders. Throws FacetError for an empty or off-target viewport.
+    template <Shader S>
+    DrawStats draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader);
+
+private:
+    struct Plan {
+        detail::FrontEndParams params;
+        std::size_t triangle_count;
+        std::size_t chunk_count;
+    };
+    Plan plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input, int stride);
+    void run_front_end(const DrawInput& input, const Plan& plan);
+    DrawStats collect_stats(const Plan& plan) const;
+
+    template <class S, DepthTest D, bool W, Blend B>
+    void run_tiles(Framebuffer& target, const Plan& plan, const S& shader);
+
+    detail::ThreadPool pool_;
+    int tile_size_;
+    detail::ClipVertices vertices_;
+    std::vector<detail::FrontEndChunk> chunks_;
+};
+
+// ---- implementation of the templated stages ----
+
+namespace detail {
+// Vertices per task in the vertex stage: large enough to amortize scheduling, small enough to balance.
+constexpr std::size_t k_vertex_block = 4096;
+}  // namespace detail
+
+template <class S, DepthTest D, bool W, Blend B>
+void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader) {
+    const detail::FrontEndParams& p = plan.params;
+    const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
+    pool_.parallel_for(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, [&](std::size_t tile_index) {
+        const int tx = static_cast<int>(tile_index % p.tiles_x), ty = static_cast<int>(tile_index / p.tiles_x);
+        const detail::PixelRect tile{std::max(tx * p.tile_size, p.scissor.x0), std::max(ty * p.tile_size, p.scissor.y0),
+                                     std::min((tx + 1) * p.tile_size, p.scissor.x1),
+                                     std::min((ty + 1) * p.tile_size, p.scissor.y1)};
+        detail::TileCoverage coverage;
+        for (std::size_t c = 0; c < plan.chunk_count; ++c) {
+            const detail::FrontEndChunk& chunk = chunks_[c];
+            for (std::uint32_t index : chunk.bins[tile_index]) {
+                const detail::TriangleSetup& t = chunk.triangles[index];
+                if (!detail::rasterize_tile(t, tile, coverage)) continue;
+                const float* var[3];
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t ref = t.vertex[k];
+                    var[k] = (ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
+                                                           : vertices_.varyings_of(ref);
+                }
+                detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view);
+            }
+        }
+    });
+}
+
+template <Shader S>
+DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader) {
+    constexpr int N = S::k_varyings;
+    const Plan plan = plan_draw(target, state, input, N);
+
+    // Vertex stage.
+    vertices_.resize(input.vertex_count, N);
+    const std::size_t blocks = (input.vertex_count + detail::k_vertex_block - 1) / detail::k_vertex_block;
+    pool_.parallel_for(blocks, [&](std::size_t block) {
+        const std::size_t end = std::min<std::size_t>(input.vertex_count, (block + 1) * detail::k_vertex_block);
+        Varyings<N> out;
+        for (std::size_t i = block * detail::k_vertex_block; i < end; ++i) {
+            vertices_.pos[i] = shader.vertex(static_cast<std::uint32_t>(i), out);
+            float* dst = vertices_.varyings.data() + i * N;
+            for (int k = 0; k < N; ++k) dst[k] = out[k];
+        }
+    });
+
+    run_front_end(input, plan);
+
+    // Tiles: the depth function, depth writes and blending become template parameters once here.
+    auto with_blend = [&]<DepthTest D, bool W>() {
+        if (state.blend == Blend::alpha)
+            run_tiles<S, D, W, Blend::alpha>(target, plan, shader);
+        else
+            run_tiles<S, D, W, Blend::none>(target, plan, shader);
+    };
+    auto with_write = [&]<DepthTest D>() {
+        if (state.depth_write)
+            with_blend.template operator()<D, true>();
+        else
+            with_blend.template operator()<D, false>();
+    };
+    switch (state.depth_test) {
+        case DepthTest::never: break;
+        case DepthTest::less: with_write.template operator()<DepthTest::less>(); break;
+        case DepthTest::lequal: with_write.template operator()<DepthTest::lequal>(); break;
+        case DepthTest::equal: with_write.template operator()<DepthTest::equal>(); break;
+        case DepthTest::greater: with_write.template operator()<DepthTest::greater>(); break;
+        case DepthTest::always: with_write.template operator()<DepthTest::always>(); break;
+    }
+    return collect_stats(plan);
+}
+
+}  // namespace facet

@@ -1,0 +1,40 @@
+// facet image: the render target (RGBA8 colour + float depth) and error names.
+#include <algorithm>
+#include <string>
+
+#include "facet/error.hpp"
+#include "facet/image.hpp"
+
+namespace facet {
+
+const char* to_string(ErrorCode code) {
+    switch (code) {
+        case ErrorCode::invalid_argument: return "invalid argument";
+        case ErrorCode::io: return "i/o error";
+        case ErrorCode::bad_format: return "bad format";
+        case ErrorCode::unsupported: return "unsupported";
+        case ErrorCode::limit_exceeded: return "limit exceeded";
+    }
+    return "error";
+}
+
+Framebuffer::Framebuffer(int width, int height) : width_(width), height_(height) {
+    if (width < 1 || height < 1 || width > k_max_target_size || height > k_max_target_size)
+        throw FacetError(Error{ErrorCode::invalid_argument,
+                               "Framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
+                                   " is outside 1.." + std::to_string(k_max_target_size)});
+    const std::size_t n = static_cast<std::size_t>(width) * height;
+    colour_.resize(n);
+    depth_.assign(n, 1.0f);
+}
+
+void Framebuffer::clear(Vec4 colour, float depth) {
+    clear_colour(colour);
+    clear_depth(depth);
+}
+
+void Framebuffer::clear_colour(Vec4 colour) { std::fill(colour_.begin(), colour_.end(), to_rgba8(colour)); }
+
+void Framebuffer::clear_depth(float depth) { std::fill(depth_.begin(), depth_.end(), depth); }
+
+}  // namespace facet

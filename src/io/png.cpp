@@ -1,0 +1,127 @@
+// facet io: PNG encode/decode with libspng, and atomic file writes.
+#include <spng.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+
+#include "facet/io.hpp"
+
+namespace facet {
+namespace {
+
+Error io_error(const std::string& path, const std::string& what) {
+    return Error{ErrorCode::io, path + ": " + what};
+}
+
+struct SpngDeleter {
+    void operator()(spng_ctx* ctx) const { spng_ctx_free(ctx); }
+};
+using SpngContext = std::unique_ptr<spng_ctx, SpngDeleter>;
+
+// Encodes raw rows with the given IHDR into PNG bytes in memory.
+Result<std::vector<unsigned char>> encode(const std::string& path, spng_ihdr ihdr, const void* data, std::size_t size) {
+    SpngContext ctx(spng_ctx_new(SPNG_CTX_ENCODER));
+    if (!ctx) return io_error(path, "out of memory creating the PNG encoder");
+    spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1);
+    int err = spng_set_ihdr(ctx.get(), &ihdr);
+    if (!err) err = spng_encode_image(ctx.get(), data, size, SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
+    if (err) return io_error(path, std::string("PNG encoding failed: ") + spng_strerror(err));
+    std::size_t png_size = 0;
+    void* png = spng_get_png_buffer(ctx.get(), &png_size, &err);
+    if (!png || err) return io_error(path, std::string("PNG encoding failed: ") + spng_strerror(err));
+    std::vector<unsigned char> bytes(static_cast<unsigned char*>(png), static_cast<unsigned char*>(png) + png_size);
+    std::free(png);
+    return bytes;
+}
+
+}  // namespace
+
+Status write_file_atomic(const std::string& path, const void* bytes, std::size_t size) {
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    // Same directory as the target, so the rename cannot cross file systems.
+    std::random_device rd;
+    const fs::path temp = target.parent_path() /
+                          (target.filename().string() + ".tmp" + std::to_string(rd() % 1000000));
+    {
+        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+        if (!out) return io_error(path, std::string("cannot create the file: ") + std::strerror(errno));
+        out.write(static_cast<const char*>(bytes), static_cast<std::streamsize>(size));
+        out.flush();
+        if (!out) {
+            std::error_code ignored;
+            fs::remove(temp, ignored);
+            return io_error(path, "write failed (disk full?)");
+        }
+    }
+    std::error_code ec;
+    fs::rename(temp, target, ec);
+    if (ec) {
+        std::error_code ignored;
+        fs::remove(temp, ignored);
+        return io_error(path, "cannot move the finished file into place: " + ec.message());
+    }
+    return Ok{};
+}
+
+Status write_png(const std::string& path, const Image& image) {
+    if (image.width <= 0 || image.height <= 0 ||
+        image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
+        return Error{ErrorCode::invalid_argument, path + ": image size and pixel count do not match"};
+    spng_ihdr ihdr{};
+    ihdr.width = static_cast<std::uint32_t>(image.width);
+    ihdr.height = static_cast<std::uint32_t>(image.height);
+    ihdr.bit_depth = 8;
+    ihdr.color_type = SPNG_COLOR_TYPE_TRUECOLOR_ALPHA;
+    auto png = encode(path, ihdr, image.pixels.data(), image.pixels.size() * sizeof(Rgba8));
+    if (!png) return png.error();
+    return write_file_atomic(path, png->data(), png->size());
+}
+
+Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values) {
+    if (width <= 0 || height <= 0 || values.size() != static_cast<std::size_t>(width) * height)
+        return Error{ErrorCode::invalid_argument, path + ": image size and value count do not match"};
+    // PNG stores 16-bit samples big-endian.
+    std::vector<unsigned char> rows(values.size() * 2);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        rows[2 * i] = static_cast<unsigned char>(values[i] >> 8);
+        rows[2 * i + 1] = static_cast<unsigned char>(values[i] & 0xff);
+    }
+    spng_ihdr ihdr{};
+    ihdr.width = static_cast<std::uint32_t>(width);
+    ihdr.height = static_cast<std::uint32_t>(height);
+    ihdr.bit_depth = 16;
+    ihdr.color_type = SPNG_COLOR_TYPE_GRAYSCALE;
+    auto png = encode(path, ihdr, rows.data(), rows.size());
+    if (!png) return png.error();
+    return write_file_atomic(path, png->data(), png->size());
+}
+
+Result<Image> read_png(const std::string& path) {
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
+    if (!file) return io_error(path, std::string("cannot open: ") + std::strerror(errno));
+    SpngContext ctx(spng_ctx_new(0));
+    if (!ctx) return io_error(path, "out of memory creating the PNG decoder");
+    // Refuse absurd sizes before allocating: a hostile header can claim 2^31 x 2^31 pixels.
+    spng_set_image_limits(ctx.get(), k_max_target_size * 2, k_max_target_size * 2);
+    spng_set_png_file(ctx.get(), file.get());
+    spng_ihdr ihdr{};
+    int err = spng_get_ihdr(ctx.get(), &ihdr);
+    std::size_t size = 0;
+    if (!err) err = spng_decoded_image_size(ctx.get(), SPNG_FMT_RGBA8, &size);
+    if (err) return Error{ErrorCode::bad_format, path + ": not a valid PNG file (" + spng_strerror(err) + ")"};
+    Image image;
+    image.width = static_cast<int>(ihdr.width);
+    image.height = static_cast<int>(ihdr.height);
+    image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
+    err = spng_decode_image(ctx.get(), image.pixels.data(), size, SPNG_FMT_RGBA8, SPNG_DECODE_TRNS);
+    if (err) return Error{ErrorCode::bad_format, path + ": corrupt PNG data (" + spng_strerror(err) + ")"};
+    return image;
+}
+
+}  // namespace facet

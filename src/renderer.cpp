@@ -1,0 +1,78 @@
+// facet: the parts of a draw call that do not depend on the shader: planning (viewport, tiles,
+// chunks), running the front end over chunks of triangles, and adding up statistics.
+#include "facet/renderer.hpp"
+
+#include <string>
+
+namespace facet {
+namespace {
+
+// Triangles per front-end task: enough work to amortize scheduling. The split does not change the
+// output (bins keep submission order), only the balance between threads.
+constexpr std::size_t k_min_chunk_triangles = 2048;
+
+void require(bool ok, const std::string& message) {
+    if (!ok) throw FacetError(Error{ErrorCode::invalid_argument, message});
+}
+
+}  // namespace
+
+Renderer::Renderer(RendererConfig config) : pool_(config.threads), tile_size_(config.tile_size) {
+    const int s = config.tile_size;
+    require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
+            "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s));
+}
+
+Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input,
+                                   int stride) {
+    Rect vp = state.viewport;
+    if (vp.width == 0 && vp.height == 0) vp = Rect{0, 0, target.width(), target.height()};
+    require(vp.width > 0 && vp.height > 0, "draw: the viewport must have a positive size");
+    require(vp.x >= 0 && vp.y >= 0 && vp.x + vp.width <= k_max_target_size && vp.y + vp.height <= k_max_target_size,
+            "draw: the viewport must lie within [0, " + std::to_string(k_max_target_size) + "] in x and y");
+
+    Plan plan;
+    detail::FrontEndParams& p = plan.params;
+    p.state = state;
+    p.scissor = {vp.x, vp.y, std::min(vp.x + vp.width, target.width()), std::min(vp.y + vp.height, target.height())};
+    p.vp_x = static_cast<float>(vp.x);
+    p.vp_y = static_cast<float>(vp.y);
+    p.vp_w = static_cast<float>(vp.width);
+    p.vp_h = static_cast<float>(vp.height);
+    p.tile_size = tile_size_;
+    p.tiles_x = (target.width() + tile_size_ - 1) / tile_size_;
+    p.tiles_y = (target.height() + tile_size_ - 1) / tile_size_;
+
+    // A trailing partial triangle (index count not a multiple of 3) is ignored.
+    plan.triangle_count = input.indices.empty() ? input.vertex_count / 3 : input.indices.size() / 3;
+    const std::size_t by_size = (plan.triangle_count + k_min_chunk_triangles - 1) / k_min_chunk_triangles;
+    plan.chunk_count = std::max<std::size_t>(1, std::min<std::size_t>(by_size, 2 * static_cast<std::size_t>(threads())));
+    if (chunks_.size() < plan.chunk_count) chunks_.resize(plan.chunk_count);
+    const std::size_t tiles = static_cast<std::size_t>(p.tiles_x) * p.tiles_y;
+    for (std::size_t c = 0; c < plan.chunk_count; ++c) chunks_[c].reset(tiles, stride);
+    return plan;
+}
+
+void Renderer::run_front_end(const DrawInput& input, const Plan& plan) {
+    const std::size_t per_chunk = (plan.triangle_count + plan.chunk_count - 1) / plan.chunk_count;
+    pool_.parallel_for(plan.chunk_count, [&](std::size_t c) {
+        const std::size_t first = std::min(plan.triangle_count, c * per_chunk);
+        const std::size_t end = std::min(plan.triangle_count, first + per_chunk);
+        detail::run_front_end(vertices_, input, first, end, plan.params, chunks_[c]);
+    });
+}
+
+DrawStats Renderer::collect_stats(const Plan& plan) const {
+    DrawStats total;
+    for (std::size_t c = 0; c < plan.chunk_count; ++c) {
+        const DrawStats& s = chunks_[c].stats;
+        total.triangles_in += s.triangles_in;
+        total.triangles_invalid += s.triangles_invalid;
+        total.triangles_culled += s.triangles_culled;
+        total.triangles_clipped += s.triangles_clipped;
+        total.triangles_rasterized += s.triangles_rasterized;
+    }
+    return total;
+}
+
+}  // namespace facet
