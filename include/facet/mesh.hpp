@@ -1,0 +1,52 @@
+// facet: triangle meshes in object space, and generators for the shapes examples and tests use.
+// A Mesh is plain arrays: positions, and optionally one normal, colour and uv per position;
+// indices name three positions per triangle. Loading files is io's job, not this header's.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "facet/error.hpp"
+#include "facet/math/mat.hpp"
+
+namespace facet {
+
+struct Aabb {
+    Vec3 min{1e30f, 1e30f, 1e30f}, max{-1e30f, -1e30f, -1e30f};
+    bool empty() const { return min.x > max.x; }
+    Vec3 centre() const { return (min + max) * 0.5f; }
+    void extend(Vec3 p) { min = facet::min(min, p), max = facet::max(max, p); }
+};
+
+struct Mesh {
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;  // empty, or one per position
+    std::vector<Vec4> colours;  // empty, or one per position (linear RGBA in [0, 1])
+    std::vector<Vec2> uvs;      // empty, or one per position
+    std::vector<std::uint32_t> indices;  // three per triangle
+
+    std::size_t triangle_count() const { return indices.size() / 3; }
+    // Checks that the attribute arrays match the positions and every index is in range.
+    Status validate() const;
+    // Bounds of the finite positions.
+    Aabb bounds() const;
+    // Appends another mesh (its indices shifted), transformed by `model`. Attributes missing on
+    // one side are filled with defaults (normal 0, colour white, uv 0) so the arrays stay aligned.
+    void append(const Mesh& other, const Mat4& model = Mat4::identity());
+};
+
+// Smooth per-vertex normals: the angle-weighted average of the faces around each vertex (shared
+// vertices only; split the vertices first for hard edges). Degenerate faces contribute nothing.
+void compute_smooth_normals(Mesh& mesh);
+// Gives every triangle its own three vertices and its face normal: the faceted look.
+Mesh split_faces_flat(const Mesh& mesh);
+
+// Shapes, centred at the origin, counter-clockwise outward faces, with normals and uvs.
+Mesh make_cube(float half_size = 1.0f);                      // 24 vertices, a colour per face
+Mesh make_uv_sphere(float radius, int slices, int stacks);
+Mesh make_icosphere(float radius, int subdivisions);         // 20 * 4^subdivisions triangles
+Mesh make_torus(float major_radius, float minor_radius, int segments, int sides);
+// A flat grid in the XZ plane facing +Y, cells x cells, of side `size`, checkered in two colours.
+Mesh make_checker_plane(float size, int cells, Vec4 colour_a, Vec4 colour_b);
+
+}  // namespace facet

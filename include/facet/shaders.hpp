@@ -1,0 +1,154 @@
+// facet: built-in shaders for meshes, all plain types satisfying facet::Shader (inlined, no
+// virtual calls). They read a mesh's arrays by index and share one ShadingUniforms block.
+//   VertexColour  unlit, Gouraud-interpolated vertex colours
+//   Flat          one normal per face, from the screen derivatives of the world position
+//   Lambert       per-pixel diffuse from one directional light plus ambient
+//   BlinnPhong    per-pixel key + fill lights, ambient and specular highlights, two-sided
+//   Normals       world-space normal as colour (0.5 + 0.5 n)
+//   Mask          unlit white
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "facet/mesh.hpp"
+#include "facet/pipeline.hpp"
+
+namespace facet {
+
+struct DirectionalLight {
+    Vec3 direction{0, 0, 1};  // world space, pointing toward the light; normalized by the shaders' user
+    Vec3 colour{1, 1, 1};
+};
+
+struct ShadingUniforms {
+    Mat4 model;              // object -> world
+    Mat4 clip_from_object;   // projection * view * model
+    Mat3 normal_to_world;    // normal_matrix(model)
+    Vec3 eye;                // world-space camera position (specular, two-sided flat normals)
+    Vec4 base_colour{1, 1, 1, 1};  // multiplies the vertex colours
+    DirectionalLight key;
+    DirectionalLight fill{{0, 0, 1}, {0, 0, 0}};
+    float ambient = 0.15f;
+    float diffuse = 0.85f;
+    float specular = 0.0f;   // strength of the Blinn-Phong highlight
+    float shininess = 32.0f;
+};
+
+// Read-only view of the mesh arrays a shader needs (normals and colours may be absent).
+struct MeshArrays {
+    const Vec3* positions = nullptr;
+    const Vec3* normals = nullptr;
+    const Vec4* colours = nullptr;
+    static MeshArrays of(const Mesh& m) {
+        return {m.positions.data(), m.normals.empty() ? nullptr : m.normals.data(),
+                m.colours.empty() ? nullptr : m.colours.data()};
+    }
+};
+
+namespace shaders {
+
+namespace detail {
+inline Vec4 vertex_colour(const MeshArrays& m, const ShadingUniforms& u, std::uint32_t i) {
+    return m.colours ? u.base_colour * m.colours[i] : u.base_colour;
+}
+inline Vec3 world_normal(const MeshArrays& m, const ShadingUniforms& u, std::uint32_t i) {
+    return m.normals ? u.normal_to_world * m.normals[i] : Vec3{};
+}
+inline Vec3 lambert_term(Vec3 n, const ShadingUniforms& u) {
+    const float k = std::max(dot(n, u.key.direction), 0.0f), f = std::max(dot(n, u.fill.direction), 0.0f);
+    return Vec3{u.ambient, u.ambient, u.ambient} + (u.key.colour * k + u.fill.colour * f) * u.diffuse;
+}
+inline Vec4 shade(Vec4 albedo, Vec3 light) { return {albedo.x * light.x, albedo.y * light.y, albedo.z * light.z, albedo.w}; }
+}  // namespace detail
+
+struct VertexColour {
+    static constexpr int k_varyings = 4;
+    MeshArrays mesh;
+    ShadingUniforms u;
+    Vec4 vertex(std::uint32_t i, Varyings<4>& out) const {
+        out.set(0, detail::vertex_colour(mesh, u, i));
+        return u.clip_from_object * Vec4(mesh.positions[i], 1);
+    }
+    Vec4 fragment(const FragmentIn<4>& in) const { return in.v.vec4(0); }
+};
+
+struct Flat {
+    static constexpr int k_varyings = 7;  // world position, colour
+    static constexpr bool k_derivatives = true;
+    MeshArrays mesh;
+    ShadingUniforms u;
+    Vec4 vertex(std::uint32_t i, Varyings<7>& out) const {
+        out.set(0, transform_point(u.model, mesh.positions[i]));
+        out.set(3, detail::vertex_colour(mesh, u, i));
+        return u.clip_from_object * Vec4(mesh.positions[i], 1);
+    }
+    Vec4 fragment(const FragmentIn<7>& in) const {
+        // The face normal is perpendicular to both screen derivatives of the position; turn it
+        // toward the eye so both sides of a face are lit the same.
+        Vec3 n = normalize(cross(in.ddx.vec3(0), in.ddy.vec3(0)));
+        if (dot(n, u.eye - in.v.vec3(0)) < 0) n = -n;
+        return detail::shade(in.v.vec4(3), detail::lambert_term(n, u));
+    }
+};
+
+struct Lambert {
+    static constexpr int k_varyings = 7;  // normal, colour
+    MeshArrays mesh;
+    ShadingUniforms u;
+    Vec4 vertex(std::uint32_t i, Varyings<7>& out) const {
+        out.set(0, detail::world_normal(mesh, u, i));
+        out.set(3, detail::vertex_colour(mesh, u, i));
+        return u.clip_from_object * Vec4(mesh.positions[i], 1);
+    }
+    Vec4 fragment(const FragmentIn<7>& in) const {
+        return detail::shade(in.v.vec4(3), detail::lambert_term(normalize(in.v.vec3(0)), u));
+    }
+};
+
+struct BlinnPhong {
+    static constexpr int k_varyings = 10;  // normal, world position, colour
+    MeshArrays mesh;
+    ShadingUniforms u;
+    Vec4 vertex(std::uint32_t i, Varyings<10>& out) const {
+        out.set(0, detail::world_normal(mesh, u, i));
+        out.set(3, transform_point(u.model, mesh.positions[i]));
+        out.set(6, detail::vertex_colour(mesh, u, i));
+        return u.clip_from_object * Vec4(mesh.positions[i], 1);
+    }
+    Vec4 fragment(const FragmentIn<10>& in) const {
+        Vec3 n = normalize(in.v.vec3(0));
+        if (!in.front_facing) n = -n;  // two-sided: the inside of an open surface is lit too
+        const Vec3 to_eye = normalize(u.eye - in.v.vec3(3));
+        const Vec4 albedo = in.v.vec4(6);
+        Vec4 c = detail::shade(albedo, detail::lambert_term(n, u));
+        const Vec3 h = normalize(u.key.direction + to_eye);
+        const float s = u.specular * std::pow(std::max(dot(n, h), 0.0f), u.shininess);
+        return {c.x + s * u.key.colour.x, c.y + s * u.key.colour.y, c.z + s * u.key.colour.z, c.w};
+    }
+};
+
+struct Normals {
+    static constexpr int k_varyings = 3;
+    MeshArrays mesh;
+    ShadingUniforms u;
+    Vec4 vertex(std::uint32_t i, Varyings<3>& out) const {
+        out.set(0, detail::world_normal(mesh, u, i));
+        return u.clip_from_object * Vec4(mesh.positions[i], 1);
+    }
+    Vec4 fragment(const FragmentIn<3>& in) const {
+        const Vec3 n = normalize(in.v.vec3(0));
+        return {0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f + 0.5f * n.z, 1};
+    }
+};
+
+struct Mask {
+    static constexpr int k_varyings = 0;
+    MeshArrays mesh;
+    ShadingUniforms u;
+    Vec4 vertex(std::uint32_t i, Varyings<0>&) const { return u.clip_from_object * Vec4(mesh.positions[i], 1); }
+    Vec4 fragment(const FragmentIn<0>&) const { return {1, 1, 1, 1}; }
+};
+
+}  // namespace shaders
+}  // namespace facet

@@ -1,0 +1,173 @@
+// facet scene: rendering a Scene with a shading mode, automatic framing, the default scene.
+#include "facet/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "facet/shaders.hpp"
+
+namespace facet {
+namespace {
+
+constexpr struct {
+    Shading shading;
+    const char* name;
+} k_shading_names[] = {{Shading::lit, "lit"},         {Shading::lambert, "lambert"}, {Shading::flat, "flat"},
+                       {Shading::normals, "normals"}, {Shading::mask, "mask"},       {Shading::vertex_color, "vertex-color"}};
+
+// The comparison mode's constants, fixed by the command-line contract:
+// colour = 0.8 * (0.15 + 0.85 * max(dot(n, l), 0)), l toward the eye.
+constexpr float k_lambert_albedo = 0.8f, k_lambert_ambient = 0.15f, k_lambert_diffuse = 0.85f;
+
+ShadingUniforms uniforms_for(const SceneObject& object, const Camera& camera, const Mat4& clip_from_world,
+                             const RenderSettings& settings) {
+    ShadingUniforms u;
+    u.model = object.model;
+    u.clip_from_object = clip_from_world * object.model;
+    u.normal_to_world = normal_matrix(object.model);
+    u.eye = camera.position;
+    u.base_colour = object.base_colour;
+    const CameraBasis basis = camera_basis(camera.target - camera.position, camera.up, camera.handedness);
+    const Vec3 to_eye = -basis.forward;
+    if (settings.shading == Shading::lambert) {
+        u.base_colour = {k_lambert_albedo, k_lambert_albedo, k_lambert_albedo, 1};
+        u.key = {to_eye, {1, 1, 1}};
+        u.ambient = k_lambert_ambient;
+        u.diffuse = k_lambert_diffuse;
+    } else {
+        // A key light above-left of the camera, a dim cool fill from the right: reads well at any size.
+        u.key = {normalize(to_eye + basis.up * 0.8f - basis.right * 0.5f), {1.0f, 0.97f, 0.92f}};
+        u.fill = {normalize(to_eye * 0.3f + basis.right - basis.up * 0.2f), {0.25f, 0.28f, 0.35f}};
+        u.ambient = 0.18f;
+        u.diffuse = 0.8f;
+        u.specular = 0.35f;
+        u.shininess = 40.0f;
+    }
+    return u;
+}
+
+template <class S>
+DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, const SceneObject& o,
+                      const ShadingUniforms& u, MeshArrays arrays) {
+    const S shader{arrays, u};
+    return r.draw(target, state, DrawInput{static_cast<std::uint32_t>(o.mesh.positions.size()), o.mesh.indices}, shader);
+}
+
+void add(DrawStats& total, const DrawStats& s) {
+    total.triangles_in += s.triangles_in;
+    total.triangles_invalid += s.triangles_invalid;
+    total.triangles_culled += s.triangles_culled;
+    total.triangles_clipped += s.triangles_clipped;
+    total.triangles_rasterized += s.triangles_rasterized;
+}
+
+}  // namespace
+
+bool parse_shading(std::string_view name, Shading& out) {
+    for (const auto& s : k_shading_names)
+        if (name == s.name) {
+            out = s.shading;
+            return true;
+        }
+    return false;
+}
+
+const char* to_string(Shading s) {
+    for (const auto& n : k_shading_names)
+        if (n.shading == s) return n.name;
+    return "?";
+}
+
+Aabb Scene::bounds() const {
+    Aabb box;
+    for (const SceneObject& o : objects)
+        for (Vec3 p : o.mesh.positions)
+            if (is_finite(p)) box.extend(transform_point(o.model, p));
+    return box;
+}
+
+float Scene::radius_about(Vec3 centre) const {
+    float r = 0;
+    for (const SceneObject& o : objects)
+        for (Vec3 p : o.mesh.positions)
+            if (is_finite(p)) r = std::max(r, length(transform_point(o.model, p) - centre));
+    return r;
+}
+
+std::size_t Scene::triangle_count() const {
+    std::size_t n = 0;
+    for (const SceneObject& o : objects) n += o.mesh.triangle_count();
+    return n;
+}
+
+Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fovy, float aspect) {
+    const Aabb box = scene.bounds();
+    const Vec3 centre = box.empty() ? Vec3{} : box.centre();
+    float r = scene.radius_about(centre);
+    if (!(r > 0)) r = 1;  // a single point or an empty scene: frame a unit sphere
+    const float fovx = 2 * std::atan(std::tan(fovy / 2) * aspect);
+    const float dist = r / std::sin(std::min(fovy, fovx) / 2);
+    Camera c = Camera::orbit(centre, azimuth, elevation, dist);
+    c.fovy = fovy;
+    c.near = std::max(dist - 1.5f * r, 0.01f * r);
+    c.far = dist + 1.5f * r;
+    return c;
+}
+
+DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
+                       const RenderSettings& settings) {
+    target.clear(settings.background);
+    const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
+    const Mat4 clip_from_world = camera.projection(aspect) * camera.view();
+    DrawState state;
+    state.cull = settings.shading == Shading::lambert ? CullMode::none : settings.cull;
+    DrawStats total;
+    for (const SceneObject& o : scene.objects) {
+        const ShadingUniforms u = uniforms_for(o, camera, clip_from_world, settings);
+        MeshArrays arrays = MeshArrays::of(o.mesh);
+        if (settings.shading == Shading::lambert) arrays.colours = nullptr;  // the contract ignores materials
+        const bool has_normals = arrays.normals != nullptr;
+        DrawStats s;
+        switch (settings.shading) {
+            case Shading::lit:
+                s = has_normals ? draw_object<shaders::BlinnPhong>(renderer, target, state, o, u, arrays)
+                                : draw_object<shaders::Flat>(renderer, target, state, o, u, arrays);
+                break;
+            case Shading::lambert:
+                s = has_normals ? draw_object<shaders::Lambert>(renderer, target, state, o, u, arrays)
+                                : draw_object<shaders::Flat>(renderer, target, state, o, u, arrays);
+                break;
+            case Shading::flat: s = draw_object<shaders::Flat>(renderer, target, state, o, u, arrays); break;
+            case Shading::normals: s = draw_object<shaders::Normals>(renderer, target, state, o, u, arrays); break;
+            case Shading::mask: s = draw_object<shaders::Mask>(renderer, target, state, o, u, arrays); break;
+            case Shading::vertex_color:
+                s = draw_object<shaders::VertexColour>(renderer, target, state, o, u, arrays);
+                break;
+        }
+        add(total, s);
+    }
+    return total;
+}
+
+Scene default_scene() {
+    Scene scene;
+    scene.objects.push_back({make_checker_plane(7.0f, 14, {0.82f, 0.83f, 0.86f, 1}, {0.36f, 0.40f, 0.48f, 1}),
+                             Mat4::identity(), {1, 1, 1, 1}});
+    scene.objects.push_back({make_cube(0.55f), translate({-1.5f, 0.55f, 0.4f}) * rotate_y(radians(30)), {1, 1, 1, 1}});
+    scene.objects.push_back({make_uv_sphere(0.75f, 48, 32), translate({0.7f, 0.75f, -0.6f}), {0.95f, 0.45f, 0.35f, 1}});
+    scene.objects.push_back({make_torus(0.55f, 0.2f, 64, 24),
+                             translate({1.0f, 0.76f, 1.2f}) * rotate_y(radians(35)) * rotate_x(radians(90)),
+                             {0.25f, 0.75f, 0.80f, 1}});
+    scene.objects.push_back({split_faces_flat(make_icosphere(0.4f, 1)), translate({-0.6f, 0.4f, -1.8f}), {0.95f, 0.85f, 0.35f, 1}});
+    return scene;
+}
+
+Camera default_scene_camera(float aspect) {
+    Camera c = Camera::orbit({0, 0.4f, 0}, radians(35), radians(28), 7.2f);
+    c.fovy = radians(aspect >= 1 ? 40.0f : 55.0f);
+    c.near = 0.5f;
+    c.far = 30.0f;
+    return c;
+}
+
+}  // namespace facet
