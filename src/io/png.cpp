@@ -86,18 +86,13 @@ Status write_png(const std::string& path, const Image& image) {
 Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values) {
     if (width <= 0 || height <= 0 || values.size() != static_cast<std::size_t>(width) * height)
         return Error{ErrorCode::invalid_argument, path + ": image size and value count do not match"};
-    // PNG stores 16-bit samples big-endian.
-    std::vector<unsigned char> rows(values.size() * 2);
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        rows[2 * i] = static_cast<unsigned char>(values[i] >> 8);
-        rows[2 * i + 1] = static_cast<unsigned char>(values[i] & 0xff);
-    }
     spng_ihdr ihdr{};
     ihdr.width = static_cast<std::uint32_t>(width);
     ihdr.height = static_cast<std::uint32_t>(height);
     ihdr.bit_depth = 16;
     ihdr.color_type = SPNG_COLOR_TYPE_GRAYSCALE;
-    auto png = encode(path, ihdr, rows.data(), rows.size());
+    // libspng takes 16-bit samples in host byte order and writes them big-endian as PNG requires.
+    auto png = encode(path, ihdr, values.data(), values.size() * sizeof(std::uint16_t));
     if (!png) return png.error();
     return write_file_atomic(path, png->data(), png->size());
 }

@@ -1,0 +1,108 @@
+// The thread pool and renderer configuration.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <vector>
+
+#include "facet/detail/thread_pool.hpp"
+#include "facet/renderer.hpp"
+
+namespace {
+
+using namespace facet;
+
+TEST(ThreadPool, RunsEveryTaskExactlyOnce) {
+    for (int threads : {1, 2, 5}) {
+        detail::ThreadPool pool(threads);
+        EXPECT_EQ(pool.size(), threads);
+        for (std::size_t count : {0u, 1u, 7u, 1000u}) {
+            std::vector<std::atomic<int>> hits(count);
+            pool.parallel_for(count, [&](std::size_t i) { hits[i]++; });
+            for (std::size_t i = 0; i < count; ++i) EXPECT_EQ(hits[i].load(), 1) << threads << " " << i;
+        }
+    }
+}
+
+TEST(ThreadPool, ExceptionsReachTheCallerAndThePoolStaysUsable) {
+    detail::ThreadPool pool(3);
+    EXPECT_THROW(pool.parallel_for(100, [](std::size_t i) {
+        if (i == 42) throw std::runtime_error("task 42");
+    }), std::runtime_error);
+    std::atomic<int> n{0};
+    pool.parallel_for(50, [&](std::size_t) { n++; });
+    EXPECT_EQ(n.load(), 50);
+}
+
+TEST(ThreadPool, ZeroMeansOnePerCore) {
+    detail::ThreadPool pool(0);
+    EXPECT_GE(pool.size(), 1);
+}
+
+TEST(Renderer, RejectsBadConfigurationAndViewports) {
+    EXPECT_THROW(Renderer({.tile_size = 48}), FacetError);
+    EXPECT_THROW(Renderer({.tile_size = 128}), FacetError);
+    EXPECT_THROW(Renderer({.tile_size = 4}), FacetError);
+    EXPECT_THROW(Framebuffer(0, 10), FacetError);
+    EXPECT_THROW(Framebuffer(10, k_max_target_size + 1), FacetError);
+
+    Renderer r({.threads = 1});
+    Framebuffer fb(16, 16);
+    const auto shader = make_shader<0>([](std::uint32_t, Varyings<0>&) { return Vec4{0, 0, 0, 1}; },
+                                       [](const FragmentIn<0>&) { return Vec4{1, 1, 1, 1}; });
+    DrawState state;
+    state.viewport = {0, 0, -4, 16};
+    EXPECT_THROW(r.draw(fb, state, DrawInput{3, {}}, shader), FacetError);
+    state.viewport = {-1, 0, 8, 8};
+    EXPECT_THROW(r.draw(fb, state, DrawInput{3, {}}, shader), FacetError);
+}
+
+TEST(Renderer, ViewportLimitsWhereTrianglesLand) {
+    Renderer r({.threads = 2, .tile_size = 8});
+    Framebuffer fb(32, 32);
+    fb.clear({0, 0, 0, 1});
+    // A triangle far larger than clip space: it covers its whole viewport and nothing else.
+    const Vec4 big[3] = {{-4, -4, 0.5f, 1}, {4, -4, 0.5f, 1}, {0, 6, 0.5f, 1}};
+    const auto shader = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return big[i]; },
+                                       [](const FragmentIn<0>&) { return Vec4{1, 1, 1, 1}; });
+    DrawState state;
+    state.viewport = {4, 8, 10, 12};
+    r.draw(fb, state, DrawInput{3, {}}, shader);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            const bool inside = x >= 4 && x < 14 && y >= 8 && y < 20;
+            EXPECT_EQ(fb.colour(x, y).r, inside ? 255 : 0) << x << "," << y;
+        }
+}
+
+TEST(Renderer, ExceptionFromAShaderPropagatesAndTheRendererStillWorks) {
+    Renderer r({.threads = 2});
+    Framebuffer fb(64, 64);
+    const Vec4 tri[3] = {{-1, -1, 0.5f, 1}, {1, -1, 0.5f, 1}, {0, 1, 0.5f, 1}};
+    const auto throwing = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return tri[i]; },
+                                         [](const FragmentIn<0>&) -> Vec4 { throw std::runtime_error("shader"); });
+    EXPECT_THROW(r.draw(fb, DrawState{}, DrawInput{3, {}}, throwing), std::runtime_error);
+    const auto fine = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return tri[i]; },
+                                     [](const FragmentIn<0>&) { return Vec4{0, 1, 0, 1}; });
+    fb.clear({0, 0, 0, 1});
+    const DrawStats s = r.draw(fb, DrawState{}, DrawInput{3, {}}, fine);
+    EXPECT_EQ(s.triangles_rasterized, 1u);
+    EXPECT_EQ(fb.colour(32, 40).g, 255);
+}
+
+TEST(Renderer, StatsCountInvalidAndCulledTriangles) {
+    Renderer r({.threads = 1});
+    Framebuffer fb(32, 32);
+    const Vec4 pos[4] = {{-1, -1, 0.5f, 1}, {1, -1, 0.5f, 1}, {0, 1, 0.5f, 1}, {NAN, 0, 0.5f, 1}};
+    const auto shader = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return pos[i]; },
+                                       [](const FragmentIn<0>&) { return Vec4{1, 1, 1, 1}; });
+    // front (CCW), back (CW), NaN vertex, out-of-range index, zero area, and a trailing partial triangle.
+    const std::uint32_t idx[] = {0, 1, 2, 0, 2, 1, 0, 1, 3, 0, 1, 9, 0, 0, 1, 2, 1};
+    const DrawStats s = r.draw(fb, DrawState{}, DrawInput{4, idx}, shader);
+    EXPECT_EQ(s.triangles_in, 5u);
+    EXPECT_EQ(s.triangles_invalid, 2u);
+    EXPECT_EQ(s.triangles_culled, 2u);  // the back face and the zero-area one
+    EXPECT_EQ(s.triangles_rasterized, 1u);
+}
+
+}  // namespace

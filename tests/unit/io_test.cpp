@@ -1,0 +1,119 @@
+// PNG files and atomic writes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "facet/io.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace facet;
+
+fs::path temp_dir(const char* name) {
+    fs::path d = fs::temp_directory_path() / ("facet_io_test_" + std::string(name));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+Image gradient(int w, int h) {
+    Image img{w, h, std::vector<Rgba8>(static_cast<std::size_t>(w) * h)};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            img.at(x, y) = {static_cast<std::uint8_t>(x * 7), static_cast<std::uint8_t>(y * 13),
+                            static_cast<std::uint8_t>(x ^ y), static_cast<std::uint8_t>(255 - x)};
+    return img;
+}
+
+TEST(Png, RoundTripIsLossless) {
+    const fs::path dir = temp_dir("roundtrip");
+    const Image img = gradient(37, 23);
+    ASSERT_TRUE(write_png((dir / "a.png").string(), img).ok());
+    Result<Image> back = read_png((dir / "a.png").string());
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back->width, 37);
+    EXPECT_EQ(back->height, 23);
+    EXPECT_TRUE(back->pixels == img.pixels);
+}
+
+TEST(Png, Gray16StoresBigEndianSamples) {
+    const fs::path dir = temp_dir("gray16");
+    const std::string path = (dir / "d.png").string();
+    ASSERT_TRUE(write_png_gray16(path, 2, 1, {0x1234, 0xffff}).ok());
+    // Decoded to RGBA8, 16-bit samples keep their high byte.
+    Result<Image> back = read_png(path);
+    ASSERT_TRUE(back.ok());
+    EXPECT_EQ(back->at(0, 0).r, 0x12);
+    EXPECT_EQ(back->at(1, 0).r, 0xff);
+}
+
+TEST(Png, WritingIntoAMissingDirectoryFailsAndNamesTheFile) {
+    const std::string path = "/nonexistent-dir-for-facet/x.png";
+    const Status s = write_png(path, gradient(4, 4));
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().code, ErrorCode::io);
+    EXPECT_NE(s.error().message.find(path), std::string::npos);
+}
+
+TEST(Png, MismatchedImageIsRejectedBeforeWriting) {
+    const fs::path dir = temp_dir("mismatch");
+    Image bad{10, 10, std::vector<Rgba8>(50)};
+    EXPECT_EQ(write_png((dir / "m.png").string(), bad).error().code, ErrorCode::invalid_argument);
+    EXPECT_FALSE(fs::exists(dir / "m.png"));
+}
+
+TEST(Png, FailedWriteLeavesTheOldFileAndNoTemporary) {
+    const fs::path dir = temp_dir("atomic");
+    const std::string path = (dir / "keep.png").string();
+    ASSERT_TRUE(write_png(path, gradient(8, 8)).ok());
+    // Replacing a directory with a file cannot succeed: the rename step fails.
+    fs::create_directories(dir / "sub.png");
+    EXPECT_FALSE(write_png((dir / "sub.png").string(), gradient(8, 8)).ok());
+    std::size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(dir)) {
+        ++entries;
+        EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+    }
+    EXPECT_EQ(entries, 2u);  // keep.png and the sub.png directory
+    EXPECT_TRUE(read_png(path).ok());
+}
+
+TEST(Png, ReadingGarbageOrMissingFilesIsAnErrorNamingTheFile) {
+    const fs::path dir = temp_dir("garbage");
+    const std::string missing = (dir / "missing.png").string();
+    Result<Image> r = read_png(missing);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::io);
+    EXPECT_NE(r.error().message.find(missing), std::string::npos);
+
+    const std::string garbage = (dir / "garbage.png").string();
+    std::ofstream(garbage) << "this is not a png file at all";
+    r = read_png(garbage);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::bad_format);
+    EXPECT_NE(r.error().message.find(garbage), std::string::npos);
+
+    // A valid PNG cut in half.
+    const std::string whole = (dir / "whole.png").string(), cut = (dir / "cut.png").string();
+    ASSERT_TRUE(write_png(whole, gradient(64, 64)).ok());
+    const auto size = fs::file_size(whole);
+    fs::copy_file(whole, cut);
+    fs::resize_file(cut, size / 2);
+    EXPECT_FALSE(read_png(cut).ok());
+}
+
+TEST(Png, HugeDeclaredSizeIsRefusedBeforeAllocating) {
+    // A PNG header (with a correct CRC) claiming 1,000,000 x 1,000,000 pixels: 4 TB of RGBA.
+    const fs::path dir = temp_dir("huge");
+    const unsigned char header[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n', 0, 0, 0, 13, 'I', 'H', 'D', 'R',
+                                    0x00, 0x0f, 0x42, 0x40, 0x00, 0x0f, 0x42, 0x40, 8, 6, 0, 0, 0, 0x5c, 0x6d, 0x38, 0x7d};
+    const std::string path = (dir / "huge.png").string();
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(header), sizeof header);
+    Result<Image> r = read_png(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code, ErrorCode::bad_format);
+}
+
+}  // namespace

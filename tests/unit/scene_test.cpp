@@ -1,0 +1,122 @@
+// Scenes: shading names, the automatic framing rule, render_scene.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "facet/scene.hpp"
+
+namespace {
+
+using namespace facet;
+
+TEST(Scene, ShadingNamesRoundTrip) {
+    for (Shading s : {Shading::lit, Shading::lambert, Shading::flat, Shading::normals, Shading::mask,
+                      Shading::vertex_color}) {
+        Shading parsed;
+        ASSERT_TRUE(parse_shading(to_string(s), parsed)) << to_string(s);
+        EXPECT_EQ(parsed, s);
+    }
+    Shading unused;
+    EXPECT_FALSE(parse_shading("phong", unused));
+    EXPECT_FALSE(parse_shading("", unused));
+}
+
+TEST(Scene, FramingFollowsTheDocumentedRule) {
+    Scene scene;
+    Mesh m;
+    m.positions = {{1, 2, 3}, {5, 2, 3}, {1, 4, 3}, {1, 2, 9}};
+    m.indices = {0, 1, 2, 0, 2, 3};
+    scene.objects.push_back({m, translate({1, 0, 0})});
+    const float fovy = radians(45), aspect = 0.5f, az = radians(30), el = radians(20);
+    const Camera c = frame_scene(scene, az, el, fovy, aspect);
+
+    const Vec3 centre{4, 3, 6};  // centre of the world-space box [2,6] x [2,4] x [3,9]
+    const float r = std::sqrt(2.0f * 2 + 1 + 9);  // farthest vertex (2,2,3) or (2,2,9): |(-2,-1,-3)|
+    const float fovx = 2 * std::atan(std::tan(fovy / 2) * aspect);
+    const float dist = r / std::sin(std::min(fovy, fovx) / 2);
+    EXPECT_NEAR(c.target.x, centre.x, 1e-5f);
+    EXPECT_NEAR(c.target.y, centre.y, 1e-5f);
+    EXPECT_NEAR(c.target.z, centre.z, 1e-5f);
+    const Vec3 expected_eye = centre + Vec3{std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az)} * dist;
+    EXPECT_NEAR(length(c.position - expected_eye), 0.0f, 1e-4f);
+    EXPECT_NEAR(c.near, std::max(dist - 1.5f * r, 0.01f * r), 1e-4f);
+    EXPECT_NEAR(c.far, dist + 1.5f * r, 1e-4f);
+    EXPECT_FLOAT_EQ(c.fovy, fovy);
+}
+
+TEST(Scene, FramingAnEmptySceneIsFinite) {
+    const Camera c = frame_scene(Scene{}, 0, 0, radians(45), 1);
+    EXPECT_TRUE(is_finite(c.position));
+    EXPECT_GT(c.far, c.near);
+    EXPECT_GT(c.near, 0.0f);
+}
+
+TEST(Scene, FramedModelFillsTheViewWithoutTouchingTheBorder) {
+    Scene scene;
+    scene.objects.push_back({make_icosphere(3.0f, 3), translate({10, -4, 2})});
+    const int w = 200, h = 100;
+    const Camera camera = frame_scene(scene, radians(45), radians(30), radians(45), float(w) / h);
+    Renderer renderer({.threads = 1});
+    Framebuffer fb(w, h);
+    RenderSettings settings;
+    settings.shading = Shading::mask;
+    settings.background = {0, 0, 0, 1};
+    render_scene(renderer, fb, scene, camera, settings);
+    int min_y = h, max_y = -1, min_x = w, max_x = -1;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (fb.colour(x, y).r == 255) min_x = std::min(min_x, x), max_x = std::max(max_x, x),
+                                          min_y = std::min(min_y, y), max_y = std::max(max_y, y);
+    // The bounding sphere is tangent to the limiting (here: top and bottom) frustum planes, so the
+    // sphere model spans the whole height, centred, and stays well inside the wider horizontal field.
+    EXPECT_GT(max_y - min_y, h - 4);
+    EXPECT_NEAR((min_y + max_y) / 2.0, h / 2.0, 1.0);
+    EXPECT_NEAR((min_x + max_x) / 2.0, w / 2.0, 1.0);
+    EXPECT_NEAR(max_x - min_x, max_y - min_y, 4);  // a sphere near the axis stays round
+}
+
+TEST(Scene, LambertModeIsTheDocumentedFormula) {
+    // A quad facing the camera: n = l, so every pixel is 0.8 * (0.15 + 0.85) = 0.8 -> 204.
+    Scene scene;
+    Mesh quad;
+    quad.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    quad.normals.assign(4, {0, 0, 1});
+    quad.colours.assign(4, {1, 0, 0, 1});  // ignored by the comparison mode
+    quad.indices = {0, 1, 2, 0, 2, 3};
+    scene.objects.push_back({quad, Mat4::identity(), {0, 1, 0, 1}});
+    Camera camera;
+    camera.position = {0, 0, 3};
+    Renderer renderer;
+    Framebuffer fb(64, 64);
+    RenderSettings settings;
+    settings.shading = Shading::lambert;
+    render_scene(renderer, fb, scene, camera, settings);
+    const Rgba8 c = fb.colour(32, 32);
+    EXPECT_EQ(c, (Rgba8{204, 204, 204, 255}));
+    // A normal at 60 degrees from l: 0.8 * (0.15 + 0.85 * 0.5) = 0.46 -> 117.
+    scene.objects[0].mesh.normals.assign(4, {std::sin(radians(60)), 0, std::cos(radians(60))});
+    render_scene(renderer, fb, scene, camera, settings);
+    EXPECT_EQ(fb.colour(32, 32).g, 117);
+}
+
+TEST(Scene, DefaultSceneRendersSomethingInEveryMode) {
+    const Scene scene = default_scene();
+    EXPECT_GT(scene.triangle_count(), 1000u);
+    Renderer renderer;
+    Framebuffer fb(160, 120);
+    for (Shading s : {Shading::lit, Shading::lambert, Shading::flat, Shading::normals, Shading::mask,
+                      Shading::vertex_color}) {
+        RenderSettings settings;
+        settings.shading = s;
+        settings.background = {0, 0, 0, 1};
+        const DrawStats stats = render_scene(renderer, fb, scene, default_scene_camera(160.0f / 120), settings);
+        EXPECT_EQ(stats.triangles_in, scene.triangle_count());
+        EXPECT_EQ(stats.triangles_invalid, 0u);
+        int covered = 0;
+        for (int y = 0; y < 120; ++y)
+            for (int x = 0; x < 160; ++x) covered += fb.colour(x, y) != Rgba8{0, 0, 0, 255};
+        EXPECT_GT(covered, 160 * 120 / 3) << to_string(s);
+    }
+}
+
+}  // namespace
