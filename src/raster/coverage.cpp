@@ -1,7 +1,8 @@
 // facet raster: coverage of one set-up triangle within one tile.
 // In: TriangleSetup (integer edge functions in pixel units, top-left rule folded in) and a tile.
-// Out: TileCoverage, one bit per pixel. Each row's covered span is found exactly with integer
-// division per edge, so the cost is per row, not per pixel. Does not shade or test depth.
+// Out: TileCoverage, one bit per pixel. Edge values are stepped incrementally from row to row and
+// each row's covered span is solved exactly with integer division, so the cost is per row, not per
+// pixel. Does not shade or test depth.
 #include <algorithm>
 
 #include "facet/detail/frame.hpp"
@@ -31,17 +32,22 @@ bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
         return false;
     }
     bool any = false;
+    // Each edge's value at (0, y) is stepped incrementally from row to row; within a row the span
+    // where all three are >= 0 is solved exactly.
+    std::int64_t r[3];
+    for (int e = 0; e < 3; ++e) r[e] = std::int64_t{t.b[e]} * y0 + t.c[e];
     for (int y = y0; y <= y1; ++y) {
         // Intersect the half-lines {x : a*x + r >= 0} of the three edges with [x0, x1].
         std::int64_t lo = x0, hi = x1;
         for (int e = 0; e < 3; ++e) {
-            const std::int64_t a = t.a[e], r = t.b[e] * std::int64_t{y} + t.c[e];
+            const std::int64_t a = t.a[e];
             if (a > 0)
-                lo = std::max(lo, -floor_div(r, a));  // x >= ceil(-r / a)
+                lo = std::max(lo, -floor_div(r[e], a));  // x >= ceil(-r / a)
             else if (a < 0)
-                hi = std::min(hi, floor_div(r, -a));  // x <= floor(r / -a)
-            else if (r < 0)
+                hi = std::min(hi, floor_div(r[e], -a));  // x <= floor(r / -a)
+            else if (r[e] < 0)
                 hi = lo - 1;
+            r[e] += t.b[e];
         }
         std::uint64_t mask = 0;
         if (lo <= hi) {
