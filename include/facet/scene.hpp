@@ -2,12 +2,14 @@
 // and the built-in default scene. This is what `facet render` and `facet view` share up to the pixels.
 #pragma once
 
+#include <memory>
 #include <string_view>
 #include <vector>
 
 #include "facet/camera.hpp"
 #include "facet/mesh.hpp"
 #include "facet/renderer.hpp"
+#include "facet/texture.hpp"
 
 namespace facet {
 
@@ -16,10 +18,21 @@ enum class Shading { lit, lambert, flat, normals, mask, vertex_color };
 bool parse_shading(std::string_view name, Shading& out);
 const char* to_string(Shading s);
 
+enum class AlphaMode { opaque, mask, blend };  // as glTF: ignore alpha, cut at alpha_cutoff, blend
+
+struct Material {
+    Vec4 base_colour{1, 1, 1, 1};    // multiplies vertex colours and the texture
+    std::shared_ptr<const Texture> base_colour_texture;  // sampled with the mesh's uvs; may be null
+    Sampler sampler;
+    AlphaMode alpha_mode = AlphaMode::opaque;
+    float alpha_cutoff = 0.5f;
+    bool double_sided = true;
+};
+
 struct SceneObject {
     Mesh mesh;                       // object space; needs normals for lit, lambert and normals modes
     Mat4 model = Mat4::identity();   // object -> world
-    Vec4 base_colour{1, 1, 1, 1};
+    Material material;
 };
 
 struct Scene {

@@ -26,7 +26,7 @@ ShadingUniforms uniforms_for(const SceneObject& object, const Camera& camera, co
     u.clip_from_object = clip_from_world * object.model;
     u.normal_to_world = normal_matrix(object.model);
     u.eye = camera.position;
-    u.base_colour = object.base_colour;
+    u.base_colour = object.material.base_colour;
     const CameraBasis basis = camera_basis(camera.target - camera.position, camera.up, camera.handedness);
     const Vec3 to_eye = -basis.forward;
     if (settings.shading == Shading::lambert) {
@@ -152,13 +152,13 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
 Scene default_scene() {
     Scene scene;
     scene.objects.push_back({make_checker_plane(7.0f, 14, {0.82f, 0.83f, 0.86f, 1}, {0.36f, 0.40f, 0.48f, 1}),
-                             Mat4::identity(), {1, 1, 1, 1}});
-    scene.objects.push_back({make_cube(0.55f), translate({-1.5f, 0.55f, 0.4f}) * rotate_y(radians(30)), {1, 1, 1, 1}});
-    scene.objects.push_back({make_uv_sphere(0.75f, 48, 32), translate({0.7f, 0.75f, -0.6f}), {0.95f, 0.45f, 0.35f, 1}});
+                             Mat4::identity(), {}});
+    scene.objects.push_back({make_cube(0.55f), translate({-1.5f, 0.55f, 0.4f}) * rotate_y(radians(30)), {}});
+    scene.objects.push_back({make_uv_sphere(0.75f, 48, 32), translate({0.7f, 0.75f, -0.6f}), {.base_colour = {0.95f, 0.45f, 0.35f, 1}}});
     scene.objects.push_back({make_torus(0.55f, 0.2f, 64, 24),
                              translate({1.0f, 0.76f, 1.2f}) * rotate_y(radians(35)) * rotate_x(radians(90)),
-                             {0.25f, 0.75f, 0.80f, 1}});
-    scene.objects.push_back({split_faces_flat(make_icosphere(0.4f, 1)), translate({-0.6f, 0.4f, -1.8f}), {0.95f, 0.85f, 0.35f, 1}});
+                             {.base_colour = {0.25f, 0.75f, 0.80f, 1}}});
+    scene.objects.push_back({split_faces_flat(make_icosphere(0.4f, 1)), translate({-0.6f, 0.4f, -1.8f}), {.base_colour = {0.95f, 0.85f, 0.35f, 1}}});
     return scene;
 }
 

@@ -83,7 +83,7 @@ TEST(Scene, LambertModeIsTheDocumentedFormula) {
     quad.normals.assign(4, {0, 0, 1});
     quad.colours.assign(4, {1, 0, 0, 1});  // ignored by the comparison mode
     quad.indices = {0, 1, 2, 0, 2, 3};
-    scene.objects.push_back({quad, Mat4::identity(), {0, 1, 0, 1}});
+    scene.objects.push_back({quad, Mat4::identity(), {.base_colour = {0, 1, 0, 1}}});
     Camera camera;
     camera.position = {0, 0, 3};
     Renderer renderer;

@@ -1,0 +1,37 @@
+// facet io: loading model files into a Scene. Formats: everything assimp reads (OBJ + MTL, STL,
+// PLY, OFF, glTF 2.0 / GLB, FBX, 3MF, COLLADA, 3DS, ...). Node transforms are applied, every mesh of
+// the file becomes a SceneObject, materials carry base colour, vertex colours and base-colour
+// textures (external files or embedded). Bad files give one Error naming the file and the problem;
+// recoverable trouble (a missing texture, some invalid triangles) gives warnings and a fallback.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "facet/error.hpp"
+#include "facet/scene.hpp"
+#include "facet/texture.hpp"
+
+namespace facet {
+
+enum class UpAxis { y, z };
+
+struct LoadOptions {
+    // Files without normals get smooth normals, split where faces meet at more than this angle
+    // (degrees); 180 keeps everything smooth, small values give CAD/STL files crisp edges.
+    float crease_angle_degrees = 40.0f;
+    UpAxis up_axis = UpAxis::y;  // z: the file's +Z becomes +Y (CAD, STL, 3MF are often Z-up)
+    TextureLimits texture_limits;
+    std::size_t max_triangles = 50'000'000;  // refuse larger models before allocating them
+    std::size_t max_file_bytes = std::size_t{2} << 30;
+};
+
+struct LoadedModel {
+    Scene scene;
+    std::vector<std::string> warnings;  // each names the file
+};
+
+Result<LoadedModel> load_model(const std::string& path, const LoadOptions& options = {});
+
+}  // namespace facet

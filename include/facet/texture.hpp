@@ -1,0 +1,62 @@
+// facet: textures. A Texture is an RGBA8 image with its full mip chain, sampled with
+// perspective-correct UVs by the fragment stage: nearest, bilinear, or trilinear (bilinear on the
+// two nearest mip levels, the level chosen from the UV derivatives), with repeat, clamp or mirror
+// wrapping per axis. Decoding files (PNG, JPEG, ... via stb_image) is bounded by TextureLimits.
+// Colours are sampled as stored (no sRGB conversion): the renderer's output is display-referred.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "facet/error.hpp"
+#include "facet/image.hpp"
+#include "facet/math/vec.hpp"
+
+namespace facet {
+
+enum class Wrap { repeat, clamp, mirror };
+enum class Filter { nearest, bilinear, trilinear };
+
+struct Sampler {
+    Wrap wrap_u = Wrap::repeat;
+    Wrap wrap_v = Wrap::repeat;
+    Filter filter = Filter::trilinear;
+};
+
+struct TextureLimits {
+    int max_size = 16384;                        // per side
+    std::size_t max_pixels = 64u * 1024u * 1024u;  // width * height
+};
+
+class Texture {
+public:
+    // Builds the mip chain from `base` (each level a 2x2 box filter of the previous, odd sizes
+    // rounded down, down to 1x1). Throws FacetError for an empty image.
+    explicit Texture(Image base);
+
+    // Decodes an image file (any format stb_image reads). Errors name the file and the problem.
+    static Result<std::shared_ptr<const Texture>> load(const std::string& path, const TextureLimits& limits = {});
+    // Decodes an image held in memory (e.g. embedded in a glTF/GLB); `name` is used in errors.
+    static Result<std::shared_ptr<const Texture>> decode(const void* bytes, std::size_t size, const std::string& name,
+                                                         const TextureLimits& limits = {});
+
+    int width() const { return levels_[0].width; }
+    int height() const { return levels_[0].height; }
+    int level_count() const { return static_cast<int>(levels_.size()); }
+    const Image& level(int i) const { return levels_[static_cast<std::size_t>(i)]; }
+    bool has_transparency() const { return has_transparency_; }  // any texel with alpha < 255
+
+    // Samples at uv (texel centres at (i + 0.5) / size, v = 0 at the top row of the image, as
+    // glTF and OBJ-after-flip use it). The derivatives of uv along screen x and y choose the mip level.
+    Vec4 sample(Vec2 uv, Vec2 duv_dx, Vec2 duv_dy, const Sampler& sampler) const;
+    // Samples one explicit level of detail (0 = full size; fractional values blend two levels).
+    Vec4 sample_lod(Vec2 uv, float lod, const Sampler& sampler) const;
+
+private:
+    std::vector<Image> levels_;
+    bool has_transparency_ = false;
+};
+
+}  // namespace facet
