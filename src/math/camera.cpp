@@ -75,8 +75,9 @@ Mat4 Camera::view() const {
     Mat4 v = look_at(position, target, up, handedness);
     if (roll == 0) return v;
     // Turning the camera counter-clockwise about its view direction turns the image clockwise.
-    // The view axis points toward the viewer in RH (+Z) and away from it in LH, hence the sign.
-    return rotate_z(handedness == Handedness::right ? -roll : roll) * v;
+    // In both handednesses view-space x is screen right and y is screen up (only z differs), so the
+    // same clockwise turn of (x, y) serves both: the seed's RotateZ(-roll).
+    return rotate_z(-roll) * v;
 }
 
 Mat4 Camera::projection(float aspect) const {

@@ -78,8 +78,14 @@ double adjugate4(const Mat4& m, double adj[4][4]) {
 }
 
 double column_length_product(const Mat4& m) {
+    // In double: a float dot product overflows for entries above ~1.8e19, which made huge but
+    // well-shaped matrices look singular.
     double bound = 1;
-    for (int c = 0; c < 4; ++c) bound *= std::sqrt(static_cast<double>(dot(m.col[c], m.col[c])));
+    for (int c = 0; c < 4; ++c) {
+        double s = 0;
+        for (int r = 0; r < 4; ++r) s += static_cast<double>(m(r, c)) * m(r, c);
+        bound *= std::sqrt(s);
+    }
     return bound;
 }
 
@@ -105,6 +111,7 @@ std::optional<Mat4> affine_inverse(const Mat4& m) {
     std::optional<Mat3> a = inverse(m.upper3x3());
     if (!a) return std::nullopt;
     Vec3 t = -(*a * m.col[3].xyz());
+    if (!is_finite(t)) return std::nullopt;  // non-finite translation, as inverse() does
     Mat4 r;
     for (int c = 0; c < 3; ++c) r.col[c] = Vec4(a->col[c], 0);
     r.col[3] = Vec4(t, 1);

@@ -178,7 +178,9 @@ TEST(Seed, RotationsAreTransposesOfFacetsWithTheSameAngle) {
         EXPECT_TRUE(mat_near(transpose(as_written(RotateY(a))), rotate_y(a), 1e-6f));
         EXPECT_TRUE(mat_near(transpose(as_written(RotateZ(a))), rotate_z(a), 1e-6f));
         // And the opposite angle would be wrong (unless sin a is ~0).
-        if (std::fabs(std::sin(a)) > 0.1f) EXPECT_FALSE(mat_near(transpose(as_written(RotateX(a))), rotate_x(-a), 1e-3f));
+        if (std::fabs(std::sin(a)) > 0.1f) {
+            EXPECT_FALSE(mat_near(transpose(as_written(RotateX(a))), rotate_x(-a), 1e-3f));
+        }
     }
 }
 

@@ -290,12 +290,21 @@ TEST(Transform, ViewportMapsNdcToPixelsWithYDown) {
         float x = rng.uniform(-100, 100), y = rng.uniform(-100, 100);
         float w = rng.uniform(1, 4000), h = rng.uniform(1, 4000);
         Mat4 v = viewport(x, y, w, h);
+        // Pixel coordinates are sums of terms as large as |x| + w (the corner x is x + w/2 - w/2), so
+        // that is the scale of their rounding error.
+        auto expect_pixel = [&](Vec3 ndc, Vec3 expected) {
+            Vec3 p = transform_point(v, ndc);
+            EXPECT_TRUE(float_near(p.x, expected.x, 1e-6, std::fabs(x) + w)) << "ndc x " << ndc.x;
+            EXPECT_TRUE(float_near(p.y, expected.y, 1e-6, std::fabs(y) + h)) << "ndc y " << ndc.y;
+            EXPECT_EQ(p.z, expected.z);  // depth unchanged, exactly
+        };
         for (float z : {0.0f, 0.25f, 1.0f}) {
             // NDC top-left (-1, 1) is the pixel corner (x, y); bottom-right (1, -1) is (x+w, y+h).
-            EXPECT_TRUE(vec_near(transform_point(v, {-1, 1, z}), Vec3{x, y, z}, 1e-6f));
-            EXPECT_TRUE(vec_near(transform_point(v, {1, -1, z}), Vec3{x + w, y + h, z}, 1e-6f));
-            EXPECT_TRUE(vec_near(transform_point(v, {0, 0, z}), Vec3{x + w / 2, y + h / 2, z}, 1e-6f));
-            EXPECT_EQ(transform_point(v, {0.3f, -0.7f, z}).z, z);  // depth unchanged
+            expect_pixel({-1, 1, z}, {x, y, z});
+            expect_pixel({1, -1, z}, {x + w, y + h, z});
+            expect_pixel({0, 0, z}, {x + w / 2, y + h / 2, z});
+            expect_pixel({-1, -1, z}, {x, y + h, z});
+            expect_pixel({1, 1, z}, {x + w, y, z});
         }
         // It is affine: w passes through, so it commutes with the perspective divide.
         Vec4 clip{0.4f, -0.3f, 0.6f, 2.5f};

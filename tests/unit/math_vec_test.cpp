@@ -63,8 +63,12 @@ TYPED_TEST(VecTest, DefaultIsZeroAndIndexingReachesTheNamedComponents) {
     for (int i = 0; i < n; ++i) v[static_cast<std::size_t>(i)] = float(10 * (i + 1));
     EXPECT_EQ(v.x, 10.0f);
     EXPECT_EQ(v.y, 20.0f);
-    if constexpr (n >= 3) EXPECT_EQ(v.z, 30.0f);
-    if constexpr (n >= 4) EXPECT_EQ(v.w, 40.0f);
+    if constexpr (n >= 3) {
+        EXPECT_EQ(v.z, 30.0f);
+    }
+    if constexpr (n >= 4) {
+        EXPECT_EQ(v.w, 40.0f);
+    }
 }
 
 // Each component-wise operation is one IEEE operation per component, so facet and GLM must agree

@@ -84,7 +84,8 @@ std::optional<Mat3> inverse(const Mat3& m);
 std::optional<Mat4> inverse(const Mat4& m);
 
 // Inverse of an affine matrix [A t; 0 1]: inverse(A) and -inverse(A)·t. Cheaper than the general
-// inverse; the caller promises the last row is (0, 0, 0, 1). Singular A gives nothing.
+// inverse; the caller promises the last row is (0, 0, 0, 1). Singular A or a non-finite translation
+// gives nothing.
 std::optional<Mat4> affine_inverse(const Mat4& m);
 
 // The matrix that transforms normals: transpose(inverse(upper 3x3)). Falls back to the
