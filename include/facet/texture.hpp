@@ -33,7 +33,10 @@ struct TextureLimits {
 class Texture {
 public:
     // Builds the mip chain from `base` (each level a 2x2 box filter of the previous, odd sizes
-    // rounded down, down to 1x1). Throws FacetError for an empty image.
+    // rounded down, down to 1x1). An odd side n = 2m + 1 is filtered with area weights
+    // (m - j, m, j + 1) / n, so no texel is dropped. Channels are rounded to nearest, halves up.
+    // Throws FacetError (invalid_argument) for an empty image or one whose pixel count is not
+    // width * height.
     explicit Texture(Image base);
 
     // Decodes an image file (any format stb_image reads). Errors name the file and the problem.
@@ -50,9 +53,16 @@ public:
 
     // Samples at uv (texel centres at (i + 0.5) / size, v = 0 at the top row of the image, as
     // glTF and OBJ-after-flip use it). The derivatives of uv along screen x and y choose the mip level.
+    // Filter::nearest and Filter::bilinear always read level 0 (no mips); only trilinear uses lod.
+    // Non-finite uv components are treated as 0: the result is always finite, in [0, 1].
     Vec4 sample(Vec2 uv, Vec2 duv_dx, Vec2 duv_dy, const Sampler& sampler) const;
     // Samples one explicit level of detail (0 = full size; fractional values blend two levels).
+    // lod is clamped to [0, level_count() - 1]; NaN reads level 0.
     Vec4 sample_lod(Vec2 uv, float lod, const Sampler& sampler) const;
+    // The level of detail sample() uses: log2 of the larger screen-pixel footprint in level-0
+    // texels, rho = max(|duv_dx * size|, |duv_dy * size|) (OpenGL's formula). Unclamped; 0 for zero
+    // or NaN derivatives, +inf for infinite ones.
+    float lod(Vec2 duv_dx, Vec2 duv_dy) const;
 
 private:
     std::vector<Image> levels_;
