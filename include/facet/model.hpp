@@ -34,4 +34,7 @@ struct LoadedModel {
 
 Result<LoadedModel> load_model(const std::string& path, const LoadOptions& options = {});
 
+// True when the file name has an extension of a format load_model reads (case-insensitive).
+bool is_supported_model_file(const std::string& path);
+
 }  // namespace facet

@@ -61,10 +61,13 @@ struct FragmentIn {
 };
 
 namespace detail {
+// How many leading varyings get derivatives: all of them with k_derivatives = true, or the first
+// k_derivative_count (e.g. just the uv pair), which saves work per pixel.
 template <class S>
-constexpr bool wants_derivatives() {
-    if constexpr (requires { S::k_derivatives; }) return S::k_derivatives;
-    return false;
+constexpr int derivative_count() {
+    if constexpr (requires { S::k_derivative_count; }) return S::k_derivative_count;
+    else if constexpr (requires { S::k_derivatives; }) return S::k_derivatives ? S::k_varyings : 0;
+    else return 0;
 }
 }  // namespace detail
 
@@ -73,7 +76,8 @@ constexpr bool wants_derivatives() {
 //   Vec4 vertex(std::uint32_t index, Varyings<k_varyings>& out) const;  returns pos_clip
 //   fragment(const FragmentIn<k_varyings>& in) const  -> Vec4 colour, or std::optional<Vec4>
 //                                                         where nullopt discards the pixel
-// Optional: static constexpr bool k_derivatives = true; to receive in.ddx / in.ddy.
+// Optional: static constexpr bool k_derivatives = true; to receive in.ddx / in.ddy of every varying,
+// or static constexpr int k_derivative_count = K; for the first K varyings only.
 template <class S>
 concept Shader = requires(const S& s, std::uint32_t index, Varyings<S::k_varyings>& out,
                           const FragmentIn<S::k_varyings>& in) {

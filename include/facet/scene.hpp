@@ -3,6 +3,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -13,7 +14,7 @@
 
 namespace facet {
 
-enum class Shading { lit, lambert, flat, normals, mask, vertex_color };
+enum class Shading { lit, lambert, flat, normals, mask, vertex_color, texture };
 // Parses "lit", "lambert", ... Returns false for an unknown name.
 bool parse_shading(std::string_view name, Shading& out);
 const char* to_string(Shading s);
@@ -45,8 +46,22 @@ struct Scene {
 
 struct RenderSettings {
     Shading shading = Shading::lit;
-    Vec4 background{0.11f, 0.12f, 0.14f, 1.0f};
-    CullMode cull = CullMode::none;  // files often have inconsistent winding; the depth test sorts it out
+    Vec4 background{0.11f, 0.12f, 0.14f, 1.0f};  // alpha 0 for a transparent PNG
+    // none: files often have inconsistent winding, so only single-sided materials are culled.
+    // back/front: forced for every object. The lambert mode never culls.
+    CullMode cull = CullMode::none;
+};
+
+// How to look at a scene, as the command line and the viewer take it. Without an eye, the camera
+// orbits the scene by the framing rule below; with one, it looks from there at `target` (default:
+// the centre of the bounds). Angles in radians.
+struct ViewSpec {
+    float azimuth = 0, elevation = 0;
+    float fovy = radians(45.0f);
+    std::optional<Vec3> eye, target;
+    Vec3 up{0, 1, 0};
+    std::optional<float> near, far;  // default: from the scene's bounding sphere
+    bool orthographic = false;       // the view volume then fits the bounding sphere
 };
 
 // The framing rule that other renderers can reproduce exactly: centre = centre of the bounds,
@@ -54,9 +69,18 @@ struct RenderSettings {
 // near = max(dist - 1.5 r, 0.01 r), far = dist + 1.5 r, eye on the orbit sphere at (azimuth, elevation).
 Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fovy, float aspect);
 
-// Clears the target to the background and draws every object.
+Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect);
+
+// Clears the target to the background and draws every object: opaque and alpha-masked ones in
+// order, then alpha-blended ones from back to front (by the distance of their bounds' centre) with
+// depth writes off.
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings);
+
+// Box-filters a supersampled target down by `factor` in each direction into `colour` (and, if
+// given, `depth`: the nearest of each block's samples, so silhouettes keep their depth). The
+// outputs keep their memory between calls.
+void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, std::vector<float>* depth);
 
 // Built from embedded data, no files: a checkered floor, a cube, a sphere and a torus.
 Scene default_scene();

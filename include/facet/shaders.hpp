@@ -6,6 +6,8 @@
 //   BlinnPhong    per-pixel key + fill lights, ambient and specular highlights, two-sided
 //   Normals       world-space normal as colour (0.5 + 0.5 n)
 //   Mask          unlit white
+//   Textured      BlinnPhong with the material's base-colour texture and alpha (mask / blend)
+//   TextureUnlit  the base-colour texture and material colour, no lighting
 #pragma once
 
 #include <algorithm>
@@ -13,6 +15,7 @@
 
 #include "facet/mesh.hpp"
 #include "facet/pipeline.hpp"
+#include "facet/texture.hpp"
 
 namespace facet {
 
@@ -40,10 +43,18 @@ struct MeshArrays {
     const Vec3* positions = nullptr;
     const Vec3* normals = nullptr;
     const Vec4* colours = nullptr;
+    const Vec2* uvs = nullptr;
     static MeshArrays of(const Mesh& m) {
         return {m.positions.data(), m.normals.empty() ? nullptr : m.normals.data(),
-                m.colours.empty() ? nullptr : m.colours.data()};
+                m.colours.empty() ? nullptr : m.colours.data(), m.uvs.empty() ? nullptr : m.uvs.data()};
     }
+};
+
+// A material's texture and how its alpha is used, for the textured shaders.
+struct TextureBinding {
+    const Texture* texture = nullptr;  // null: the material colour alone
+    Sampler sampler;
+    float alpha_cutoff = -1;           // discard below this alpha; negative: never
 };
 
 namespace shaders {
@@ -60,6 +71,19 @@ inline Vec3 lambert_term(Vec3 n, const ShadingUniforms& u) {
     return Vec3{u.ambient, u.ambient, u.ambient} + (u.key.colour * k + u.fill.colour * f) * u.diffuse;
 }
 inline Vec4 shade(Vec4 albedo, Vec3 light) { return {albedo.x * light.x, albedo.y * light.y, albedo.z * light.z, albedo.w}; }
+inline Vec2 uv_of(const MeshArrays& m, std::uint32_t i) { return m.uvs ? m.uvs[i] : Vec2{}; }
+// Base colour at a pixel: material x vertex colour (in `colour`) x texture sampled at uv.
+template <int N>
+inline Vec4 albedo(const TextureBinding& t, const FragmentIn<N>& in, int uv_at, Vec4 colour) {
+    if (!t.texture) return colour;
+    return colour * t.texture->sample(in.v.vec2(uv_at), in.ddx.vec2(uv_at), in.ddy.vec2(uv_at), t.sampler);
+}
+inline Vec4 blinn_phong(Vec3 n, Vec3 to_eye, Vec4 albedo, const ShadingUniforms& u) {
+    Vec4 c = shade(albedo, lambert_term(n, u));
+    const Vec3 h = normalize(u.key.direction + to_eye);
+    const float s = u.specular * std::pow(std::max(dot(n, h), 0.0f), u.shininess);
+    return {c.x + s * u.key.colour.x, c.y + s * u.key.colour.y, c.z + s * u.key.colour.z, c.w};
+}
 }  // namespace detail
 
 struct VertexColour {
@@ -119,12 +143,47 @@ struct BlinnPhong {
     Vec4 fragment(const FragmentIn<10>& in) const {
         Vec3 n = normalize(in.v.vec3(0));
         if (!in.front_facing) n = -n;  // two-sided: the inside of an open surface is lit too
-        const Vec3 to_eye = normalize(u.eye - in.v.vec3(3));
-        const Vec4 albedo = in.v.vec4(6);
-        Vec4 c = detail::shade(albedo, detail::lambert_term(n, u));
-        const Vec3 h = normalize(u.key.direction + to_eye);
-        const float s = u.specular * std::pow(std::max(dot(n, h), 0.0f), u.shininess);
-        return {c.x + s * u.key.colour.x, c.y + s * u.key.colour.y, c.z + s * u.key.colour.z, c.w};
+        return detail::blinn_phong(n, normalize(u.eye - in.v.vec3(3)), in.v.vec4(6), u);
+    }
+};
+
+struct Textured {
+    static constexpr int k_varyings = 12;  // uv, normal, world position, colour
+    static constexpr int k_derivative_count = 2;  // the uv pair, for mip selection
+    MeshArrays mesh;
+    ShadingUniforms u;
+    TextureBinding tex;
+    Vec4 vertex(std::uint32_t i, Varyings<12>& out) const {
+        out.set(0, detail::uv_of(mesh, i));
+        out.set(2, detail::world_normal(mesh, u, i));
+        out.set(5, transform_point(u.model, mesh.positions[i]));
+        out.set(8, detail::vertex_colour(mesh, u, i));
+        return u.clip_from_object * Vec4(mesh.positions[i], 1);
+    }
+    std::optional<Vec4> fragment(const FragmentIn<12>& in) const {
+        const Vec4 albedo = detail::albedo(tex, in, 0, in.v.vec4(8));
+        if (albedo.w < tex.alpha_cutoff) return std::nullopt;
+        Vec3 n = normalize(in.v.vec3(2));
+        if (!in.front_facing) n = -n;
+        return detail::blinn_phong(n, normalize(u.eye - in.v.vec3(5)), albedo, u);
+    }
+};
+
+struct TextureUnlit {
+    static constexpr int k_varyings = 6;  // uv, colour
+    static constexpr int k_derivative_count = 2;
+    MeshArrays mesh;
+    ShadingUniforms u;
+    TextureBinding tex;
+    Vec4 vertex(std::uint32_t i, Varyings<6>& out) const {
+        out.set(0, detail::uv_of(mesh, i));
+        out.set(2, detail::vertex_colour(mesh, u, i));
+        return u.clip_from_object * Vec4(mesh.positions[i], 1);
+    }
+    std::optional<Vec4> fragment(const FragmentIn<6>& in) const {
+        const Vec4 albedo = detail::albedo(tex, in, 0, in.v.vec4(2));
+        if (albedo.w < tex.alpha_cutoff) return std::nullopt;
+        return albedo;
     }
 };
 

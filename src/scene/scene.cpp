@@ -6,6 +6,8 @@
 
 #include "facet/shaders.hpp"
 
+#include <utility>
+
 namespace facet {
 namespace {
 
@@ -13,7 +15,8 @@ constexpr struct {
     Shading shading;
     const char* name;
 } k_shading_names[] = {{Shading::lit, "lit"},         {Shading::lambert, "lambert"}, {Shading::flat, "flat"},
-                       {Shading::normals, "normals"}, {Shading::mask, "mask"},       {Shading::vertex_color, "vertex-color"}};
+                       {Shading::normals, "normals"}, {Shading::mask, "mask"},       {Shading::vertex_color, "vertex-color"},
+                       {Shading::texture, "texture"}};
 
 // The comparison mode's constants, fixed by the command-line contract:
 // colour = 0.8 * (0.15 + 0.85 * max(dot(n, l), 0)), l toward the eye.
@@ -47,10 +50,36 @@ ShadingUniforms uniforms_for(const SceneObject& object, const Camera& camera, co
 }
 
 template <class S>
-DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, const SceneObject& o,
-                      const ShadingUniforms& u, MeshArrays arrays) {
-    const S shader{arrays, u};
+DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, const SceneObject& o, const S& shader) {
     return r.draw(target, state, DrawInput{static_cast<std::uint32_t>(o.mesh.positions.size()), o.mesh.indices}, shader);
+}
+
+TextureBinding binding_of(const Material& m) {
+    return {m.base_colour_texture.get(), m.sampler, m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff : -1.0f};
+}
+
+// Picks the shader for the mode and the object's data, then draws.
+DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, const SceneObject& o,
+                      const ShadingUniforms& u, MeshArrays arrays, Shading shading) {
+    const bool has_normals = arrays.normals != nullptr;
+    const bool textured = o.material.base_colour_texture && arrays.uvs;
+    const TextureBinding tex = textured ? binding_of(o.material) : TextureBinding{nullptr, {}, binding_of(o.material).alpha_cutoff};
+    switch (shading) {
+        case Shading::lit:
+            if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
+            if (textured || o.material.alpha_mode == AlphaMode::mask)
+                return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex});
+            return draw_with(r, target, state, o, shaders::BlinnPhong{arrays, u});
+        case Shading::lambert:
+            if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
+            return draw_with(r, target, state, o, shaders::Lambert{arrays, u});
+        case Shading::flat: return draw_with(r, target, state, o, shaders::Flat{arrays, u});
+        case Shading::normals: return draw_with(r, target, state, o, shaders::Normals{arrays, u});
+        case Shading::mask: return draw_with(r, target, state, o, shaders::Mask{arrays, u});
+        case Shading::vertex_color: return draw_with(r, target, state, o, shaders::VertexColour{arrays, u});
+        case Shading::texture: return draw_with(r, target, state, o, shaders::TextureUnlit{arrays, u, tex});
+    }
+    return {};
 }
 
 void add(DrawStats& total, const DrawStats& s) {
@@ -114,39 +143,91 @@ Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fov
     return c;
 }
 
+Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
+    if (!view.eye && !view.target && !view.near && !view.far && !view.orthographic && view.up == Vec3{0, 1, 0})
+        return frame_scene(scene, view.azimuth, view.elevation, view.fovy, aspect);
+    const Aabb box = scene.bounds();
+    const Vec3 centre = box.empty() ? Vec3{} : box.centre();
+    float r = scene.radius_about(centre);
+    if (!(r > 0)) r = 1;
+    Camera c = frame_scene(scene, view.azimuth, view.elevation, view.fovy, aspect);
+    c.up = view.up;
+    if (view.target) c.target = *view.target;
+    if (view.eye) c.position = *view.eye;
+    const float dist = length(c.position - centre);
+    c.near = view.near ? *view.near : std::max(dist - 1.5f * r, 0.01f * r);
+    c.far = view.far ? *view.far : dist + 1.5f * r;
+    if (view.orthographic) {
+        c.projection_kind = ProjectionKind::orthographic;
+        c.ortho_height = 2 * r * std::max(1.0f, 1.0f / aspect);
+    }
+    return c;
+}
+
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings) {
     target.clear(settings.background);
     const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
     const Mat4 clip_from_world = camera.projection(aspect) * camera.view();
-    DrawState state;
-    state.cull = settings.shading == Shading::lambert ? CullMode::none : settings.cull;
+    const bool lambert = settings.shading == Shading::lambert;
+
+    // Blended objects go last, farthest first; everything else keeps the file's order.
+    std::vector<std::pair<float, std::size_t>> blended;
+    std::vector<std::size_t> order;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const SceneObject& o = scene.objects[i];
+        if (o.material.alpha_mode == AlphaMode::blend && !lambert && settings.shading != Shading::mask) {
+            Aabb box;
+            for (Vec3 p : o.mesh.positions) box.extend(transform_point(o.model, p));
+            blended.push_back({-length(box.centre() - camera.position), i});
+        } else {
+            order.push_back(i);
+        }
+    }
+    std::stable_sort(blended.begin(), blended.end());
+    const std::size_t opaque_count = order.size();
+    for (const auto& b : blended) order.push_back(b.second);
+
     DrawStats total;
-    for (const SceneObject& o : scene.objects) {
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const SceneObject& o = scene.objects[order[k]];
         const ShadingUniforms u = uniforms_for(o, camera, clip_from_world, settings);
         MeshArrays arrays = MeshArrays::of(o.mesh);
-        if (settings.shading == Shading::lambert) arrays.colours = nullptr;  // the contract ignores materials
-        const bool has_normals = arrays.normals != nullptr;
-        DrawStats s;
-        switch (settings.shading) {
-            case Shading::lit:
-                s = has_normals ? draw_object<shaders::BlinnPhong>(renderer, target, state, o, u, arrays)
-                                : draw_object<shaders::Flat>(renderer, target, state, o, u, arrays);
-                break;
-            case Shading::lambert:
-                s = has_normals ? draw_object<shaders::Lambert>(renderer, target, state, o, u, arrays)
-                                : draw_object<shaders::Flat>(renderer, target, state, o, u, arrays);
-                break;
-            case Shading::flat: s = draw_object<shaders::Flat>(renderer, target, state, o, u, arrays); break;
-            case Shading::normals: s = draw_object<shaders::Normals>(renderer, target, state, o, u, arrays); break;
-            case Shading::mask: s = draw_object<shaders::Mask>(renderer, target, state, o, u, arrays); break;
-            case Shading::vertex_color:
-                s = draw_object<shaders::VertexColour>(renderer, target, state, o, u, arrays);
-                break;
+        if (lambert) arrays.colours = nullptr;  // the contract ignores materials
+        DrawState state;
+        state.cull = lambert ? CullMode::none
+                             : (settings.cull != CullMode::none ? settings.cull
+                                                                : (o.material.double_sided ? CullMode::none : CullMode::back));
+        if (k >= opaque_count) {
+            state.blend = Blend::alpha;
+            state.depth_write = false;
         }
-        add(total, s);
+        add(total, draw_object(renderer, target, state, o, u, arrays, settings.shading));
     }
     return total;
+}
+
+void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, std::vector<float>* depth) {
+    const int w = source.width() / factor, h = source.height() / factor;
+    colour.width = w;
+    colour.height = h;
+    colour.pixels.resize(static_cast<std::size_t>(w) * h);
+    if (depth) depth->resize(static_cast<std::size_t>(w) * h);
+    const int n = factor * factor;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int sum[4] = {0, 0, 0, 0};
+            float nearest = 1.0f;
+            for (int sy = 0; sy < factor; ++sy)
+                for (int sx = 0; sx < factor; ++sx) {
+                    const Rgba8 c = source.colour(x * factor + sx, y * factor + sy);
+                    sum[0] += c.r, sum[1] += c.g, sum[2] += c.b, sum[3] += c.a;
+                    nearest = std::min(nearest, source.depth(x * factor + sx, y * factor + sy));
+                }
+            auto avg = [&](int v) { return static_cast<std::uint8_t>((v + n / 2) / n); };
+            colour.pixels[static_cast<std::size_t>(y) * w + x] = {avg(sum[0]), avg(sum[1]), avg(sum[2]), avg(sum[3])};
+            if (depth) (*depth)[static_cast<std::size_t>(y) * w + x] = nearest;
+        }
 }
 
 Scene default_scene() {

@@ -33,7 +33,7 @@ template <class S, DepthTest D, bool DepthWrite, Blend B>
 void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
                 const float* const (&var)[3], TargetView target) {
     constexpr int N = S::k_varyings;
-    constexpr bool derivatives = wants_derivatives<S>();
+    constexpr int derivative_varyings = derivative_count<S>();
     // Barycentric form: v = v0 + b1 (v1 - v0) + b2 (v2 - v0), with b1, b2 perspective-correct.
     float v0[N > 0 ? N : 1], d1[N > 0 ? N : 1], d2[N > 0 ? N : 1];
     for (int k = 0; k < N; ++k) {
@@ -63,11 +63,11 @@ void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov
             const float b1 = (t.l1_0 + t.dl1dx * dx + t.dl1dy * dy) * w;
             const float b2 = (t.l2_0 + t.dl2dx * dx + t.dl2dy * dy) * w;
             for (int k = 0; k < N; ++k) in.v[k] = v0[k] + b1 * d1[k] + b2 * d2[k];
-            if constexpr (derivatives) {
+            if constexpr (derivative_varyings > 0) {
                 // d(l/q)/dx = (dl/dx - (l/q) dq/dx) / q for each perspective-correct barycentric.
                 const float b1x = (t.dl1dx - b1 * t.dqdx) * w, b1y = (t.dl1dy - b1 * t.dqdy) * w;
                 const float b2x = (t.dl2dx - b2 * t.dqdx) * w, b2y = (t.dl2dy - b2 * t.dqdy) * w;
-                for (int k = 0; k < N; ++k) {
+                for (int k = 0; k < derivative_varyings; ++k) {
                     in.ddx[k] = b1x * d1[k] + b2x * d2[k];
                     in.ddy[k] = b1y * d1[k] + b2y * d2[k];
                 }
