@@ -6,15 +6,18 @@
 namespace facet::detail {
 namespace {
 
-float plane_distance(int plane, Vec4 p, GuardBand g) {
+// Signed distance to a plane, in float (classification) or double (intersections).
+template <class T = float>
+T plane_distance(int plane, Vec4 p, GuardBand g) {
+    const T x = p.x, y = p.y, z = p.z, w = p.w, gx = g.gx, gy = g.gy;
     switch (plane) {
-        case 0: return p.w - k_min_clip_w;
-        case 1: return p.z;
-        case 2: return p.w - p.z;
-        case 3: return p.x + g.gx * p.w;
-        case 4: return g.gx * p.w - p.x;
-        case 5: return p.y + g.gy * p.w;
-        default: return g.gy * p.w - p.y;
+        case 0: return w - T{k_min_clip_w};
+        case 1: return z;
+        case 2: return w - z;
+        case 3: return x + gx * w;
+        case 4: return gx * w - x;
+        case 5: return y + gy * w;
+        default: return gy * w - y;
     }
 }
 
@@ -22,18 +25,35 @@ const float* varyings_of(std::uint32_t ref, const ClipVertices& vertices, const 
     return (ref & k_clipped_bit) ? extras.varyings_of(ref & ~k_clipped_bit) : vertices.varyings_of(ref);
 }
 
-// The point where edge (inside -> outside) crosses the plane, with interpolated varyings.
-ClipVertex intersect(const ClipVertex& in, float d_in, const ClipVertex& out, float d_out,
+// The point where edge (inside -> outside) crosses the plane, with interpolated varyings. Computed in
+// double, and the coordinate the plane constrains is then set so that the point lies exactly on it:
+// in float, in + (out - in) * t cancels catastrophically when the ends differ greatly in size
+// (w = 1e6 far ahead, 0.01 at the near plane) and could return w <= 0, a point behind the eye that
+// made the front end drop the whole triangle; and out - in can overflow although both ends are finite.
+ClipVertex intersect(const ClipVertex& in, const ClipVertex& out, int plane, GuardBand g,
                      const ClipVertices& vertices, ClipVertices& extras) {
-    const float t = d_in / (d_in - d_out);
+    const double d_in = plane_distance<double>(plane, in.pos, g), d_out = plane_distance<double>(plane, out.pos, g);
+    const double t = d_in / (d_in - d_out);
+    const auto lerp = [t](float a, float b) { return a + (static_cast<double>(b) - a) * t; };
+    double x = lerp(in.pos.x, out.pos.x), y = lerp(in.pos.y, out.pos.y), z = lerp(in.pos.z, out.pos.z),
+           w = lerp(in.pos.w, out.pos.w);
+    switch (plane) {
+        case 0: w = k_min_clip_w; break;
+        case 1: z = 0; break;
+        case 2: z = w; break;
+        case 3: x = -static_cast<double>(g.gx) * w; break;
+        case 4: x = static_cast<double>(g.gx) * w; break;
+        case 5: y = -static_cast<double>(g.gy) * w; break;
+        default: y = static_cast<double>(g.gy) * w; break;
+    }
     const std::uint32_t index = static_cast<std::uint32_t>(extras.pos.size());
     const int n = extras.stride;
-    extras.pos.push_back(in.pos + (out.pos - in.pos) * t);
+    extras.pos.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w)});
     extras.varyings.resize(extras.varyings.size() + static_cast<std::size_t>(n));
     const float* a = varyings_of(in.ref, vertices, extras);  // fetched after the resize above
     const float* b = varyings_of(out.ref, vertices, extras);
     float* dst = extras.varyings.data() + static_cast<std::size_t>(index) * n;
-    for (int k = 0; k < n; ++k) dst[k] = a[k] + (b[k] - a[k]) * t;
+    for (int k = 0; k < n; ++k) dst[k] = static_cast<float>(lerp(a[k], b[k]));
     return {extras.pos.back(), index | k_clipped_bit};
 }
 
@@ -64,8 +84,8 @@ int clip_triangle(const ClipVertex (&tri)[3], std::uint32_t planes, GuardBand g,
             const bool a_in = da >= 0, b_in = db >= 0;
             if (n + 2 > k_max_clip_polygon) return 0;
             if (a_in) dst[n++] = a;
-            if (a_in && !b_in) dst[n++] = intersect(a, da, b, db, vertices, extras);
-            if (!a_in && b_in) dst[n++] = intersect(b, db, a, da, vertices, extras);
+            if (a_in && !b_in) dst[n++] = intersect(a, b, plane, g, vertices, extras);
+            if (!a_in && b_in) dst[n++] = intersect(b, a, plane, g, vertices, extras);
         }
         count = n;
         std::swap(src, dst);
