@@ -40,6 +40,13 @@ struct Mesh {
 void compute_smooth_normals(Mesh& mesh);
 // Gives every triangle its own three vertices and its face normal: the faceted look.
 Mesh split_faces_flat(const Mesh& mesh);
+// Normals with hard edges where faces meet at a sharp angle: two triangles that share an edge are
+// smoothed together when their face normals differ by less than `crease_angle_radians`, and split
+// otherwise (pi keeps everything smooth, 0 gives flat faces). Vertices are welded by position
+// first, so an unindexed mesh (STL) smooths like an indexed one; the vertex arrays are kept, and a
+// vertex whose corners end up with different normals is duplicated (colour and uv copied). Each
+// normal is the angle-weighted average of the faces smoothed together around the vertex.
+void compute_creased_normals(Mesh& mesh, float crease_angle_radians);
 
 // Shapes, centred at the origin, counter-clockwise outward faces, with normals and uvs.
 Mesh make_cube(float half_size = 1.0f);                      // 24 vertices, a colour per face
