@@ -1,0 +1,144 @@
+// facet command line: parsing and validating render options, and rendering by them.
+#include "options.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace facet::cli {
+namespace {
+
+Error usage(const std::string& message) { return Error{ErrorCode::invalid_argument, message}; }
+
+bool parse_size(const std::string& s, int& w, int& h) {
+    int n = 0;
+    if (std::sscanf(s.c_str(), "%dx%d%n", &w, &h, &n) != 2 || n != static_cast<int>(s.size())) return false;
+    return w >= 1 && h >= 1;
+}
+
+// "x,y,z" (or with `count` = 4 an optional fourth value) into floats; all must be finite.
+bool parse_floats(const std::string& s, int min_count, int max_count, float* out, int& count) {
+    std::stringstream in(s);
+    std::string item;
+    count = 0;
+    while (std::getline(in, item, ',')) {
+        if (count == max_count) return false;
+        char* end = nullptr;
+        const float v = std::strtof(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !std::isfinite(v)) return false;
+        out[count++] = v;
+    }
+    return count >= min_count;
+}
+
+Result<Vec3> parse_vec3(const std::string& option, const std::string& value) {
+    float v[3];
+    int n = 0;
+    if (!parse_floats(value, 3, 3, v, n)) return usage(option + " must be X,Y,Z with finite numbers, got '" + value + "'");
+    return Vec3{v[0], v[1], v[2]};
+}
+
+Result<Vec4> parse_background(const std::string& value) {
+    if (value == "transparent") return Vec4{0, 0, 0, 0};
+    float v[4] = {0, 0, 0, 1};
+    int n = 0;
+    if (!parse_floats(value, 3, 4, v, n))
+        return usage("--background must be R,G,B[,A] (0..1 or 0..255) or 'transparent', got '" + value + "'");
+    // Values above 1 are read as 0..255.
+    const bool bytes = v[0] > 1 || v[1] > 1 || v[2] > 1 || (n == 4 && v[3] > 1);
+    for (int i = 0; i < n; ++i) {
+        if (bytes) v[i] /= 255.0f;
+        if (v[i] < 0 || v[i] > 1) return usage("--background values must lie in 0..1 or 0..255, got '" + value + "'");
+    }
+    return Vec4{v[0], v[1], v[2], v[3]};
+}
+
+}  // namespace
+
+void add_render_options(CLI::App& c, RenderOptions& o) {
+    c.add_option("--size", o.size, "Image size WxH")->capture_default_str();
+    c.add_option("--azimuth", o.azimuth, "Orbit azimuth in degrees, about +Y from +Z toward +X")->capture_default_str();
+    c.add_option("--elevation", o.elevation, "Orbit elevation in degrees above the XZ plane")->capture_default_str();
+    c.add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
+    c.add_option("--eye", o.eye, "Explicit camera position X,Y,Z (replaces automatic framing)");
+    c.add_option("--target", o.target, "Point the explicit camera looks at X,Y,Z (default: model centre)");
+    c.add_option("--up", o.up, "Camera up vector X,Y,Z (default 0,1,0)");
+    c.add_option("--near", o.near, "Near clip plane distance");
+    c.add_option("--far", o.far, "Far clip plane distance");
+    c.add_option("--up-axis", o.up_axis, "Which model axis is up: y or z (CAD and STL files are often Z-up)")
+        ->check(CLI::IsMember({"y", "z"}))
+        ->capture_default_str();
+    c.add_flag("--ortho", o.ortho, "Orthographic projection");
+    c.add_option("--shading", o.shading, "lit | lambert | flat | normals | mask | vertex-color | texture")
+        ->capture_default_str();
+    c.add_option("--background", o.background, "R,G,B[,A] in 0..1 or 0..255, or 'transparent'");
+    c.add_option("--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
+    c.add_option("--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
+    c.add_option("--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")
+        ->capture_default_str();
+}
+
+Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) {
+    RenderPlan p;
+    if (!parse_size(o.size, p.width, p.height)) return usage("--size must be WxH, got '" + o.size + "'");
+    if (o.ssaa < 1 || o.ssaa > 8) return usage("--ssaa must be 1..8, got " + std::to_string(o.ssaa));
+    p.ssaa = o.ssaa;
+    if (static_cast<long>(p.width) * o.ssaa > k_max_target_size || static_cast<long>(p.height) * o.ssaa > k_max_target_size)
+        return usage("--size times --ssaa must stay within " + std::to_string(k_max_target_size) + " pixels per side");
+    if (o.threads < 0) return usage("--threads must be 0 (all cores) or more");
+    if (!(o.fov > 0 && o.fov < 180)) return usage("--fov must be between 0 and 180 degrees");
+    if (!parse_shading(o.shading, p.settings.shading)) return usage("unknown --shading '" + o.shading + "'");
+    if (!o.background.empty()) {
+        Result<Vec4> bg = parse_background(o.background);
+        if (!bg) return bg.error();
+        p.settings.background = *bg;
+    }
+    p.view.azimuth = radians(o.azimuth);
+    p.view.elevation = radians(o.elevation);
+    p.view.fovy = radians(o.fov);
+    p.view.orthographic = o.ortho;
+    if (!o.eye.empty()) {
+        Result<Vec3> v = parse_vec3("--eye", o.eye);
+        if (!v) return v.error();
+        p.view.eye = *v;
+    }
+    if (!o.target.empty()) {
+        Result<Vec3> v = parse_vec3("--target", o.target);
+        if (!v) return v.error();
+        p.view.target = *v;
+    }
+    if (!o.up.empty()) {
+        Result<Vec3> v = parse_vec3("--up", o.up);
+        if (!v) return v.error();
+        if (!(length(*v) > 0)) return usage("--up must not be the zero vector");
+        p.view.up = *v;
+    }
+    if (o.near && !(*o.near > 0)) return usage("--near must be positive");
+    if (o.far && !(*o.far > (o.near ? *o.near : 0))) return usage("--far must be positive and beyond --near");
+    p.view.near = o.near;
+    p.view.far = o.far;
+    p.load.up_axis = o.up_axis == "z" ? UpAxis::z : UpAxis::y;
+    if (!(o.crease_angle >= 0 && o.crease_angle <= 180)) return usage("--crease-angle must be 0..180 degrees");
+    p.load.crease_angle_degrees = o.crease_angle;
+    p.use_default_scene_camera = !camera_options_given;
+    return p;
+}
+
+DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, Framebuffer& target,
+                      Image& colour, std::vector<float>* depth) {
+    const float aspect = static_cast<float>(plan.width) / static_cast<float>(plan.height);
+    const Camera camera = plan.use_default_scene_camera ? default_scene_camera(aspect) : make_camera(scene, plan.view, aspect);
+    const DrawStats stats = render_scene(renderer, target, scene, camera, plan.settings);
+    resolve_supersampled(target, plan.ssaa, colour, depth);
+    return stats;
+}
+
+Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command) {
+    if (path.empty()) return default_scene();
+    Result<LoadedModel> model = load_model(path, plan.load);
+    if (!model) return model.error();
+    for (const std::string& w : model->warnings) std::fprintf(stderr, "%s: warning: %s\n", command, w.c_str());
+    return std::move(model->scene);
+}
+
+}  // namespace facet::cli

@@ -1,0 +1,63 @@
+// facet command line: the render options shared by `facet render` and `facet thumbs`, their
+// parsing, and the one function that turns a loaded scene into pixels.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "facet/error.hpp"
+#include "facet/model.hpp"
+#include "facet/scene.hpp"
+
+namespace facet::cli {
+
+// Exit codes scripts can trust.
+constexpr int k_exit_ok = 0;
+constexpr int k_exit_failed = 1;     // a file could not be loaded, rendered or written
+constexpr int k_exit_usage = 2;      // bad command line
+
+struct RenderOptions {
+    std::string size = "800x600";
+    float azimuth = 0, elevation = 0, fov = 45;
+    std::string eye, target, up;
+    std::optional<float> near, far;
+    std::string up_axis = "y";
+    bool ortho = false;
+    std::string shading = "lit";
+    std::string background = "";  // default: the built-in dark grey
+    int ssaa = 1;
+    int threads = 0;
+    float crease_angle = 40;
+};
+
+// Adds the options above to a subcommand.
+void add_render_options(CLI::App& command, RenderOptions& options);
+
+// The options after validation, ready to render with.
+struct RenderPlan {
+    int width = 0, height = 0;
+    int ssaa = 1;
+    ViewSpec view;
+    RenderSettings settings;
+    LoadOptions load;
+    bool use_default_scene_camera = false;  // no model and no camera options: the designed view
+};
+
+// Checks and converts the options; the error message names the offending option.
+Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_given);
+
+// Renders a scene into `colour` (and `depth`, window depth per pixel, if given) by the plan.
+DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, Framebuffer& target,
+                      Image& colour, std::vector<float>* depth);
+
+// The default scene, or the model at `path`; warnings go to stderr prefixed with `command`.
+Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command);
+
+int run_render(const std::string& model, const std::string& output, const std::string& depth_out, int benchmark_frames,
+               const RenderOptions& options, bool camera_options_given);
+int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options);
+
+}  // namespace facet::cli
