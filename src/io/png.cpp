@@ -41,9 +41,30 @@ Result<std::vector<unsigned char>> encode(const std::string& path, spng_ihdr ihd
 
 }  // namespace
 
+namespace {
+
+// Writes straight to `path`: for targets that are not regular files (/dev/null, /dev/stdout, a
+// fifo), where renaming a temporary over them would replace the device itself.
+Status write_file_direct(const std::string& path, const void* bytes, std::size_t size) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) return io_error(path, std::string("cannot open for writing: ") + std::strerror(errno));
+    out.write(static_cast<const char*>(bytes), static_cast<std::streamsize>(size));
+    out.flush();
+    if (!out) return io_error(path, "write failed");
+    return Ok{};
+}
+
+}  // namespace
+
 Status write_file_atomic(const std::string& path, const void* bytes, std::size_t size) {
     namespace fs = std::filesystem;
     const fs::path target(path);
+    std::error_code status_error;
+    const fs::file_status status = fs::status(target, status_error);
+    if (fs::exists(status) && !fs::is_regular_file(status)) {
+        if (fs::is_directory(status)) return io_error(path, "is a directory");
+        return write_file_direct(path, bytes, size);
+    }
     // Same directory as the target, so the rename cannot cross file systems.
     std::random_device rd;
     const fs::path temp = target.parent_path() /

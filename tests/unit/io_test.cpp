@@ -80,6 +80,25 @@ TEST(Png, FailedWriteLeavesTheOldFileAndNoTemporary) {
     EXPECT_TRUE(read_png(path).ok());
 }
 
+TEST(Png, WritingToADeviceWritesThroughItAndNeverReplacesIt) {
+    // Renaming a temporary file over /dev/null would turn the device into a regular file.
+    ASSERT_TRUE(fs::is_character_file("/dev/null"));
+    EXPECT_TRUE(write_png("/dev/null", gradient(4, 4)).ok());
+    EXPECT_TRUE(fs::is_character_file("/dev/null"));
+    std::size_t temporaries = 0;
+    for (const auto& e : fs::directory_iterator("/dev"))
+        temporaries += e.path().filename().string().rfind("null.tmp", 0) == 0;
+    EXPECT_EQ(temporaries, 0u);
+}
+
+TEST(Png, WritingOverADirectoryFails) {
+    const fs::path dir = temp_dir("over_dir");
+    const Status s = write_png(dir.string(), gradient(4, 4));
+    ASSERT_FALSE(s.ok());
+    EXPECT_NE(s.error().message.find("directory"), std::string::npos);
+    EXPECT_TRUE(fs::is_directory(dir));
+}
+
 TEST(Png, ReadingGarbageOrMissingFilesIsAnErrorNamingTheFile) {
     const fs::path dir = temp_dir("garbage");
     const std::string missing = (dir / "missing.png").string();
