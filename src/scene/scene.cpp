@@ -213,6 +213,11 @@ void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, 
     colour.height = h;
     colour.pixels.resize(static_cast<std::size_t>(w) * h);
     if (depth) depth->resize(static_cast<std::size_t>(w) * h);
+    if (factor == 1) {  // nothing to filter: a plain copy
+        std::copy(source.colour_data(), source.colour_data() + colour.pixels.size(), colour.pixels.begin());
+        if (depth) std::copy(source.depth_data(), source.depth_data() + depth->size(), depth->begin());
+        return;
+    }
     const int n = factor * factor;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {

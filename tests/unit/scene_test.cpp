@@ -120,3 +120,32 @@ TEST(Scene, DefaultSceneRendersSomethingInEveryMode) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Scene, ResolveSupersampledAveragesColourAndKeepsTheNearestDepth) {
+    facet::Framebuffer fb(4, 2);
+    fb.clear({0, 0, 0, 1}, 1.0f);
+    // Block (0,0): samples 255, 0, 0, 0 in red -> (255 + 2) / 4 = 64 with rounding; depths 0.5 and 1.
+    fb.colour_data()[0] = {255, 0, 0, 255};
+    fb.depth_data()[1] = 0.5f;
+    // Block (1,0): all four white, depth 0.25 in one sample.
+    for (int i : {2, 3, 6, 7}) fb.colour_data()[i] = {255, 255, 255, 255};
+    fb.depth_data()[7] = 0.25f;
+    facet::Image img;
+    std::vector<float> depth;
+    facet::resolve_supersampled(fb, 2, img, &depth);
+    ASSERT_EQ(img.width, 2);
+    ASSERT_EQ(img.height, 1);
+    EXPECT_EQ(img.at(0, 0), (facet::Rgba8{64, 0, 0, 255}));
+    EXPECT_EQ(img.at(1, 0), (facet::Rgba8{255, 255, 255, 255}));
+    EXPECT_EQ(depth[0], 0.5f);
+    EXPECT_EQ(depth[1], 0.25f);
+    // Factor 1 is an exact copy.
+    facet::resolve_supersampled(fb, 1, img, &depth);
+    ASSERT_EQ(img.width, 4);
+    EXPECT_TRUE(img.pixels == fb.to_image().pixels);
+    EXPECT_EQ(depth[7], 0.25f);
+}
+
+}  // namespace
