@@ -235,11 +235,49 @@ void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, 
         }
 }
 
+namespace {
+
+// Procedural textures for the default scene, so it shows texturing without shipping image files.
+// A floor tile: light face with a soft diagonal sheen and dark grout at the border.
+std::shared_ptr<const Texture> make_tile_texture() {
+    constexpr int k_size = 64, k_grout = 3;
+    Image img{k_size, k_size, std::vector<Rgba8>(k_size * k_size)};
+    for (int y = 0; y < k_size; ++y)
+        for (int x = 0; x < k_size; ++x) {
+            const bool grout = x < k_grout || y < k_grout || x >= k_size - k_grout || y >= k_size - k_grout;
+            const int sheen = 235 + (x + y) * 20 / (2 * k_size);
+            const auto v = static_cast<std::uint8_t>(grout ? 70 : sheen);
+            img.at(x, y) = {v, v, v, 255};
+        }
+    return std::make_shared<const Texture>(std::move(img));
+}
+
+// A test-card pattern for the cube: a grid of fine lines and a ring, tinted by each face's colour.
+std::shared_ptr<const Texture> make_card_texture() {
+    constexpr int k_size = 128;
+    Image img{k_size, k_size, std::vector<Rgba8>(k_size * k_size)};
+    for (int y = 0; y < k_size; ++y)
+        for (int x = 0; x < k_size; ++x) {
+            const float dx = x + 0.5f - k_size / 2.0f, dy = y + 0.5f - k_size / 2.0f;
+            const float r = std::sqrt(dx * dx + dy * dy);
+            const bool line = x % 16 == 0 || y % 16 == 0;
+            const bool ring = r > 34 && r < 44;
+            const auto v = static_cast<std::uint8_t>(ring ? 255 : (line ? 120 : 215));
+            img.at(x, y) = {v, v, v, 255};
+        }
+    return std::make_shared<const Texture>(std::move(img));
+}
+
+}  // namespace
+
 Scene default_scene() {
+    constexpr int k_floor_cells = 14;
     Scene scene;
-    scene.objects.push_back({make_checker_plane(7.0f, 14, {0.82f, 0.83f, 0.86f, 1}, {0.36f, 0.40f, 0.48f, 1}),
-                             Mat4::identity(), {}});
-    scene.objects.push_back({make_cube(0.55f), translate({-1.5f, 0.55f, 0.4f}) * rotate_y(radians(30)), {}});
+    Mesh floor = make_checker_plane(7.0f, k_floor_cells, {0.86f, 0.87f, 0.90f, 1}, {0.40f, 0.45f, 0.55f, 1});
+    for (Vec2& uv : floor.uvs) uv = uv * static_cast<float>(k_floor_cells);  // one tile per cell, repeated
+    scene.objects.push_back({std::move(floor), Mat4::identity(), {.base_colour_texture = make_tile_texture()}});
+    scene.objects.push_back({make_cube(0.55f), translate({-1.5f, 0.55f, 0.4f}) * rotate_y(radians(30)),
+                             {.base_colour_texture = make_card_texture()}});
     scene.objects.push_back({make_uv_sphere(0.75f, 48, 32), translate({0.7f, 0.75f, -0.6f}), {.base_colour = {0.95f, 0.45f, 0.35f, 1}}});
     scene.objects.push_back({make_torus(0.55f, 0.2f, 64, 24),
                              translate({1.0f, 0.76f, 1.2f}) * rotate_y(radians(35)) * rotate_x(radians(90)),
