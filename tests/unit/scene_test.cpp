@@ -149,3 +149,95 @@ TEST(Scene, ResolveSupersampledAveragesColourAndKeepsTheNearestDepth) {
 }
 
 }  // namespace
+
+namespace {
+
+using namespace facet;
+
+// A quad facing +Z at depth z, covering [-s, s]^2, with uvs and normals.
+Mesh quad_at(float z, float s) {
+    Mesh q;
+    q.positions = {{-s, -s, z}, {s, -s, z}, {s, s, z}, {-s, s, z}};
+    q.normals.assign(4, {0, 0, 1});
+    q.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    q.indices = {0, 1, 2, 0, 2, 3};
+    return q;
+}
+
+Rgba8 centre_pixel_with(const Scene& scene, Shading shading) {
+    Camera camera;
+    camera.position = {0, 0, 5};
+    Renderer renderer({.threads = 1});
+    Framebuffer fb(32, 32);
+    RenderSettings settings;
+    settings.shading = shading;
+    settings.background = {0, 0, 0, 1};
+    render_scene(renderer, fb, scene, camera, settings);
+    return fb.colour(16, 16);
+}
+
+TEST(SceneMaterials, BlendedObjectsAreDrawnFarthestFirstWhateverTheFileOrder) {
+    // Unlit texture mode: colour = material colour exactly, so blending is easy to predict.
+    const Material red_half{.base_colour = {1, 0, 0, 0.5f}, .alpha_mode = AlphaMode::blend};
+    const Material blue_half{.base_colour = {0, 0, 1, 0.5f}, .alpha_mode = AlphaMode::blend};
+    Scene scene;
+    scene.objects.push_back({quad_at(0.5f, 1), Mat4::identity(), red_half});   // near, listed first
+    scene.objects.push_back({quad_at(-0.5f, 1), Mat4::identity(), blue_half});  // far
+    // Far blue over black: (0, 0, 0.5); then near red: (0.5, 0, 0.25).
+    const Rgba8 c = centre_pixel_with(scene, Shading::texture);
+    EXPECT_EQ(c.r, 128);
+    EXPECT_EQ(c.g, 0);
+    EXPECT_EQ(c.b, 64);
+}
+
+TEST(SceneMaterials, BlendedObjectsDoNotHideWhatIsBehindThem) {
+    Scene scene;
+    // A blended quad in front, listed before an opaque one behind it: the opaque one is drawn
+    // first, and the blended one neither writes depth nor hides it.
+    scene.objects.push_back({quad_at(0.5f, 1), Mat4::identity(), {.base_colour = {1, 1, 1, 0.25f}, .alpha_mode = AlphaMode::blend}});
+    scene.objects.push_back({quad_at(-0.5f, 1), Mat4::identity(), {.base_colour = {0, 1, 0, 1}}});
+    const Rgba8 c = centre_pixel_with(scene, Shading::texture);
+    EXPECT_EQ(c.r, 64);   // 0.25 * 1
+    EXPECT_EQ(c.g, 255);  // 0.25 * 1 + 0.75 * 1
+    EXPECT_EQ(c.b, 64);
+}
+
+TEST(SceneMaterials, MaskedTexturesCutOutBelowTheCutoff) {
+    // A 2x1 texture: left texel opaque white, right texel alpha 0.2. With bilinear filtering off
+    // (nearest) the quad's right half is cut out and shows the red quad behind it.
+    Image texels{2, 1, {{255, 255, 255, 255}, {255, 255, 255, 51}}};
+    Material masked{.base_colour_texture = std::make_shared<const Texture>(std::move(texels)),
+                    .sampler = {Wrap::clamp, Wrap::clamp, Filter::nearest},
+                    .alpha_mode = AlphaMode::mask,
+                    .alpha_cutoff = 0.5f};
+    Scene scene;
+    scene.objects.push_back({quad_at(0.5f, 1), Mat4::identity(), masked});
+    scene.objects.push_back({quad_at(-0.5f, 2), Mat4::identity(), {.base_colour = {1, 0, 0, 1}}});
+    Camera camera;
+    camera.position = {0, 0, 5};
+    Renderer renderer({.threads = 1});
+    Framebuffer fb(64, 64);
+    RenderSettings settings;
+    settings.shading = Shading::texture;
+    settings.background = {0, 0, 0, 1};
+    render_scene(renderer, fb, scene, camera, settings);
+    EXPECT_EQ(fb.colour(26, 32), (Rgba8{255, 255, 255, 255}));  // left half of the front quad
+    EXPECT_EQ(fb.colour(38, 32), (Rgba8{255, 0, 0, 255}));      // right half: cut out, red shows
+    // Opaque materials ignore alpha entirely.
+    scene.objects[0].material.alpha_mode = AlphaMode::opaque;
+    render_scene(renderer, fb, scene, camera, settings);
+    EXPECT_EQ(fb.colour(38, 32).g, 255);
+}
+
+TEST(SceneMaterials, SingleSidedMaterialsAreCulledFromBehind) {
+    Scene scene;
+    Mesh back_facing = quad_at(0, 1);
+    std::swap(back_facing.indices[1], back_facing.indices[2]);
+    std::swap(back_facing.indices[4], back_facing.indices[5]);
+    scene.objects.push_back({back_facing, Mat4::identity(), {.base_colour = {0, 1, 0, 1}, .double_sided = false}});
+    EXPECT_EQ(centre_pixel_with(scene, Shading::texture), (Rgba8{0, 0, 0, 255}));
+    scene.objects[0].material.double_sided = true;
+    EXPECT_EQ(centre_pixel_with(scene, Shading::texture), (Rgba8{0, 255, 0, 255}));
+}
+
+}  // namespace
