@@ -1,8 +1,9 @@
 // facet raster: coverage of one set-up triangle within one tile.
 // In: TriangleSetup (integer edge functions in pixel units, top-left rule folded in) and a tile.
-// Out: TileCoverage, one bit per pixel. Edge values are stepped incrementally from row to row and
-// each row's covered span is solved exactly with integer division, so the cost is per row, not per
-// pixel. Does not shade or test depth.
+// Out: TileCoverage, one bit per pixel. Each edge bounds every row's span from one side at
+// x = floor(r / d) (or its negation), with r stepping by b from row to row; the quotient and
+// remainder are stepped exactly like a Bresenham line, so after one division per edge and tile
+// every row costs a few integer additions, whatever its width. Does not shade or test depth.
 #include <algorithm>
 
 #include "facet/detail/frame.hpp"
@@ -20,6 +21,26 @@ std::uint64_t span_mask(int lo, int hi) {  // bits lo..hi inclusive, 0 <= lo <= 
     return upto_hi & ~((1ull << lo) - 1);
 }
 
+// floor(r / d) for r = r0 + k*b at k = 0, 1, 2, ... without dividing per step:
+// keeps q = floor(r / d) and rem = r - q*d in [0, d).
+struct FloorStepper {
+    std::int64_t q, rem, d, step_q, step_rem;
+    FloorStepper(std::int64_t r0, std::int64_t b, std::int64_t d_) : d(d_) {
+        q = floor_div(r0, d);
+        rem = r0 - q * d;
+        step_q = floor_div(b, d);
+        step_rem = b - step_q * d;
+    }
+    void step() {
+        q += step_q;
+        rem += step_rem;
+        if (rem >= d) {
+            rem -= d;
+            ++q;
+        }
+    }
+};
+
 }  // namespace
 
 bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
@@ -31,23 +52,42 @@ bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
         out.last_row = out.first_row - 1;
         return false;
     }
+
+    // Edge e holds where a*x + r(y) >= 0 with r(y) = b*y + c:
+    //   a > 0:  x >= ceil(-r / a) = -floor(r / a)     (a lower bound)
+    //   a < 0:  x <= floor(r / -a)                    (an upper bound)
+    //   a = 0:  every x when r >= 0, none otherwise
+    FloorStepper lower[3] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}}, upper[3] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    int lower_count = 0, upper_count = 0;
+    std::int64_t flat_r[3];
+    std::int64_t flat_b[3];
+    int flat_count = 0;
+    for (int e = 0; e < 3; ++e) {
+        const std::int64_t a = t.a[e], b = t.b[e], r0 = b * y0 + t.c[e];
+        if (a > 0)
+            lower[lower_count++] = FloorStepper(r0, b, a);
+        else if (a < 0)
+            upper[upper_count++] = FloorStepper(r0, b, -a);
+        else {
+            flat_r[flat_count] = r0;
+            flat_b[flat_count++] = b;
+        }
+    }
+
     bool any = false;
-    // Each edge's value at (0, y) is stepped incrementally from row to row; within a row the span
-    // where all three are >= 0 is solved exactly.
-    std::int64_t r[3];
-    for (int e = 0; e < 3; ++e) r[e] = std::int64_t{t.b[e]} * y0 + t.c[e];
     for (int y = y0; y <= y1; ++y) {
-        // Intersect the half-lines {x : a*x + r >= 0} of the three edges with [x0, x1].
         std::int64_t lo = x0, hi = x1;
-        for (int e = 0; e < 3; ++e) {
-            const std::int64_t a = t.a[e];
-            if (a > 0)
-                lo = std::max(lo, -floor_div(r[e], a));  // x >= ceil(-r / a)
-            else if (a < 0)
-                hi = std::min(hi, floor_div(r[e], -a));  // x <= floor(r / -a)
-            else if (r[e] < 0)
-                hi = lo - 1;
-            r[e] += t.b[e];
+        for (int i = 0; i < lower_count; ++i) {
+            lo = std::max(lo, -lower[i].q);
+            lower[i].step();
+        }
+        for (int i = 0; i < upper_count; ++i) {
+            hi = std::min(hi, upper[i].q);
+            upper[i].step();
+        }
+        for (int i = 0; i < flat_count; ++i) {
+            if (flat_r[i] < 0) hi = lo - 1;
+            flat_r[i] += flat_b[i];
         }
         std::uint64_t mask = 0;
         if (lo <= hi) {
