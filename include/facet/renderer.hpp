@@ -97,7 +97,7 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
     constexpr int N = S::k_varyings;
     const Plan plan = plan_draw(target, state, input, N);
 
-    // Vertex stage.
+    // Vertex stage, then each vertex's outcode and projection.
     vertices_.resize(input.vertex_count, N);
     const std::size_t blocks = (input.vertex_count + detail::k_vertex_block - 1) / detail::k_vertex_block;
     pool_.parallel_for(blocks, [&](std::size_t block) {
@@ -108,6 +108,7 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
             float* dst = vertices_.varyings.data() + i * N;
             for (int k = 0; k < N; ++k) dst[k] = out[k];
         }
+        detail::project_vertices(vertices_, block * detail::k_vertex_block, end, plan.params);
     });
 
     run_front_end(input, plan);

@@ -33,9 +33,9 @@ void bin_triangle(const TriangleSetup& t, std::uint32_t index, const FrontEndPar
         }
 }
 
-void emit(const ClipVertex (&tri)[3], const FrontEndParams& p, FrontEndChunk& out) {
+void emit(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], const FrontEndParams& p, FrontEndChunk& out) {
     TriangleSetup t;
-    switch (setup_triangle(tri, p, t)) {
+    switch (setup_triangle(v, ref, p, t)) {
         case SetupResult::culled: ++out.stats.triangles_culled; return;
         case SetupResult::empty: return;
         case SetupResult::ok: break;
@@ -44,6 +44,10 @@ void emit(const ClipVertex (&tri)[3], const FrontEndParams& p, FrontEndChunk& ou
     out.triangles.push_back(t);
     ++out.stats.triangles_rasterized;
     bin_triangle(t, index, p, out);
+}
+
+GuardBand guard_band(const FrontEndParams& p) {
+    return {k_guard_band_pixels / (p.vp_w * 0.5f), k_guard_band_pixels / (p.vp_h * 0.5f)};
 }
 
 bool finite(Vec4 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w); }
@@ -60,46 +64,64 @@ void FrontEndChunk::reset(std::size_t tile_count, int stride) {
     stats = {};
 }
 
+void project_vertices(ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& p) {
+    const GuardBand guard = guard_band(p);
+    for (std::size_t i = first; i < end; ++i) {
+        const Vec4 pos = vertices.pos[i];
+        if (!finite(pos)) {
+            vertices.outcode[i] = k_outcode_invalid;
+            continue;
+        }
+        const auto code = static_cast<std::uint8_t>(outcode(pos, guard));
+        vertices.outcode[i] = code;
+        if (code == 0) vertices.screen[i] = project(pos, p);
+    }
+}
+
 void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,
                    const FrontEndParams& p, FrontEndChunk& out) {
-    const GuardBand guard{k_guard_band_pixels / (p.vp_w * 0.5f), k_guard_band_pixels / (p.vp_h * 0.5f)};
+    const GuardBand guard = guard_band(p);
     const bool indexed = !input.indices.empty();
     const std::size_t vertex_count = vertices.pos.size();
     for (std::size_t t = first; t < end; ++t) {
         ++out.stats.triangles_in;
-        ClipVertex tri[3];
+        std::uint32_t idx[3];
+        std::uint32_t codes[3];
         bool valid = true;
         for (int k = 0; k < 3; ++k) {
             const std::size_t i = indexed ? input.indices[t * 3 + k] : t * 3 + k;
-            if (i >= vertex_count || !finite(vertices.pos[i])) {
-                valid = false;
-                break;
-            }
-            tri[k] = {vertices.pos[i], static_cast<std::uint32_t>(i)};
+            valid = valid && i < vertex_count && vertices.outcode[i] != k_outcode_invalid;
+            if (!valid) break;
+            idx[k] = static_cast<std::uint32_t>(i);
+            codes[k] = vertices.outcode[i];
         }
         if (!valid) {
             ++out.stats.triangles_invalid;
             continue;
         }
-        const std::uint32_t c0 = outcode(tri[0].pos, guard), c1 = outcode(tri[1].pos, guard),
-                            c2 = outcode(tri[2].pos, guard);
-        if (c0 & c1 & c2) continue;  // wholly outside one plane
-        if ((c0 | c1 | c2) == 0) {
-            emit(tri, p, out);
+        if (codes[0] & codes[1] & codes[2]) continue;  // wholly outside one plane
+        if ((codes[0] | codes[1] | codes[2]) == 0) {
+            const ScreenVertex v[3] = {vertices.screen[idx[0]], vertices.screen[idx[1]], vertices.screen[idx[2]]};
+            emit(v, idx, p, out);
             continue;
         }
         ++out.stats.triangles_clipped;
+        const ClipVertex tri[3] = {{vertices.pos[idx[0]], idx[0]}, {vertices.pos[idx[1]], idx[1]},
+                                   {vertices.pos[idx[2]], idx[2]}};
         ClipVertex poly[k_max_clip_polygon];
-        const int n = clip_triangle(tri, c0 | c1 | c2, guard, vertices, out.extras, poly);
+        const int n = clip_triangle(tri, codes[0] | codes[1] | codes[2], guard, vertices, out.extras, poly);
         bool poly_finite = true;
         for (int i = 0; i < n; ++i) poly_finite = poly_finite && finite(poly[i].pos) && poly[i].pos.w > 0;
         if (!poly_finite) {  // coordinates so large that the intersections overflowed
             ++out.stats.triangles_invalid;
             continue;
         }
+        ScreenVertex projected[k_max_clip_polygon];
+        for (int i = 0; i < n; ++i) projected[i] = project(poly[i].pos, p);
         for (int i = 1; i + 1 < n; ++i) {
-            const ClipVertex fan[3] = {poly[0], poly[i], poly[i + 1]};
-            emit(fan, p, out);
+            const ScreenVertex v[3] = {projected[0], projected[i], projected[i + 1]};
+            const std::uint32_t ref[3] = {poly[0].ref, poly[i].ref, poly[i + 1].ref};
+            emit(v, ref, p, out);
         }
     }
 }

@@ -7,20 +7,11 @@
 namespace facet::detail {
 namespace {
 
-struct ScreenVertex {
-    std::int64_t x, y;  // fixed point, k_subpixel_bits fractional bits
-    float z, q;         // window depth in [0, 1] and 1/w
+// A projected vertex widened to 64 bits for the products of setup.
+struct Vertex64 {
+    std::int64_t x, y;
+    float z, q;
 };
-
-// The caller guarantees w > 0 and |x|, |y| within the guard band, so the division is safe and the
-// snapped values fit comfortably in 32 bits (they are kept in 64 for the products below).
-ScreenVertex project(Vec4 p, const FrontEndParams& v) {
-    const float q = 1.0f / p.w;
-    const float sx = v.vp_x + (p.x * q + 1.0f) * (v.vp_w * 0.5f);
-    const float sy = v.vp_y + (1.0f - p.y * q) * (v.vp_h * 0.5f);
-    const float z = std::clamp(p.z * q, 0.0f, 1.0f);
-    return {std::lrint(sx * k_subpixel_one), std::lrint(sy * k_subpixel_one), z, q};
-}
 
 std::int64_t floor_div(std::int64_t n, std::int64_t d) {  // d > 0
     std::int64_t q = n / d;
@@ -42,9 +33,20 @@ void plane(const double (&x)[3], const double (&y)[3], double inv_area, const do
 
 }  // namespace
 
-SetupResult setup_triangle(const ClipVertex (&tri)[3], const FrontEndParams& params, TriangleSetup& t) {
-    ScreenVertex v[3] = {project(tri[0].pos, params), project(tri[1].pos, params), project(tri[2].pos, params)};
-    std::uint32_t ref[3] = {tri[0].ref, tri[1].ref, tri[2].ref};
+ScreenVertex project(Vec4 p, const FrontEndParams& v) {
+    const float q = 1.0f / p.w;
+    const float sx = v.vp_x + (p.x * q + 1.0f) * (v.vp_w * 0.5f);
+    const float sy = v.vp_y + (1.0f - p.y * q) * (v.vp_h * 0.5f);
+    const float z = std::clamp(p.z * q, 0.0f, 1.0f);
+    return {static_cast<std::int32_t>(std::lrint(sx * k_subpixel_one)),
+            static_cast<std::int32_t>(std::lrint(sy * k_subpixel_one)), z, q};
+}
+
+SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&vertex_ref)[3],
+                           const FrontEndParams& params, TriangleSetup& t) {
+    Vertex64 v[3];
+    for (int i = 0; i < 3; ++i) v[i] = {sv[i].x, sv[i].y, sv[i].z, sv[i].q};
+    std::uint32_t ref[3] = {vertex_ref[0], vertex_ref[1], vertex_ref[2]};
 
     // Twice the signed area in fixed point. Screen y grows downward, so a positive area is a
     // clockwise triangle to the viewer.
@@ -73,8 +75,8 @@ SetupResult setup_triangle(const ClipVertex (&tri)[3], const FrontEndParams& par
     // With p = 256 i + 128 per axis, E = 256 (A ix + B iy) + 128 (A + B) + C, and for integers
     // 256 k + c >= 0  <=>  k + floor(c / 256) >= 0, which turns E into pixel units exactly.
     for (int e = 0; e < 3; ++e) {
-        const ScreenVertex& a = v[e];
-        const ScreenVertex& b = v[(e + 1) % 3];
+        const Vertex64& a = v[e];
+        const Vertex64& b = v[(e + 1) % 3];
         const std::int64_t A = a.y - b.y, B = b.x - a.x;
         const std::int64_t C = -(A * a.x + B * a.y);
         const bool top_left = A > 0 || (A == 0 && B > 0);

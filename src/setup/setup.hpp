@@ -14,6 +14,12 @@ namespace facet::detail {
 
 enum class SetupResult { ok, culled, empty };
 
-SetupResult setup_triangle(const ClipVertex (&tri)[3], const FrontEndParams& params, TriangleSetup& out);
+// Divides by w (keeping q = 1/w), applies the viewport and snaps. Precondition: w > 0 and x, y
+// inside the guard band, so the division is safe and the result fits the fixed-point range.
+ScreenVertex project(Vec4 pos_clip, const FrontEndParams& params);
+
+// `ref` names each vertex's varyings (a ClipVertices index, or k_clipped_bit | extras index).
+SetupResult setup_triangle(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], const FrontEndParams& params,
+                           TriangleSetup& out);
 
 }  // namespace facet::detail

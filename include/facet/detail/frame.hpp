@@ -27,15 +27,30 @@ constexpr float k_guard_band_pixels = 8192.0f;
 // Tiles are square; a row of coverage is one 64-bit word, so at most 64 pixels wide.
 constexpr int k_max_tile_size = 64;
 
+// A vertex after projection: snapped screen position and what the attribute planes need.
+struct ScreenVertex {
+    std::int32_t x, y;  // fixed point, k_subpixel_bits fractional bits
+    float z, q;         // window depth in [0, 1] and 1/w
+};
+
+// Outcode bit for a vertex with a NaN or infinite coordinate (the clip planes use bits 0-6).
+constexpr std::uint8_t k_outcode_invalid = 0x80;
+
 // Vertex stage output, structure of arrays: pos[i] and varyings[i * stride .. + stride).
+// The projection pass adds outcode[i] and, for vertices inside every clip plane, screen[i]:
+// each vertex is projected once, not once per triangle that uses it.
 struct ClipVertices {
     std::vector<Vec4> pos;
     std::vector<float> varyings;
+    std::vector<std::uint8_t> outcode;
+    std::vector<ScreenVertex> screen;
     int stride = 0;
     void resize(std::size_t n, int stride_) {
         stride = stride_;
         pos.resize(n);
         varyings.resize(n * static_cast<std::size_t>(stride_));
+        outcode.resize(n);
+        screen.resize(n);
     }
     const float* varyings_of(std::uint32_t i) const { return varyings.data() + static_cast<std::size_t>(i) * stride; }
 };
