@@ -14,6 +14,8 @@
 namespace facet {
 namespace {
 
+constexpr int k_png_compression_level = 2;
+
 Error io_error(const std::string& path, const std::string& what) {
     return Error{ErrorCode::io, path + ": " + what};
 }
@@ -28,6 +30,11 @@ Result<std::vector<unsigned char>> encode(const std::string& path, spng_ihdr ihd
     SpngContext ctx(spng_ctx_new(SPNG_CTX_ENCODER));
     if (!ctx) return io_error(path, "out of memory creating the PNG encoder");
     spng_set_option(ctx.get(), SPNG_ENCODE_TO_BUFFER, 1);
+    // zlib's default level with every row filter tried costs several times the render itself
+    // (225 ms for a 1080p frame); level 2 with the Sub and Up filters is about 3x faster for files
+    // about 17% larger, the better trade for thumbnails, CI images and batch jobs.
+    spng_set_option(ctx.get(), SPNG_IMG_COMPRESSION_LEVEL, k_png_compression_level);
+    spng_set_option(ctx.get(), SPNG_FILTER_CHOICE, SPNG_FILTER_CHOICE_SUB | SPNG_FILTER_CHOICE_UP);
     int err = spng_set_ihdr(ctx.get(), &ihdr);
     if (!err) err = spng_encode_image(ctx.get(), data, size, SPNG_FMT_PNG, SPNG_ENCODE_FINALIZE);
     if (err) return io_error(path, std::string("PNG encoding failed: ") + spng_strerror(err));
