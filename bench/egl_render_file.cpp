@@ -1,0 +1,68 @@
+// facet_egl_render_file: the llvmpipe side of the whole-process comparison. Loads a model file with
+// facet's loader (as `facet render` does), frames it by facet's rule (azimuth 0, elevation 0, fov 45),
+// renders it once with Mesa llvmpipe through EGL surfaceless in facet's lambert mode, and writes a PNG.
+// The whole process (start, driver load, file load, shader compile, draw, read back, PNG) is what
+// scripts/bench times against `facet render MODEL --shading lambert`.
+//
+//   facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N]
+//   (--threads N: as facet's; LP_NUM_THREADS = 0 for 1, N otherwise; default: llvmpipe's own)
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+
+#include "facet/io.hpp"
+#include "facet/model.hpp"
+#include "facet/scene.hpp"
+#include "gl_oracle.hpp"
+
+int main(int argc, char** argv) {
+    using namespace facet;
+    std::string model, output = "egl.png";
+    int width = 800, height = 600, threads = 0;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool has_value = i + 1 < argc;
+        if ((a == "-o" || a == "--output") && has_value) output = argv[++i];
+        else if (a == "--size" && has_value) {
+            if (std::sscanf(argv[++i], "%dx%d", &width, &height) != 2 || width < 1 || height < 1 || width > 8192 || height > 8192) {
+                std::cerr << "facet_egl_render_file: bad --size\n";
+                return 2;
+            }
+        } else if (a == "--threads" && has_value) threads = std::atoi(argv[++i]);
+        else if (!a.empty() && a[0] != '-' && model.empty()) model = a;
+        else {
+            std::cerr << "usage: facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N]\n";
+            return 2;
+        }
+    }
+    if (model.empty()) {
+        std::cerr << "usage: facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N]\n";
+        return 2;
+    }
+
+    bench::GlOracleOptions options;
+    if (threads > 0) options.llvmpipe_threads = bench::llvmpipe_threads_for(threads);
+    auto oracle = bench::GlOracle::create(options);
+    if (!oracle) {
+        std::cerr << "facet_egl_render_file: " << oracle.error().message << "\n";
+        return 1;
+    }
+    auto loaded = load_model(model);
+    if (!loaded) {
+        std::cerr << "facet_egl_render_file: " << loaded.error().message << "\n";
+        return 1;
+    }
+    const Scene& scene = loaded->scene;
+    const Camera camera = frame_scene(scene, 0, 0, radians(45.0f), static_cast<float>(width) / static_cast<float>(height));
+    auto frame = (*oracle)->render(scene, camera, width, height, RenderSettings{}.background);
+    if (!frame) {
+        std::cerr << "facet_egl_render_file: " << frame.error().message << "\n";
+        return 1;
+    }
+    if (Status s = write_png(output, Image{width, height, std::move(frame->colour)}); !s) {
+        std::cerr << "facet_egl_render_file: " << s.error().message << "\n";
+        return 1;
+    }
+    return 0;
+}
