@@ -56,13 +56,17 @@ Result<Vec4> parse_background(const std::string& value) {
 }  // namespace
 
 void add_render_options(CLI::App& c, RenderOptions& o) {
+    // An empty value would read as "not given" below; a script passing --eye "$EYE" with EYE unset
+    // should hear about it instead of getting the automatic camera.
+    const CLI::Validator non_empty([](std::string& v) { return v.empty() ? std::string("must not be empty") : std::string(); },
+                                   "");
     c.add_option("--size", o.size, "Image size WxH")->capture_default_str();
     c.add_option("--azimuth", o.azimuth, "Orbit azimuth in degrees, about +Y from +Z toward +X")->capture_default_str();
     c.add_option("--elevation", o.elevation, "Orbit elevation in degrees above the XZ plane")->capture_default_str();
     c.add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
-    c.add_option("--eye", o.eye, "Explicit camera position X,Y,Z (replaces automatic framing)");
-    c.add_option("--target", o.target, "Point the explicit camera looks at X,Y,Z (default: model centre)");
-    c.add_option("--up", o.up, "Camera up vector X,Y,Z (default 0,1,0)");
+    c.add_option("--eye", o.eye, "Explicit camera position X,Y,Z (replaces automatic framing)")->check(non_empty);
+    c.add_option("--target", o.target, "Point the explicit camera looks at X,Y,Z (default: model centre)")->check(non_empty);
+    c.add_option("--up", o.up, "Camera up vector X,Y,Z (default 0,1,0)")->check(non_empty);
     c.add_option("--near", o.near, "Near clip plane distance");
     c.add_option("--far", o.far, "Far clip plane distance");
     c.add_option("--up-axis", o.up_axis, "Which model axis is up: y or z (CAD and STL files are often Z-up)")
@@ -71,7 +75,7 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_flag("--ortho", o.ortho, "Orthographic projection");
     c.add_option("--shading", o.shading, "lit | lambert | flat | normals | mask | vertex-color | texture")
         ->capture_default_str();
-    c.add_option("--background", o.background, "R,G,B[,A] in 0..1 or 0..255, or 'transparent'");
+    c.add_option("--background", o.background, "R,G,B[,A] in 0..1 or 0..255, or 'transparent'")->check(non_empty);
     c.add_option("--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
     c.add_option("--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
     c.add_option("--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")

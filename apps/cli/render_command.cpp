@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "facet/io.hpp"
 #include "options.hpp"
@@ -86,6 +87,10 @@ int run_render(const std::string& model, const std::string& output, const std::s
     if (depth_ptr) {
         if (Status s = write_png_gray16(depth_out, plan->width, plan->height, depth_to_u16(depth)); !s) {
             std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
+            // A failed run leaves no output behind: take back the colour image just written
+            // (only a regular file: -o may name a device such as /dev/null).
+            std::error_code ec;
+            if (std::filesystem::is_regular_file(output, ec)) std::filesystem::remove(output, ec);
             return k_exit_failed;
         }
     }

@@ -34,6 +34,7 @@
 #include "facet/math/transform.hpp"
 #include "facet/mesh.hpp"
 #include "facet/model.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -42,21 +43,13 @@ using namespace facet;
 
 constexpr float k_nan = std::numeric_limits<float>::quiet_NaN();
 constexpr float k_inf = std::numeric_limits<float>::infinity();
-const fs::path k_assimp_models = "/usr/share/assimp/models";               // assimp-testmodels
-const fs::path k_cgal_data = "/usr/share/doc/libcgal-dev/data.tar.gz";     // libcgal-demo
+using facet_test::cgal_meshes;
+using facet_test::k_assimp_models;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers: files
 
-fs::path temp_dir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    // Per user: a directory left by another user's run could not be cleared.
-    fs::path d = fs::temp_directory_path() / ("facet_model_test_" + std::to_string(geteuid()) + "_" +
-                                              info->test_suite_name() + "_" + info->name());
-    fs::remove_all(d);
-    fs::create_directories(d);
-    return d;
-}
+fs::path temp_dir() { return facet_test::test_temp_dir("facet_model_test"); }
 
 std::string write_file(const fs::path& path, const std::string& bytes) {
     std::ofstream out(path, std::ios::binary);
@@ -773,9 +766,7 @@ TEST(ModelLoaderErrors, Limits) {
 // ---------------------------------------------------------------------------------------------
 // Real files
 
-#define REQUIRE_ASSIMP_MODELS()                                                                              \
-    if (!fs::is_directory(k_assimp_models))                                                                  \
-    GTEST_SKIP() << k_assimp_models << " is missing: install Debian's assimp-testmodels (scripts/setup does)"
+#define REQUIRE_ASSIMP_MODELS() FACET_REQUIRE_ASSIMP_MODELS()
 
 // Every file in assimp's folder of malformed files fails with an error naming it, or loads a valid scene.
 TEST(ModelLoaderRealFiles, AssimpInvalidFolderNeverCrashes) {
@@ -978,27 +969,9 @@ TEST(ModelLoaderRealFiles, ThreeMfBox) {
     expect_well_formed(r->scene);
 }
 
-// CGAL's meshes live in a tarball; the three used here are unpacked once into the build tree.
-std::optional<fs::path> cgal_meshes() {
-    static const std::optional<fs::path> dir = []() -> std::optional<fs::path> {
-        const fs::path out = fs::path(FACET_BINARY_DIR) / "test_data" / "cgal";
-        const fs::path meshes = out / "data" / "meshes";
-        const char* names[] = {"bunny00.off", "armadillo.off", "elephant.off"};
-        auto present = [&] { return std::all_of(std::begin(names), std::end(names), [&](const char* n) { return fs::exists(meshes / n); }); };
-        if (present()) return meshes;
-        if (!fs::exists(k_cgal_data)) return std::nullopt;
-        fs::create_directories(out);
-        std::string cmd = "tar -xzf '" + k_cgal_data.string() + "' -C '" + out.string() + "'";
-        for (const char* n : names) cmd += std::string(" data/meshes/") + n;
-        if (std::system(cmd.c_str()) != 0 || !present()) return std::nullopt;
-        return meshes;
-    }();
-    return dir;
-}
-
 TEST(ModelLoaderRealFiles, CgalOffMeshes) {
     const std::optional<fs::path> dir = cgal_meshes();
-    if (!dir) GTEST_SKIP() << k_cgal_data << " is missing or cannot be unpacked: install Debian's libcgal-demo (scripts/setup does)";
+    if (!dir) GTEST_SKIP() << facet_test::cgal_meshes_missing();
     for (const char* name : {"bunny00.off", "armadillo.off", "elephant.off"}) {
         const fs::path path = *dir / name;
         SCOPED_TRACE(path.string());

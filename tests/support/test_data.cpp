@@ -1,0 +1,63 @@
+#include "support/test_data.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <iterator>
+
+namespace facet_test {
+
+namespace fs = std::filesystem;
+
+std::optional<fs::path> cgal_meshes() {
+    static const std::optional<fs::path> dir = []() -> std::optional<fs::path> {
+        const fs::path out = fs::path(FACET_BINARY_DIR) / "test_data" / "cgal";
+        const fs::path meshes = out / "data" / "meshes";
+        const char* names[] = {"bunny00.off", "armadillo.off", "elephant.off"};
+        auto present = [&] {
+            return std::all_of(std::begin(names), std::end(names), [&](const char* n) { return fs::exists(meshes / n); });
+        };
+        if (present()) return meshes;
+        if (!fs::exists(k_cgal_data)) return std::nullopt;
+        // CTest runs tests as separate processes in parallel: unpack into a private directory and
+        // rename each complete file into place, so no process ever reads a half-written mesh.
+        const fs::path staging = out / ("unpack_" + std::to_string(getpid()));
+        std::error_code ec;
+        fs::remove_all(staging, ec);
+        fs::create_directories(staging);
+        fs::create_directories(meshes);
+        std::string cmd = "tar -xzf '" + k_cgal_data.string() + "' -C '" + staging.string() + "'";
+        for (const char* n : names) cmd += std::string(" data/meshes/") + n;
+        if (std::system(cmd.c_str()) == 0)
+            for (const char* n : names) fs::rename(staging / "data" / "meshes" / n, meshes / n, ec);
+        fs::remove_all(staging, ec);
+        if (!present()) return std::nullopt;
+        return meshes;
+    }();
+    return dir;
+}
+
+std::string assimp_models_missing() {
+    return k_assimp_models.string() + " is missing: install Debian's assimp-testmodels (scripts/setup does)";
+}
+
+std::string cgal_meshes_missing() {
+    return k_cgal_data.string() +
+           " is missing or cannot be unpacked: install Debian's libcgal-demo (scripts/setup does)";
+}
+
+fs::path test_temp_dir(const std::string& prefix) {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = prefix + "_" + std::to_string(geteuid());
+    if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
+    for (char& c : name)
+        if (c == '/') c = '_';  // parameterized test names
+    const fs::path d = fs::temp_directory_path() / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+}  // namespace facet_test

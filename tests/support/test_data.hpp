@@ -1,0 +1,35 @@
+// Test support: where the real test data lives, and per-test scratch directories.
+//  - assimp's test models (Debian's assimp-testmodels) under /usr/share/assimp/models;
+//  - three of CGAL's meshes (Debian's libcgal-demo ships them in a tarball), unpacked once into
+//    the build tree.
+// scripts/setup installs both; tests that need them skip, saying so, when they are absent.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace facet_test {
+
+inline const std::filesystem::path k_assimp_models = "/usr/share/assimp/models";             // assimp-testmodels
+inline const std::filesystem::path k_cgal_data = "/usr/share/doc/libcgal-dev/data.tar.gz";   // libcgal-demo
+
+// The directory holding bunny00.off, armadillo.off and elephant.off, unpacked from k_cgal_data
+// into <build>/test_data/cgal on first use (safe when several test processes race to do it);
+// nothing when the tarball is missing or cannot be unpacked.
+std::optional<std::filesystem::path> cgal_meshes();
+
+// Skip messages naming the package to install.
+std::string assimp_models_missing();
+std::string cgal_meshes_missing();
+
+// An empty directory for the running test: <tmp>/<prefix>_<uid>_<suite>_<test>, cleared first.
+// Per user, because a directory left by another user's run could not be cleared.
+std::filesystem::path test_temp_dir(const std::string& prefix);
+
+}  // namespace facet_test
+
+// Skips the running test when assimp's test models are not installed.
+#define FACET_REQUIRE_ASSIMP_MODELS()                                        \
+    if (!std::filesystem::is_directory(::facet_test::k_assimp_models))      \
+    GTEST_SKIP() << ::facet_test::assimp_models_missing()
