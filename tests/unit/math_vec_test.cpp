@@ -168,11 +168,21 @@ TYPED_TEST(VecTest, NormalizeOfZeroOrNonFiniteIsTheZeroVectorNeverNaN) {
         }
     }
     EXPECT_EQ(normalize(splat<V>(k_nan)), V{});
-    // Too short for its length to be represented (the squared length underflows to 0): no direction,
-    // but still no NaN.
-    V tiny = splat<V>(1e-30f);
-    EXPECT_TRUE(is_finite(normalize(tiny)));
-    EXPECT_EQ(normalize(tiny), V{});
+    // Vectors whose squared length underflows (1e-30) or overflows (1e30) still have a direction:
+    // they are rescaled first and come out unit length, pointing the same way.
+    for (float scale : {1e-30f, 1e30f, -3e37f}) {
+        V v = splat<V>(scale);
+        v[0] = 2 * scale;
+        const V n = normalize(v);
+        EXPECT_TRUE(is_finite(n)) << scale;
+        EXPECT_NEAR(length(n), 1.0f, 1e-6f) << scale;
+        EXPECT_GT(dot(n, v / std::fabs(scale)), 0.0f) << scale;  // same direction as v
+        EXPECT_NEAR(n[0], 2 * n[1], 1e-6f) << scale;
+    }
+    // The smallest denormal still has a direction; only exact zero has none.
+    V denormal{};
+    denormal[0] = std::numeric_limits<float>::denorm_min();
+    EXPECT_EQ(normalize(denormal)[0], 1.0f);
 }
 
 TYPED_TEST(VecTest, IsFiniteDetectsNaNAndInfinity) {

@@ -45,14 +45,24 @@ struct Vec4 {
     constexpr bool operator==(V a, V b) { for (std::size_t i = 0; i < N; ++i) if (a[i] != b[i]) return false; return true; } \
     constexpr float dot(V a, V b) { float s = 0; for (std::size_t i = 0; i < N; ++i) s += a[i] * b[i]; return s; } \
     inline float length(V a) { return std::sqrt(dot(a, a)); }                                    \
-    /* The zero vector (and anything too short to have a direction) normalizes to itself, */      \
-    /* never to NaN: callers that need a fallback direction check the result. */                 \
-    inline V normalize(V a) { float l = length(a); return l > 0 && std::isfinite(l) ? a / l : V{}; } \
+    inline bool is_finite(V a) { for (std::size_t i = 0; i < N; ++i) if (!std::isfinite(a[i])) return false; return true; }    \
+    /* The zero vector and non-finite input normalize to the zero vector, never to NaN: callers */ \
+    /* that need a fallback direction check the result. Vectors so long that their squared */      \
+    /* length overflows (components past ~1e19) are scaled down first, so they keep their direction. */ \
+    inline V normalize(V a) {                                                                    \
+        float l = length(a);                                                                     \
+        if (l > 0 && std::isfinite(l)) return a / l;                                             \
+        if (!is_finite(a)) return V{};                                                           \
+        float m = 0;                                                                             \
+        for (std::size_t i = 0; i < N; ++i) m = std::fmax(m, std::fabs(a[i]));                   \
+        if (!(m > 0)) return V{};                                                                \
+        const V b = a / m;                                                                       \
+        return b / length(b);                                                                    \
+    }                                                                                            \
     constexpr V min(V a, V b) { V r; for (std::size_t i = 0; i < N; ++i) r[i] = a[i] < b[i] ? a[i] : b[i]; return r; } \
     constexpr V max(V a, V b) { V r; for (std::size_t i = 0; i < N; ++i) r[i] = a[i] > b[i] ? a[i] : b[i]; return r; } \
     constexpr V mix(V a, V b, float t) { return a + (b - a) * t; }                               \
-    constexpr V clamp(V a, float lo, float hi) { V r; for (std::size_t i = 0; i < N; ++i) r[i] = a[i] < lo ? lo : (a[i] > hi ? hi : a[i]); return r; } \
-    inline bool is_finite(V a) { for (std::size_t i = 0; i < N; ++i) if (!std::isfinite(a[i])) return false; return true; }
+    constexpr V clamp(V a, float lo, float hi) { V r; for (std::size_t i = 0; i < N; ++i) r[i] = a[i] < lo ? lo : (a[i] > hi ? hi : a[i]); return r; } 
 
 FACET_VEC_OPS(Vec2, 2)
 FACET_VEC_OPS(Vec3, 3)
