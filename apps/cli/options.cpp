@@ -82,6 +82,12 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
         ->capture_default_str();
 }
 
+bool has_camera_options(const CLI::App& c) {
+    for (const char* name : {"--azimuth", "--elevation", "--eye", "--target", "--fov", "--ortho", "--near", "--far", "--up"})
+        if (c.count(name) > 0) return true;
+    return false;
+}
+
 Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) {
     RenderPlan p;
     if (!parse_size(o.size, p.width, p.height)) return usage("--size must be WxH, got '" + o.size + "'");

@@ -46,6 +46,11 @@ struct RenderPlan {
     bool use_default_scene_camera = false;  // no model and no camera options: the designed view
 };
 
+// Whether any option that places the camera was given to `command` (--azimuth, --elevation, --eye,
+// --target, --fov, --ortho, --near, --far, --up): without one and without a model, the default
+// scene is shown from its designed camera.
+bool has_camera_options(const CLI::App& command);
+
 // Checks and converts the options; the error message names the offending option.
 Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_given);
 
