@@ -1,5 +1,6 @@
 // A rotating cube lit per pixel by a directional light (Blinn-Phong), one PNG per frame.
 // Usage: example_lit_cube [OUT_PREFIX] [FRAMES]   writes OUT_PREFIX_000.png, ...
+//        example_lit_cube --window                  turns in a window until it is closed
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -8,10 +9,12 @@
 #include "facet/io.hpp"
 #include "facet/renderer.hpp"
 #include "facet/shaders.hpp"
+#include "window.hpp"
 
 int main(int argc, char** argv) {
     using namespace facet;
-    const std::string prefix = argc > 1 ? argv[1] : "cube";
+    const bool window = example::window_requested(argc, argv);
+    const std::string prefix = argc > 1 && !window ? argv[1] : "cube";
     const int frames = argc > 2 ? std::atoi(argv[2]) : 4;
 
     const Mesh cube = make_cube(0.8f);
@@ -22,7 +25,8 @@ int main(int argc, char** argv) {
     const Mat4 clip_from_world = camera.projection(320.0f / 240.0f) * camera.view();
     Renderer renderer;
 
-    for (int f = 0; f < frames; ++f) {
+    // Frame f turns the cube by 0.5 f radians about its vertical axis.
+    auto render = [&](float f) {
         shaders::BlinnPhong shader{MeshArrays::of(cube), {}};
         ShadingUniforms& u = shader.u;
         u.model = yaw_pitch_roll(0.6f + 0.5f * f, 0.4f, 0.1f);
@@ -35,9 +39,22 @@ int main(int argc, char** argv) {
         target.clear({0.1f, 0.1f, 0.12f, 1});
         renderer.draw(target, DrawState{}, DrawInput{static_cast<std::uint32_t>(cube.positions.size()), cube.indices},
                       shader);
+        return target.to_image();
+    };
+
+    if (window) {  // two frames' turn per second, until the window is closed
+        example::Window w("facet: lit cube", 320, 240);
+        if (w.ok()) {
+            while (w.show(render(static_cast<float>(SDL_GetTicks()) / 500.0f))) {
+            }
+            return 0;
+        }
+    }
+    for (int f = 0; f < frames; ++f) {
+        const Image image = render(static_cast<float>(f));
         char name[32];
         std::snprintf(name, sizeof name, "_%03d.png", f);
-        if (Status s = write_png(prefix + name, target.to_image()); !s) {
+        if (Status s = write_png(prefix + name, image); !s) {
             std::fprintf(stderr, "%s\n", s.error().message.c_str());
             return 1;
         }

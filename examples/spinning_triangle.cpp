@@ -1,6 +1,7 @@
 // The seeds' spinning triangle: a two-sided triangle turning about Y in front of a perspective
 // camera, one PNG per frame. Its back face is drawn too, in its own colour.
 // Usage: example_spinning_triangle [OUT_PREFIX] [FRAMES]   writes OUT_PREFIX_000.png, ...
+//        example_spinning_triangle --window                  spins in a window until it is closed
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -8,10 +9,12 @@
 #include "facet/camera.hpp"
 #include "facet/io.hpp"
 #include "facet/renderer.hpp"
+#include "window.hpp"
 
 int main(int argc, char** argv) {
     using namespace facet;
-    const std::string prefix = argc > 1 ? argv[1] : "spin";
+    const bool window = example::window_requested(argc, argv);
+    const std::string prefix = argc > 1 && !window ? argv[1] : "spin";
     const int frames = argc > 2 ? std::atoi(argv[2]) : 8;
 
     const Vec3 corners[3] = {{-1, -0.8f, 0}, {1, -0.8f, 0}, {0, 1, 0}};
@@ -25,8 +28,8 @@ int main(int argc, char** argv) {
 
     DrawState state;
     state.cull = CullMode::none;  // two-sided
-    for (int f = 0; f < frames; ++f) {
-        chain.set_world(rotate_y(2 * k_pi * static_cast<float>(f) / static_cast<float>(frames)));
+    auto render = [&](float angle) {
+        chain.set_world(rotate_y(angle));
         const Mat4 clip_from_object = chain.clip_from_object();
         const auto shader = make_shader<3>(
             [&](std::uint32_t i, Varyings<3>& out) {
@@ -40,9 +43,22 @@ int main(int argc, char** argv) {
             });
         target.clear({0.08f, 0.08f, 0.1f, 1});
         renderer.draw(target, state, DrawInput{3, {}}, shader);
+        return target.to_image();
+    };
+
+    if (window) {  // one turn every four seconds, until the window is closed
+        example::Window w("facet: spinning triangle", 256, 256);
+        if (w.ok()) {
+            while (w.show(render(2 * k_pi * static_cast<float>(SDL_GetTicks() % 4000) / 4000.0f))) {
+            }
+            return 0;
+        }
+    }
+    for (int f = 0; f < frames; ++f) {
+        const Image image = render(2 * k_pi * static_cast<float>(f) / static_cast<float>(frames));
         char name[32];
         std::snprintf(name, sizeof name, "_%03d.png", f);
-        if (Status s = write_png(prefix + name, target.to_image()); !s) {
+        if (Status s = write_png(prefix + name, image); !s) {
             std::fprintf(stderr, "%s\n", s.error().message.c_str());
             return 1;
         }

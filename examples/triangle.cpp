@@ -1,13 +1,15 @@
 // The seeds' "hello triangle": one triangle, a colour per vertex, interpolated across it.
-// Usage: example_triangle [OUT.png]
+// Usage: example_triangle [OUT.png]     or: example_triangle --window
 #include <cstdio>
 
 #include "facet/io.hpp"
 #include "facet/renderer.hpp"
+#include "window.hpp"
 
 int main(int argc, char** argv) {
     using namespace facet;
-    const char* out = argc > 1 ? argv[1] : "triangle.png";
+    const bool window = example::window_requested(argc, argv);
+    const char* out = argc > 1 && !window ? argv[1] : "triangle.png";
 
     // Clip-space corners (w = 1, so clip space is NDC) and their colours.
     const Vec4 corners[3] = {{-0.8f, -0.75f, 0.5f, 1}, {0.8f, -0.75f, 0.5f, 1}, {0.0f, 0.85f, 0.5f, 1}};
@@ -25,6 +27,13 @@ int main(int argc, char** argv) {
     Renderer renderer;
     renderer.draw(target, DrawState{}, DrawInput{3, {}}, shader);
 
+    if (window) {
+        example::Window w("facet: triangle", 320, 240);
+        if (w.ok()) {
+            w.show_until_closed(target.to_image());
+            return 0;
+        }
+    }
     if (Status s = write_png(out, target.to_image()); !s) {
         std::fprintf(stderr, "%s\n", s.error().message.c_str());
         return 1;
