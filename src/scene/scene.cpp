@@ -268,6 +268,18 @@ std::shared_ptr<const Texture> make_card_texture() {
     return std::make_shared<const Texture>(std::move(img));
 }
 
+Material coloured(Vec4 colour) {
+    Material m;
+    m.base_colour = colour;
+    return m;
+}
+
+Material textured(std::shared_ptr<const Texture> texture) {
+    Material m;
+    m.base_colour_texture = std::move(texture);
+    return m;
+}
+
 }  // namespace
 
 Scene default_scene() {
@@ -275,14 +287,14 @@ Scene default_scene() {
     Scene scene;
     Mesh floor = make_checker_plane(7.0f, k_floor_cells, {0.86f, 0.87f, 0.90f, 1}, {0.40f, 0.45f, 0.55f, 1});
     for (Vec2& uv : floor.uvs) uv = uv * static_cast<float>(k_floor_cells);  // one tile per cell, repeated
-    scene.objects.push_back({std::move(floor), Mat4::identity(), {.base_colour_texture = make_tile_texture()}});
+    scene.objects.push_back({std::move(floor), Mat4::identity(), textured(make_tile_texture())});
     scene.objects.push_back({make_cube(0.55f), translate({-1.5f, 0.55f, 0.4f}) * rotate_y(radians(30)),
-                             {.base_colour_texture = make_card_texture()}});
-    scene.objects.push_back({make_uv_sphere(0.75f, 48, 32), translate({0.7f, 0.75f, -0.6f}), {.base_colour = {0.95f, 0.45f, 0.35f, 1}}});
+                             textured(make_card_texture())});
+    scene.objects.push_back({make_uv_sphere(0.75f, 48, 32), translate({0.7f, 0.75f, -0.6f}), coloured({0.95f, 0.45f, 0.35f, 1})});
     scene.objects.push_back({make_torus(0.55f, 0.2f, 64, 24),
                              translate({1.0f, 0.76f, 1.2f}) * rotate_y(radians(35)) * rotate_x(radians(90)),
-                             {.base_colour = {0.25f, 0.75f, 0.80f, 1}}});
-    scene.objects.push_back({split_faces_flat(make_icosphere(0.4f, 1)), translate({-0.6f, 0.4f, -1.8f}), {.base_colour = {0.95f, 0.85f, 0.35f, 1}}});
+                             coloured({0.25f, 0.75f, 0.80f, 1})});
+    scene.objects.push_back({split_faces_flat(make_icosphere(0.4f, 1)), translate({-0.6f, 0.4f, -1.8f}), coloured({0.95f, 0.85f, 0.35f, 1})});
     return scene;
 }
 
