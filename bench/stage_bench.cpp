@@ -176,7 +176,7 @@ void BM_FrontEnd_SmallTriangles(benchmark::State& state) {
         benchmark::DoNotOptimize(chunk.triangles.data());
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(count));
-    state.SetLabel("triangles (assemble, setup, bin)");
+    state.SetLabel("triangles (assemble + setup + bin)");
 }
 BENCHMARK(BM_FrontEnd_SmallTriangles);
 
@@ -201,7 +201,7 @@ void BM_FrontEnd_LargeTriangles(benchmark::State& state) {
         benchmark::DoNotOptimize(chunk.triangles.data());
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(count));
-    state.SetLabel("triangles (assemble, setup, bin)");
+    state.SetLabel("triangles (assemble + setup + bin)");
 }
 BENCHMARK(BM_FrontEnd_LargeTriangles);
 
