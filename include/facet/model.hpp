@@ -25,6 +25,10 @@ struct LoadOptions {
     TextureLimits texture_limits;
     std::size_t max_triangles = 50'000'000;  // refuse larger models before allocating them
     std::size_t max_file_bytes = std::size_t{2} << 30;
+    // The memory the converted Scene would take (positions, normals, colours, uvs and indices of
+    // every instance: a mesh placed by many nodes is copied for each), estimated from assimp's
+    // counts before converting. Stops a small file that instances a large mesh thousands of times.
+    std::size_t max_scene_bytes = std::size_t{4} << 30;
 };
 
 struct LoadedModel {

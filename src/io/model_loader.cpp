@@ -364,6 +364,16 @@ std::size_t triangle_count(const aiMesh& m) {
     return n;
 }
 
+// What one instance of the mesh costs once converted: the vertices its triangles can use (each
+// with position, normal and, when the file has them, colour and uv) and three indices per triangle.
+std::uint64_t estimated_bytes(const aiMesh& m) {
+    const std::uint64_t triangles = triangle_count(m);
+    const std::uint64_t vertices = std::min<std::uint64_t>(m.mNumVertices, 3 * triangles);
+    const std::uint64_t per_vertex = sizeof(Vec3) * 2 + (m.HasVertexColors(0) ? sizeof(Vec4) : 0) +
+                                     (m.HasTextureCoords(0) ? sizeof(Vec2) : 0);
+    return vertices * per_vertex + triangles * 3 * sizeof(std::uint32_t);
+}
+
 // Node transforms are composed parent-first. The walk is iterative (deep hierarchies cannot
 // overflow the stack) and refuses cycles, which a corrupt file could build.
 struct NodeVisit {
@@ -650,13 +660,20 @@ private:
 Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options) {
     const Mat4 root = options.up_axis == UpAxis::z ? z_up_to_y_up() : Mat4::identity();
 
-    // The limit counts every instance, since each becomes a mesh of its own.
+    // The limits count every instance, since each becomes a mesh of its own.
     std::size_t instance_triangles = 0;
+    std::uint64_t scene_bytes = 0;
     std::vector<std::size_t> references(scene.mNumMeshes, 0);
     Status counted = walk_nodes(path, scene, root, [&](unsigned mesh, const Mat4&) -> Status {
         ++references[mesh];
         instance_triangles += triangle_count(*scene.mMeshes[mesh]);
         if (instance_triangles > options.max_triangles) return too_many_triangles(path, instance_triangles, options);
+        scene_bytes += estimated_bytes(*scene.mMeshes[mesh]);
+        if (scene_bytes > options.max_scene_bytes)
+            return fail(ErrorCode::limit_exceeded, path,
+                        "would take at least " + std::to_string(scene_bytes) +
+                            " bytes once converted (every instance of a mesh is a copy), more than the limit of " +
+                            std::to_string(options.max_scene_bytes) + " bytes");
         return Ok{};
     });
     if (!counted) return counted.error();

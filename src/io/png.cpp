@@ -80,7 +80,9 @@ Status write_file_atomic(const std::string& path, const void* bytes, std::size_t
         std::ofstream out(temp, std::ios::binary | std::ios::trunc);
         if (!out) return io_error(path, std::string("cannot create the file: ") + std::strerror(errno));
         out.write(static_cast<const char*>(bytes), static_cast<std::streamsize>(size));
-        out.flush();
+        // close() reports what the last write or the file system's flush refused (ENOSPC, EDQUOT,
+        // EIO on network file systems); only a file that closed cleanly is renamed into place.
+        out.close();
         if (!out) {
             std::error_code ignored;
             fs::remove(temp, ignored);

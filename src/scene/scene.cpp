@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "facet/shaders.hpp"
 
@@ -47,6 +48,24 @@ ShadingUniforms uniforms_for(const SceneObject& object, const Camera& camera, co
         u.shininess = 40.0f;
     }
     return u;
+}
+
+// The shaders read normals, colours and uvs at every index they read positions at: an object whose
+// non-empty attribute arrays are shorter than its positions would have them read past the end.
+// That is a caller's mistake, reported as such (out-of-range indices, by contrast, are bad geometry
+// and are only dropped by the draw).
+void require_aligned_arrays(const Scene& scene) {
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const Mesh& m = scene.objects[i].mesh;
+        const std::size_t n = m.positions.size();
+        const char* bad = !m.normals.empty() && m.normals.size() != n   ? "normals"
+                          : !m.colours.empty() && m.colours.size() != n ? "colours"
+                          : !m.uvs.empty() && m.uvs.size() != n         ? "uvs"
+                                                                        : nullptr;
+        if (bad)
+            throw FacetError(Error{ErrorCode::invalid_argument, "render_scene: object " + std::to_string(i) + " has " +
+                                                                    std::string(bad) + " and positions of different counts"});
+    }
 }
 
 template <class S>
@@ -166,6 +185,7 @@ Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
 
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings) {
+    require_aligned_arrays(scene);
     target.clear(settings.background);
     const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
     const Mat4 clip_from_world = camera.projection(aspect) * camera.view();
@@ -208,6 +228,10 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
 }
 
 void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, std::vector<float>* depth) {
+    if (factor < 1 || source.width() % factor != 0 || source.height() % factor != 0)
+        throw FacetError(Error{ErrorCode::invalid_argument,
+                               "resolve_supersampled: factor " + std::to_string(factor) + " does not divide the " +
+                                   std::to_string(source.width()) + "x" + std::to_string(source.height()) + " source"});
     const int w = source.width() / factor, h = source.height() / factor;
     colour.width = w;
     colour.height = h;

@@ -266,6 +266,8 @@ Result<std::shared_ptr<const Texture>> Texture::decode(const void* bytes, std::s
     stbi_set_flip_vertically_on_load_thread(0);
     std::unique_ptr<stbi_uc, StbiFree> pixels(stbi_load_from_memory(p, len, &w, &h, &channels, 4));
     if (!pixels) return bad_format(name, stbi_failure_reason());
+    // stb_image decodes some malformed BMP headers to a 0-pixel image and reports success.
+    if (w < 1 || h < 1) return bad_format(name, "it decodes to an image without pixels");
     // A format whose header and decoder disagree (e.g. a GIF frame) is held to the limits again.
     if (auto e = check_limits(name, {static_cast<std::uint64_t>(w), static_cast<std::uint64_t>(h)}, limits)) return *e;
 

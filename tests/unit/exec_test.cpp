@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "facet/detail/thread_pool.hpp"
@@ -103,6 +104,66 @@ TEST(Renderer, StatsCountInvalidAndCulledTriangles) {
     EXPECT_EQ(s.triangles_invalid, 2u);
     EXPECT_EQ(s.triangles_culled, 2u);  // the back face and the zero-area one
     EXPECT_EQ(s.triangles_rasterized, 1u);
+}
+
+TEST(ThreadPool, EveryTaskThrowingNeitherDeadlocksNorLosesTheException) {
+    for (int threads : {2, 4}) {
+        detail::ThreadPool pool(threads);
+        for (int round = 0; round < 20; ++round) {
+            std::atomic<int> ran{0};
+            try {
+                pool.parallel_for(64, [&](std::size_t i) {
+                    ran++;
+                    throw std::runtime_error("task " + std::to_string(i));
+                });
+                ADD_FAILURE() << "nothing thrown";
+            } catch (const std::runtime_error& e) {
+                EXPECT_EQ(std::string(e.what()).rfind("task ", 0), 0u);
+            }
+            // Tasks after the first failure are skipped, but at least one ran per thread at most.
+            EXPECT_GE(ran.load(), 1);
+            EXPECT_LE(ran.load(), threads);
+        }
+        std::atomic<int> n{0};
+        pool.parallel_for(100, [&](std::size_t) { n++; });
+        EXPECT_EQ(n.load(), 100);
+    }
+}
+
+TEST(Renderer, ExceptionFromTheVertexStagePropagatesAndTheRendererStillWorks) {
+    Renderer r({.threads = 3});
+    Framebuffer fb(64, 64);
+    const std::uint32_t n = 5 * 4096;  // several vertex blocks, run on several threads
+    const Vec4 tri[3] = {{-1, -1, 0.5f, 1}, {1, -1, 0.5f, 1}, {0, 1, 0.5f, 1}};
+    const auto throwing = make_shader<0>(
+        [&](std::uint32_t i, Varyings<0>&) {
+            if (i == n - 100) throw std::runtime_error("vertex");
+            return tri[i % 3];
+        },
+        [](const FragmentIn<0>&) { return Vec4{1, 0, 0, 1}; });
+    fb.clear({0, 0, 0, 1});
+    EXPECT_THROW(r.draw(fb, DrawState{}, DrawInput{n, {}}, throwing), std::runtime_error);
+    EXPECT_EQ(fb.colour(32, 40).r, 0);  // the draw stopped before the fragment stage
+    const auto fine = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return tri[i % 3]; },
+                                     [](const FragmentIn<0>&) { return Vec4{0, 1, 0, 1}; });
+    const DrawStats s = r.draw(fb, DrawState{}, DrawInput{n, {}}, fine);
+    EXPECT_EQ(s.triangles_in, n / 3);
+    EXPECT_EQ(fb.colour(32, 40).g, 255);
+}
+
+// A fragment shader that throws on many tiles at once, on every thread: the first exception
+// reaches the caller, the others are dropped, and nothing hangs.
+TEST(Renderer, ExceptionsFromManyTilesAtOnceReachTheCallerOnce) {
+    Renderer r({.threads = 4, .tile_size = 8});
+    Framebuffer fb(128, 128);
+    const Vec4 tri[3] = {{-1, -1, 0.5f, 1}, {3, -1, 0.5f, 1}, {-1, 3, 0.5f, 1}};
+    const auto throwing = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return tri[i]; },
+                                         [](const FragmentIn<0>& in) -> Vec4 {
+                                             if (in.pos_screen.x > 4) throw std::runtime_error("tile");
+                                             return {1, 1, 1, 1};
+                                         });
+    for (int round = 0; round < 10; ++round)
+        EXPECT_THROW(r.draw(fb, DrawState{}, DrawInput{3, {}}, throwing), std::runtime_error);
 }
 
 }  // namespace

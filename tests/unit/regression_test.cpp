@@ -1,0 +1,163 @@
+// Regression tests for hostile input: each fuzzing finding (docs/RELIABILITY.md, "Findings") and
+// each hostile-input class added with the fuzzers, as an input that once crashed, hung or broke an
+// invariant, and the outcome the library promises for it now (an Error with its code, or a
+// result within the documented bounds). Inputs from the fuzzers live in tests/regression/<target>/
+// and are replayed through the same calls the fuzz targets make.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "facet/model.hpp"
+#include "facet/renderer.hpp"
+#include "facet/scene.hpp"
+#include "facet/texture.hpp"
+#include "support/test_data.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace facet;
+
+const fs::path k_regression_dir = fs::path(FACET_SOURCE_DIR) / "tests" / "regression";
+
+std::string read_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const fs::path& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+std::string base64(const std::string& in) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t i = 0; i < in.size(); i += 3) {
+        std::uint32_t n = static_cast<std::uint32_t>(static_cast<unsigned char>(in[i])) << 16;
+        if (i + 1 < in.size()) n |= static_cast<std::uint32_t>(static_cast<unsigned char>(in[i + 1])) << 8;
+        if (i + 2 < in.size()) n |= static_cast<unsigned char>(in[i + 2]);
+        out += table[n >> 18 & 63];
+        out += table[n >> 12 & 63];
+        out += i + 1 < in.size() ? table[n >> 6 & 63] : '=';
+        out += i + 2 < in.size() ? table[n & 63] : '=';
+    }
+    return out;
+}
+
+// A glTF whose one mesh (`triangles` triangles, unindexed) is placed by `instances` nodes.
+std::string instanced_gltf(int triangles, int instances) {
+    std::string buffer;
+    for (int t = 0; t < triangles; ++t)
+        for (float v : {0.0f, 0.0f, float(t), 1.0f, 0.0f, float(t), 0.0f, 1.0f, float(t)})
+            buffer.append(reinterpret_cast<const char*>(&v), sizeof v);
+    std::ostringstream nodes, list;
+    for (int i = 0; i < instances; ++i) {
+        nodes << (i ? "," : "") << R"({"mesh":0,"translation":[)" << i * 2 << ",0,0]}";
+        list << (i ? "," : "") << i;
+    }
+    std::ostringstream g;
+    g << R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[)" << list.str() << R"(]}],"nodes":[)" << nodes.str()
+      << R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+      << R"("accessors":[{"bufferView":0,"componentType":5126,"count":)" << 3 * triangles
+      << R"(,"type":"VEC3","min":[0,0,0],"max":[1,1,)" << triangles << R"(]}],)"
+      << R"("bufferViews":[{"buffer":0,"byteLength":)" << buffer.size() << R"(}],)"
+      << R"("buffers":[{"byteLength":)" << buffer.size() << R"(,"uri":"data:application/octet-stream;base64,)"
+      << base64(buffer) << R"("}]})";
+    return g.str();
+}
+
+// Every file in tests/regression/<target>/, in name order.
+std::vector<fs::path> inputs_of(const std::string& target) {
+    std::vector<fs::path> files;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(k_regression_dir / target, ec))
+        if (e.is_regular_file()) files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// ---- resource limits ------------------------------------------------------------------------------
+
+// A small file that places one mesh many times would be copied once per instance: the estimate of
+// the converted scene is checked against max_scene_bytes before any copy is made.
+TEST(Regression, InstancingAMeshManyTimesIsHeldToTheSceneMemoryLimit) {
+    const fs::path dir = facet_test::test_temp_dir("facet_regression");
+    const std::string once = (dir / "once.gltf").string(), many = (dir / "many.gltf").string();
+    write_bytes(once, instanced_gltf(100, 1));
+    write_bytes(many, instanced_gltf(100, 1000));
+
+    // The estimate for one instance, from the error at a limit of one byte.
+    LoadOptions tiny;
+    tiny.max_scene_bytes = 1;
+    const auto refused = load_model(once, tiny);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().code, ErrorCode::limit_exceeded);
+    const std::string& m = refused.error().message;
+    ASSERT_TRUE(mentions(m, "would take at least ")) << m;
+    const std::uint64_t one = std::stoull(m.substr(m.find("at least ") + 9));
+    EXPECT_GE(one, 300u * 12u + 100u * 12u);  // at least positions and indices
+
+    LoadOptions limit;
+    limit.max_scene_bytes = static_cast<std::size_t>(one) * 10;
+    EXPECT_TRUE(load_model(once, limit).ok());
+    const auto bomb = load_model(many, limit);
+    ASSERT_FALSE(bomb.ok());
+    EXPECT_EQ(bomb.error().code, ErrorCode::limit_exceeded);
+    EXPECT_TRUE(mentions(bomb.error().message, "more than the limit of " + std::to_string(one * 10))) << bomb.error().message;
+    // With the default limit, 1000 small instances are fine.
+    const auto fine = load_model(many);
+    ASSERT_TRUE(fine.ok()) << fine.error().message;
+    EXPECT_EQ(fine->scene.objects.size(), 1000u);
+}
+
+// ---- replayed fuzzer inputs ------------------------------------------------------------------------
+
+
+// fuzz/texture_fuzzer: a BMP header that stb_image decodes "successfully" to a 0-pixel image; the
+// copy into the Image passed a null pointer to memcpy (UBSan) and the empty Image then made the
+// Texture constructor throw out of decode, which promises a Result.
+TEST(Regression, BmpDecodingToNoPixelsIsABadFormatError) {
+    const std::string bytes = read_bytes(k_regression_dir / "texture" / "bmp_zero_width.bmp");
+    ASSERT_FALSE(bytes.empty());
+    Result<std::shared_ptr<const Texture>> t = Texture::decode(bytes.data(), bytes.size(), "zero.bmp");
+    ASSERT_FALSE(t.ok());
+    EXPECT_EQ(t.error().code, ErrorCode::bad_format);
+    EXPECT_TRUE(mentions(t.error().message, "zero.bmp")) << t.error().message;
+    EXPECT_TRUE(mentions(t.error().message, "without pixels")) << t.error().message;
+}
+
+// Every saved texture_fuzzer input, as the fuzzer runs it: an Error or a texture within the
+// limits whose samples are in [0, 1]; never an exception.
+TEST(Regression, TextureFuzzerInputsDecodeOrFailCleanly) {
+    const std::vector<fs::path> inputs = inputs_of("texture");
+    ASSERT_FALSE(inputs.empty());
+    const TextureLimits limits{.max_size = 1024, .max_pixels = 128 * 128};
+    for (const fs::path& input : inputs) {
+        const std::string bytes = read_bytes(input);
+        Result<std::shared_ptr<const Texture>> t = Texture::decode(bytes.data(), bytes.size(), input.string(), limits);
+        if (!t.ok()) {
+            EXPECT_TRUE(t.error().code == ErrorCode::bad_format || t.error().code == ErrorCode::limit_exceeded) << input;
+            continue;
+        }
+        const Texture& tex = *t.value();
+        EXPECT_GE(tex.width(), 1) << input;
+        EXPECT_LE(static_cast<std::size_t>(tex.width()) * static_cast<std::size_t>(tex.height()), limits.max_pixels) << input;
+        const Vec4 c = tex.sample({0.3f, 0.7f}, {0.01f, 0}, {0, 0.01f}, Sampler{});
+        for (float v : {c.x, c.y, c.z, c.w}) EXPECT_TRUE(v >= 0 && v <= 1) << input;
+    }
+}
+
+}  // namespace
