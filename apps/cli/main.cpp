@@ -34,6 +34,9 @@ int main(int argc, char** argv) {
     thumbs->add_option("-o,--output", out_dir, "Output directory")->required();
     add_render_options(*thumbs, thumbs_options);
     thumbs->get_option("--size")->description("Thumbnail size N (square) or WxH");
+    thumbs->add_option("--timeout", thumbs_options.timeout,
+                       "Seconds one file may take (load, render, write) before it is abandoned; 0: no limit")
+        ->capture_default_str();
 
     RenderOptions view_options;
     std::string view_model;

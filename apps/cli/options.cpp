@@ -1,6 +1,7 @@
 // facet command line: parsing and validating render options, and rendering by them.
 #include "options.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -80,6 +81,11 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
     c.add_option("--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")
         ->capture_default_str();
+    c.add_option("--max-triangles", o.max_triangles, "Refuse models with more triangles, before loading them")
+        ->capture_default_str();
+    c.add_option("--max-texture-size", o.max_texture_size,
+                 "Largest texture side in pixels (and at most N*N, 64 Mpixels by default); larger ones are not used")
+        ->capture_default_str();
 }
 
 bool has_camera_options(const CLI::App& c) {
@@ -130,6 +136,12 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     p.load.up_axis = o.up_axis == "z" ? UpAxis::z : UpAxis::y;
     if (!(o.crease_angle >= 0 && o.crease_angle <= 180)) return usage("--crease-angle must be 0..180 degrees");
     p.load.crease_angle_degrees = o.crease_angle;
+    if (o.max_triangles < 1) return usage("--max-triangles must be 1 or more");
+    if (o.max_texture_size < 1) return usage("--max-texture-size must be 1 or more");
+    p.load.max_triangles = static_cast<std::size_t>(o.max_triangles);
+    p.load.texture_limits.max_size = o.max_texture_size;
+    const auto side = static_cast<std::size_t>(o.max_texture_size);
+    p.load.texture_limits.max_pixels = std::min(p.load.texture_limits.max_pixels, side * side);
     p.use_default_scene_camera = !camera_options_given;
     return p;
 }

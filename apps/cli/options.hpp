@@ -31,6 +31,10 @@ struct RenderOptions {
     int ssaa = 1;
     int threads = 0;
     float crease_angle = 40;
+    // Resource limits for loading (LoadOptions, TextureLimits): checked before anything is allocated.
+    long long max_triangles = static_cast<long long>(LoadOptions{}.max_triangles);  // signed: -1 is an error, not 2^64 - 1
+    int max_texture_size = TextureLimits{}.max_size;
+    double timeout = 60;  // thumbs: seconds a file may take before it is abandoned; 0: no limit
 };
 
 // Adds the options above to a subcommand.
