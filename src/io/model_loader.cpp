@@ -155,13 +155,20 @@ std::uint64_t ply_type_size(const std::string& type) {
     return it == sizes.end() ? 1 : it->second;
 }
 
-// PLY: every element count in the header times the element's minimal size must fit in the bytes
-// after the header; the face count must be within max_triangles.
+// PLY: the header ends with an end_header line; every element count in the header times the
+// element's minimal size must fit in the bytes after the header; the face count must be within
+// max_triangles.
 Status check_ply(const std::string& path, const std::string& head, std::uint64_t size, const LoadOptions& options) {
     const std::size_t end = head.find("end_header");
     if (head.rfind("ply", 0) != 0 && head.rfind("PLY", 0) != 0) return Ok{};  // not PLY: assimp says what it is
     if (end == std::string::npos)
         return fail(ErrorCode::bad_format, path, "PLY header has no end_header in its first " + std::to_string(head.size()) + " bytes");
+    // assimp's reader runs past the end of the buffer when end_header is not followed by a line end
+    // ("end_header0", "end_header\v": a load_model_fuzzer finding, a crash in assimp 5.2.5).
+    const std::string after = head.substr(end + 10, 2);
+    const bool cut = head.size() < size && after.size() < 2;  // the rest is past the bytes read
+    if (!cut && (after.empty() || (after[0] != '\n' && after != "\r\n")))
+        return fail(ErrorCode::bad_format, path, "PLY header's end_header is not followed by a line end (corrupt header)");
     std::istringstream lines(head.substr(0, end));
     std::string line;
     bool ascii = true;

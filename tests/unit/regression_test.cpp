@@ -160,4 +160,47 @@ TEST(Regression, TextureFuzzerInputsDecodeOrFailCleanly) {
     }
 }
 
+// fuzz/load_model_fuzzer: a PLY header whose end_header is followed by something other than a
+// line end made assimp 5.2.5's PLY reader run past its buffer (SIGBUS/SIGSEGV). load_model now
+// refuses such a header before assimp sees it.
+TEST(Regression, PlyEndHeaderWithoutALineEndIsRefusedBeforeAssimp) {
+    const fs::path dir = facet_test::test_temp_dir("facet_regression");
+    for (const std::string& tail : {std::string("end_header\x0b" "0", 12), std::string("end_header0 0 0\n"),
+                                    std::string("end_header", 10)}) {
+        const std::string path = (dir / "bad.ply").string();
+        write_bytes(path, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n" + tail);
+        const auto r = load_model(path);
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().code, ErrorCode::bad_format);
+        EXPECT_TRUE(mentions(r.error().message, "end_header is not followed by a line end")) << r.error().message;
+    }
+    // CRLF headers are fine.
+    const std::string crlf = (dir / "crlf.ply").string();
+    write_bytes(crlf, "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\nproperty float y\r\n"
+                      "property float z\r\nelement face 1\r\nproperty list uchar int vertex_indices\r\nend_header\r\n"
+                      "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n");
+    const auto ok = load_model(crlf);
+    ASSERT_TRUE(ok.ok()) << ok.error().message;
+    EXPECT_EQ(ok->scene.triangle_count(), 1u);
+}
+
+// Every saved load_model_fuzzer input that facet now guards against, loaded as the fuzzer loads
+// it (the file's extension is its format): an Error or a scene, never a crash or an exception.
+TEST(Regression, LoadModelFuzzerInputsLoadOrFailCleanly) {
+    const std::vector<fs::path> inputs = inputs_of("load_model");
+    ASSERT_FALSE(inputs.empty());
+    LoadOptions options;
+    options.max_triangles = 200'000;
+    options.texture_limits = {.max_size = 512, .max_pixels = 256 * 256};
+    for (const fs::path& input : inputs) {
+        const auto r = load_model(input.string(), options);
+        if (!r.ok()) {
+            EXPECT_NE(r.error().code, ErrorCode::invalid_argument) << input;
+            EXPECT_TRUE(mentions(r.error().message, input.string())) << r.error().message;
+            continue;
+        }
+        EXPECT_GT(r->scene.triangle_count(), 0u) << input;
+    }
+}
+
 }  // namespace
