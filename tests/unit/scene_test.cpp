@@ -9,6 +9,15 @@ namespace {
 
 using namespace facet;
 
+// A material of one colour (GCC's -Wextra warns about designated initializers that leave members out).
+Material material(Vec4 colour, AlphaMode alpha_mode = AlphaMode::opaque, bool double_sided = true) {
+    Material m;
+    m.base_colour = colour;
+    m.alpha_mode = alpha_mode;
+    m.double_sided = double_sided;
+    return m;
+}
+
 TEST(Scene, ShadingNamesRoundTrip) {
     for (Shading s : {Shading::lit, Shading::lambert, Shading::flat, Shading::normals, Shading::mask,
                       Shading::vertex_color}) {
@@ -83,7 +92,7 @@ TEST(Scene, LambertModeIsTheDocumentedFormula) {
     quad.normals.assign(4, {0, 0, 1});
     quad.colours.assign(4, {1, 0, 0, 1});  // ignored by the comparison mode
     quad.indices = {0, 1, 2, 0, 2, 3};
-    scene.objects.push_back({quad, Mat4::identity(), {.base_colour = {0, 1, 0, 1}}});
+    scene.objects.push_back({quad, Mat4::identity(), material({0, 1, 0, 1})});
     Camera camera;
     camera.position = {0, 0, 3};
     Renderer renderer;
@@ -178,8 +187,8 @@ Rgba8 centre_pixel_with(const Scene& scene, Shading shading) {
 
 TEST(SceneMaterials, BlendedObjectsAreDrawnFarthestFirstWhateverTheFileOrder) {
     // Unlit texture mode: colour = material colour exactly, so blending is easy to predict.
-    const Material red_half{.base_colour = {1, 0, 0, 0.5f}, .alpha_mode = AlphaMode::blend};
-    const Material blue_half{.base_colour = {0, 0, 1, 0.5f}, .alpha_mode = AlphaMode::blend};
+    const Material red_half = material({1, 0, 0, 0.5f}, AlphaMode::blend);
+    const Material blue_half = material({0, 0, 1, 0.5f}, AlphaMode::blend);
     Scene scene;
     scene.objects.push_back({quad_at(0.5f, 1), Mat4::identity(), red_half});   // near, listed first
     scene.objects.push_back({quad_at(-0.5f, 1), Mat4::identity(), blue_half});  // far
@@ -194,8 +203,8 @@ TEST(SceneMaterials, BlendedObjectsDoNotHideWhatIsBehindThem) {
     Scene scene;
     // A blended quad in front, listed before an opaque one behind it: the opaque one is drawn
     // first, and the blended one neither writes depth nor hides it.
-    scene.objects.push_back({quad_at(0.5f, 1), Mat4::identity(), {.base_colour = {1, 1, 1, 0.25f}, .alpha_mode = AlphaMode::blend}});
-    scene.objects.push_back({quad_at(-0.5f, 1), Mat4::identity(), {.base_colour = {0, 1, 0, 1}}});
+    scene.objects.push_back({quad_at(0.5f, 1), Mat4::identity(), material({1, 1, 1, 0.25f}, AlphaMode::blend)});
+    scene.objects.push_back({quad_at(-0.5f, 1), Mat4::identity(), material({0, 1, 0, 1})});
     const Rgba8 c = centre_pixel_with(scene, Shading::texture);
     EXPECT_EQ(c.r, 64);   // 0.25 * 1
     EXPECT_EQ(c.g, 255);  // 0.25 * 1 + 0.75 * 1
@@ -206,13 +215,13 @@ TEST(SceneMaterials, MaskedTexturesCutOutBelowTheCutoff) {
     // A 2x1 texture: left texel opaque white, right texel alpha 0.2. With bilinear filtering off
     // (nearest) the quad's right half is cut out and shows the red quad behind it.
     Image texels{2, 1, {{255, 255, 255, 255}, {255, 255, 255, 51}}};
-    Material masked{.base_colour_texture = std::make_shared<const Texture>(std::move(texels)),
-                    .sampler = {Wrap::clamp, Wrap::clamp, Filter::nearest},
-                    .alpha_mode = AlphaMode::mask,
-                    .alpha_cutoff = 0.5f};
+    Material masked = material({1, 1, 1, 1}, AlphaMode::mask);
+    masked.base_colour_texture = std::make_shared<const Texture>(std::move(texels));
+    masked.sampler = {Wrap::clamp, Wrap::clamp, Filter::nearest};
+    masked.alpha_cutoff = 0.5f;
     Scene scene;
     scene.objects.push_back({quad_at(0.5f, 1), Mat4::identity(), masked});
-    scene.objects.push_back({quad_at(-0.5f, 2), Mat4::identity(), {.base_colour = {1, 0, 0, 1}}});
+    scene.objects.push_back({quad_at(-0.5f, 2), Mat4::identity(), material({1, 0, 0, 1})});
     Camera camera;
     camera.position = {0, 0, 5};
     Renderer renderer({.threads = 1});
@@ -234,7 +243,7 @@ TEST(SceneMaterials, SingleSidedMaterialsAreCulledFromBehind) {
     Mesh back_facing = quad_at(0, 1);
     std::swap(back_facing.indices[1], back_facing.indices[2]);
     std::swap(back_facing.indices[4], back_facing.indices[5]);
-    scene.objects.push_back({back_facing, Mat4::identity(), {.base_colour = {0, 1, 0, 1}, .double_sided = false}});
+    scene.objects.push_back({back_facing, Mat4::identity(), material({0, 1, 0, 1}, AlphaMode::opaque, false)});
     EXPECT_EQ(centre_pixel_with(scene, Shading::texture), (Rgba8{0, 0, 0, 255}));
     scene.objects[0].material.double_sided = true;
     EXPECT_EQ(centre_pixel_with(scene, Shading::texture), (Rgba8{0, 255, 0, 255}));
