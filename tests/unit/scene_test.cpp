@@ -35,7 +35,7 @@ TEST(Scene, FramingFollowsTheDocumentedRule) {
     Mesh m;
     m.positions = {{1, 2, 3}, {5, 2, 3}, {1, 4, 3}, {1, 2, 9}};
     m.indices = {0, 1, 2, 0, 2, 3};
-    scene.objects.push_back({m, translate({1, 0, 0})});
+    scene.objects.push_back({m, translate({1, 0, 0}), Material{}});
     const float fovy = radians(45), aspect = 0.5f, az = radians(30), el = radians(20);
     const Camera c = frame_scene(scene, az, el, fovy, aspect);
 
@@ -62,7 +62,7 @@ TEST(Scene, FramingAnEmptySceneIsFinite) {
 
 TEST(Scene, FramedModelFillsTheViewWithoutTouchingTheBorder) {
     Scene scene;
-    scene.objects.push_back({make_icosphere(3.0f, 3), translate({10, -4, 2})});
+    scene.objects.push_back({make_icosphere(3.0f, 3), translate({10, -4, 2}), Material{}});
     const int w = 200, h = 100;
     const Camera camera = frame_scene(scene, radians(45), radians(30), radians(45), float(w) / h);
     Renderer renderer({.threads = 1});
