@@ -146,16 +146,18 @@ Status check_stl(const std::string& path, const std::string& head, std::uint64_t
 
 // The fewest bytes one element can take: ASCII needs a character and a separator per value (a
 // list at least its count), binary the sizes of its scalars (a list at least its count).
-std::uint64_t ply_type_size(const std::string& type) {
+// nullopt: not one of PLY's scalar types.
+std::optional<std::uint64_t> ply_type_size(const std::string& type) {
     static const std::map<std::string, std::uint64_t> sizes = {
         {"char", 1},  {"uchar", 1},  {"int8", 1},   {"uint8", 1},   {"short", 2},   {"ushort", 2}, {"int16", 2},
         {"uint16", 2}, {"int", 4},   {"uint", 4},   {"int32", 4},   {"uint32", 4},  {"float", 4},  {"float32", 4},
         {"double", 8}, {"float64", 8}};
     auto it = sizes.find(type);
-    return it == sizes.end() ? 1 : it->second;
+    if (it == sizes.end()) return std::nullopt;
+    return it->second;
 }
 
-// PLY: the header ends with an end_header line; every element count in the header times the
+// PLY: the header ends with an end_header line; properties have PLY's types; every element count in the header times the
 // element's minimal size must fit in the bytes after the header; the face count must be within
 // max_triangles.
 Status check_ply(const std::string& path, const std::string& head, std::uint64_t size, const LoadOptions& options) {
@@ -194,10 +196,18 @@ Status check_ply(const std::string& path, const std::string& head, std::uint64_t
             e.count = *n;
             elements.push_back(e);
         } else if (word == "property" && !elements.empty()) {
-            std::string type;
+            // assimp 5.2.5 loops forever on a property of a type it does not know ("uint4": a
+            // load_model_fuzzer finding), so every type must be one of PLY's.
+            std::string type, item_type;
             words >> type;
-            if (type == "list") words >> type;  // the count's type: a list may be empty
-            elements.back().min_bytes += ascii ? 2 : ply_type_size(type);
+            if (type == "list") {
+                words >> type >> item_type;  // the count's type (a list may be empty), the items' type
+                if (!ply_type_size(item_type))
+                    return fail(ErrorCode::bad_format, path, "PLY property list has an unknown item type '" + item_type + "'");
+            }
+            const std::optional<std::uint64_t> bytes = ply_type_size(type);
+            if (!bytes) return fail(ErrorCode::bad_format, path, "PLY property has an unknown type '" + type + "'");
+            elements.back().min_bytes += ascii ? 2 : *bytes;
         }
     }
     const std::uint64_t data = size - std::min<std::uint64_t>(size, end + 10);

@@ -184,6 +184,21 @@ TEST(Regression, PlyEndHeaderWithoutALineEndIsRefusedBeforeAssimp) {
     EXPECT_EQ(ok->scene.triangle_count(), 1u);
 }
 
+// fuzz/load_model_fuzzer: a PLY property of a type PLY does not have ("uint4") made assimp 5.2.5
+// loop forever (a timeout). load_model refuses unknown types, in lists too, before assimp reads.
+TEST(Regression, PlyPropertyOfAnUnknownTypeIsRefusedBeforeAssimp) {
+    const fs::path dir = facet_test::test_temp_dir("facet_regression");
+    for (const std::string& property : {std::string("property uint4 x"), std::string("property list uint4 int vertex_index"),
+                                        std::string("property list uchar quad vertex_index")}) {
+        const std::string path = (dir / "bad.ply").string();
+        write_bytes(path, "ply\nformat ascii 1.0\nelement vertex 3\n" + property + "\nend_header\n0\n1\n2\n");
+        const auto r = load_model(path);
+        ASSERT_FALSE(r.ok()) << property;
+        EXPECT_EQ(r.error().code, ErrorCode::bad_format);
+        EXPECT_TRUE(mentions(r.error().message, "unknown")) << r.error().message;
+    }
+}
+
 // Every saved load_model_fuzzer input that facet now guards against, loaded as the fuzzer loads
 // it (the file's extension is its format): an Error or a scene, never a crash or an exception.
 TEST(Regression, LoadModelFuzzerInputsLoadOrFailCleanly) {
