@@ -157,14 +157,18 @@ std::optional<std::uint64_t> ply_type_size(const std::string& type) {
     return it->second;
 }
 
-// PLY: the header ends with an end_header line; properties have PLY's types; every element count in the header times the
-// element's minimal size must fit in the bytes after the header; the face count must be within
-// max_triangles.
+// PLY: the header ends with an end_header line (at the start of a line, followed by a line end);
+// properties have PLY's types; every element count in the header times the element's minimal size
+// must fit in the bytes after the header; the face count must be within max_triangles.
 Status check_ply(const std::string& path, const std::string& head, std::uint64_t size, const LoadOptions& options) {
-    const std::size_t end = head.find("end_header");
+    // end_header must start a line: assimp 5.2.5 loops forever or reads past its buffer when the
+    // only "end_header" is in the middle of one (load_model_fuzzer findings).
+    std::size_t end = head.find("\nend_header");
     if (head.rfind("ply", 0) != 0 && head.rfind("PLY", 0) != 0) return Ok{};  // not PLY: assimp says what it is
     if (end == std::string::npos)
-        return fail(ErrorCode::bad_format, path, "PLY header has no end_header in its first " + std::to_string(head.size()) + " bytes");
+        return fail(ErrorCode::bad_format, path,
+                    "PLY header has no end_header line in its first " + std::to_string(head.size()) + " bytes");
+    ++end;
     // assimp's reader runs past the end of the buffer when end_header is not followed by a line end
     // ("end_header0", "end_header\v": a load_model_fuzzer finding, a crash in assimp 5.2.5).
     const std::string after = head.substr(end + 10, 2);

@@ -161,8 +161,8 @@ TEST(Regression, TextureFuzzerInputsDecodeOrFailCleanly) {
 }
 
 // fuzz/load_model_fuzzer: a PLY header whose end_header is followed by something other than a
-// line end made assimp 5.2.5's PLY reader run past its buffer (SIGBUS/SIGSEGV). load_model now
-// refuses such a header before assimp sees it.
+// line end, or does not start a line, made assimp 5.2.5's PLY reader run past its buffer
+// (SIGBUS/SIGSEGV) or loop forever. load_model now refuses such a header before assimp sees it.
 TEST(Regression, PlyEndHeaderWithoutALineEndIsRefusedBeforeAssimp) {
     const fs::path dir = facet_test::test_temp_dir("facet_regression");
     for (const std::string& tail : {std::string("end_header\x0b" "0", 12), std::string("end_header0 0 0\n"),
@@ -174,6 +174,13 @@ TEST(Regression, PlyEndHeaderWithoutALineEndIsRefusedBeforeAssimp) {
         EXPECT_EQ(r.error().code, ErrorCode::bad_format);
         EXPECT_TRUE(mentions(r.error().message, "end_header is not followed by a line end")) << r.error().message;
     }
+    // Nor one in the middle of a line (assimp looped forever, or read past its buffer).
+    const std::string mid = (dir / "mid.ply").string();
+    write_bytes(mid, "ply\nformat ascii 1.0\nelement vertex 0\ncomment xxend_header\n");
+    const auto m = load_model(mid);
+    ASSERT_FALSE(m.ok());
+    EXPECT_EQ(m.error().code, ErrorCode::bad_format);
+    EXPECT_TRUE(mentions(m.error().message, "no end_header line")) << m.error().message;
     // CRLF headers are fine.
     const std::string crlf = (dir / "crlf.ply").string();
     write_bytes(crlf, "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\nproperty float y\r\n"
