@@ -14,6 +14,7 @@
 //                      [--scenes bunny,armadillo,elephant,sphere1m,quads64] [--markdown FILE]
 //                      [--no-memory] [--no-agreement]
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -172,6 +173,15 @@ double median(std::vector<double> v) {
 
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+// CPU time of this process so far, every thread, user + system, in ms. Per frame it shows the work
+// done: unlike the wall time, it does not grow when other programs take the cores.
+double process_cpu_ms() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return (static_cast<double>(u.ru_utime.tv_sec) + static_cast<double>(u.ru_stime.tv_sec)) * 1e3 +
+           (static_cast<double>(u.ru_utime.tv_usec) + static_cast<double>(u.ru_stime.tv_usec)) / 1e3;
+}
+
 // ---- child: llvmpipe at one thread count ----
 
 int run_llvmpipe_worker(const Options& o) {
@@ -207,18 +217,20 @@ int run_llvmpipe_worker(const Options& o) {
                 gl.finish();
             }
             std::vector<double> times;
+            const double cpu0 = process_cpu_ms();
             for (int i = 0; i < o.frames; ++i) {
                 const auto t0 = Clock::now();
                 gl.draw(camera, k_background);
                 gl.finish();
                 times.push_back(ms_since(t0));
             }
+            const double cpu_per_frame = (process_cpu_ms() - cpu0) / o.frames;
             if (const std::string e = gl.gl_error(); !e.empty()) {
                 std::cout << "ERROR GL error " << e << std::endl;
                 return 1;
             }
             std::cout << "RESULT " << name << " " << size.str() << " " << median(times) << " "
-                      << *std::min_element(times.begin(), times.end()) << std::endl;
+                      << *std::min_element(times.begin(), times.end()) << " " << cpu_per_frame << std::endl;
             if (o.agreement) {
                 const GlFrame frame = gl.read();
                 Framebuffer fb(size.w, size.h);
@@ -345,6 +357,7 @@ struct Row {
     Size size{};
     int threads = 0;
     double facet_ms = 0, facet_min = 0, gl_ms = -1, gl_min = -1;
+    double facet_cpu = 0, gl_cpu = 0;  // mean process CPU time per frame, all threads
 };
 
 int run_parent(const Options& o) {
@@ -357,7 +370,6 @@ int run_parent(const Options& o) {
     auto key = [](const std::string& scene, const std::string& size, int threads) {
         return scene + "|" + size + "|" + std::to_string(threads);
     };
-    std::vector<std::string> order;
 
     // facet, in this process.
     SceneCache cache;
@@ -377,11 +389,13 @@ int run_parent(const Options& o) {
                 const Camera camera = (*b)->camera_for(size);
                 for (int i = 0; i < o.warmup; ++i) render_scene(renderer, fb, (*b)->scene, camera, settings);
                 std::vector<double> times;
+                const double cpu0 = process_cpu_ms();
                 for (int i = 0; i < o.frames; ++i) {
                     const auto t0 = Clock::now();
                     render_scene(renderer, fb, (*b)->scene, camera, settings);
                     times.push_back(ms_since(t0));
                 }
+                const double cpu_per_frame = (process_cpu_ms() - cpu0) / o.frames;
                 Row r;
                 r.scene = name;
                 r.label = (*b)->label;
@@ -390,9 +404,9 @@ int run_parent(const Options& o) {
                 r.threads = t;
                 r.facet_ms = median(times);
                 r.facet_min = *std::min_element(times.begin(), times.end());
+                r.facet_cpu = cpu_per_frame;
                 const std::string k = key(name, size.str(), t);
                 rows[k] = r;
-                order.push_back(k);
                 std::cerr << "facet    " << name << " " << size.str() << " threads " << t << ": " << fixed(r.facet_ms, 2)
                           << " ms\n";
             }
@@ -414,10 +428,10 @@ int run_parent(const Options& o) {
             in >> tag;
             if (tag == "RESULT") {
                 std::string name, size;
-                double med = 0, mn = 0;
-                in >> name >> size >> med >> mn;
+                double med = 0, mn = 0, cpu = 0;
+                in >> name >> size >> med >> mn >> cpu;
                 auto it = rows.find(key(name, size, t));
-                if (it != rows.end()) it->second.gl_ms = med, it->second.gl_min = mn;
+                if (it != rows.end()) it->second.gl_ms = med, it->second.gl_min = mn, it->second.gl_cpu = cpu;
                 std::cerr << "llvmpipe " << name << " " << size << " threads " << t << ": " << fixed(med, 2) << " ms\n";
             } else if (tag == "INFO") {
                 std::string k, rest;
@@ -458,19 +472,29 @@ int run_parent(const Options& o) {
     md << "Threads: facet `--threads T`; llvmpipe LP_NUM_THREADS = " << llvmpipe_threads_for(1) << " for T = 1, T for T >= 2";
     for (int t : o.threads) md << " (T=" << t << ": driver saw " << info["lp_num_threads" + std::to_string(t)] << ")";
     md << ".\n\n";
-    md << "| scene | triangles | size | threads | facet ms | llvmpipe ms | ratio llvmpipe/facet |\n";
-    md << "|---|---:|---|---:|---:|---:|---:|\n";
-    std::printf("%-10s %10s %10s %3s %12s %12s %8s\n", "scene", "triangles", "size", "thr", "facet_ms", "llvmpipe_ms", "ratio");
-    for (const std::string& k : order) {
-        const Row& r = rows[k];
-        const bool have_gl = r.gl_ms > 0;
-        const double ratio = have_gl ? r.gl_ms / r.facet_ms : 0;
-        std::printf("%-10s %10zu %10s %3d %12.2f %12s %8s\n", r.scene.c_str(), r.triangles, r.size.str().c_str(), r.threads,
-                    r.facet_ms, have_gl ? fixed(r.gl_ms, 2).c_str() : "-", have_gl ? fixed(ratio, 3).c_str() : "-");
-        md << "| " << r.scene << " (" << r.label << ") | " << with_commas(r.triangles) << " | " << r.size.str() << " | "
-           << r.threads << " | " << fixed(r.facet_ms, 2) << " | " << (have_gl ? fixed(r.gl_ms, 2) : "-") << " | "
-           << (have_gl ? fixed(ratio, 3) : "-") << " |\n";
-    }
+    md << "| scene | triangles | size | threads | facet ms | llvmpipe ms | ratio llvmpipe/facet | facet CPU ms | llvmpipe CPU ms |\n";
+    md << "|---|---:|---|---:|---:|---:|---:|---:|---:|\n";
+    std::printf("%-10s %10s %10s %3s %10s %12s %8s %10s %12s\n", "scene", "triangles", "size", "thr", "facet_ms", "llvmpipe_ms",
+                "ratio", "facet_cpu", "llvmpipe_cpu");
+    for (const std::string& name : o.scenes)
+        for (const Size& size : o.sizes)
+            for (int t : o.threads) {
+                const auto it = rows.find(key(name, size.str(), t));
+                if (it == rows.end()) continue;
+                const Row& r = it->second;
+                const bool have_gl = r.gl_ms > 0;
+                const double ratio = have_gl ? r.gl_ms / r.facet_ms : 0;
+                std::printf("%-10s %10zu %10s %3d %10.2f %12s %8s %10.2f %12s\n", r.scene.c_str(), r.triangles,
+                            r.size.str().c_str(), r.threads, r.facet_ms, have_gl ? fixed(r.gl_ms, 2).c_str() : "-",
+                            have_gl ? fixed(ratio, 3).c_str() : "-", r.facet_cpu, have_gl ? fixed(r.gl_cpu, 2).c_str() : "-");
+                md << "| " << r.scene << " (" << r.label << ") | " << with_commas(r.triangles) << " | " << r.size.str() << " | "
+                   << r.threads << " | " << fixed(r.facet_ms, 2) << " | " << (have_gl ? fixed(r.gl_ms, 2) : "-") << " | **"
+                   << (have_gl ? fixed(ratio, 3) : "-") << "** | " << fixed(r.facet_cpu, 2) << " | "
+                   << (have_gl ? fixed(r.gl_cpu, 2) : "-") << " |\n";
+            }
+    md << "\nms: median wall time of a frame. CPU ms: mean CPU time of the process per frame, all threads "
+          "(user + system); with T threads on an otherwise idle machine it is at most T x the wall time, and "
+          "a wall time much above CPU ms / T means other programs were taking the cores.\n";
     if (!agreement_lines.empty()) {
         md << "\nAgreement of the benchmarked frames (facet vs llvmpipe, same scene and camera; coverage = depth < 1):\n\n";
         md << "| scene | size | covered (union) | coverage agreement | only facet | only llvmpipe | max depth diff | pixels depth > 1e-4 | of which sliver-explained | max colour diff | mean colour diff |\n";
