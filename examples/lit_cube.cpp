@@ -50,15 +50,5 @@ int main(int argc, char** argv) {
             return 0;
         }
     }
-    for (int f = 0; f < frames; ++f) {
-        const Image image = render(static_cast<float>(f));
-        char name[32];
-        std::snprintf(name, sizeof name, "_%03d.png", f);
-        if (Status s = write_png(prefix + name, image); !s) {
-            std::fprintf(stderr, "%s\n", s.error().message.c_str());
-            return 1;
-        }
-    }
-    std::printf("wrote %d frames %s_000.png ...\n", frames, prefix.c_str());
-    return 0;
+    return example::write_frames(prefix, frames, [&](int f) { return render(static_cast<float>(f)); });
 }

@@ -54,15 +54,5 @@ int main(int argc, char** argv) {
             return 0;
         }
     }
-    for (int f = 0; f < frames; ++f) {
-        const Image image = render(2 * k_pi * static_cast<float>(f) / static_cast<float>(frames));
-        char name[32];
-        std::snprintf(name, sizeof name, "_%03d.png", f);
-        if (Status s = write_png(prefix + name, image); !s) {
-            std::fprintf(stderr, "%s\n", s.error().message.c_str());
-            return 1;
-        }
-    }
-    std::printf("wrote %d frames %s_000.png ...\n", frames, prefix.c_str());
-    return 0;
+    return example::write_frames(prefix, frames, [&](int f) { return render(2 * k_pi * static_cast<float>(f) / static_cast<float>(frames)); });
 }

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "facet/image.hpp"
+#include "facet/io.hpp"
 
 namespace example {
 
@@ -79,6 +80,22 @@ private:
 };
 
 // True when the first argument is --window (the examples then take no other arguments).
+// Writes render_frame(0) ... render_frame(count - 1) to PREFIX_000.png, PREFIX_001.png, ...
+// Returns the program's exit code: 1 after the first frame that cannot be written.
+template <class RenderFrame>
+int write_frames(const std::string& prefix, int count, RenderFrame render_frame) {
+    for (int f = 0; f < count; ++f) {
+        char name[32];
+        std::snprintf(name, sizeof name, "_%03d.png", f);
+        if (facet::Status s = facet::write_png(prefix + name, render_frame(f)); !s) {
+            std::fprintf(stderr, "%s\n", s.error().message.c_str());
+            return 1;
+        }
+    }
+    std::printf("wrote %d frames %s_000.png ...\n", count, prefix.c_str());
+    return 0;
+}
+
 inline bool window_requested(int argc, char** argv) { return argc > 1 && std::string(argv[1]) == "--window"; }
 
 }  // namespace example
