@@ -4,9 +4,14 @@
 // x = floor(r / d) (or its negation), with r stepping by b from row to row; the quotient and
 // remainder are stepped exactly like a Bresenham line, so after one division per edge and tile
 // every row costs a few integer additions, whatever its width. Does not shade or test depth.
+// That row-span algorithm is the scalar specification (rasterize_tile_reference); rasterize_tile
+// drops the edges that pass everywhere in the rectangle and lets the SIMD kernel evaluate the rest
+// pixel by pixel, which for the small triangles of real meshes costs far less than its divisions.
 #include <algorithm>
 
 #include "facet/detail/frame.hpp"
+#include "raster/coverage.hpp"
+#include "simd/isa.hpp"
 
 namespace facet::detail {
 namespace {
@@ -43,7 +48,7 @@ struct FloorStepper {
 
 }  // namespace
 
-bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
+bool rasterize_tile_reference(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
     const int x0 = std::max(tile.x0, t.min_x), x1 = std::min(tile.x1 - 1, t.max_x);
     const int y0 = std::max(tile.y0, t.min_y), y1 = std::min(tile.y1 - 1, t.max_y);
     out.first_row = y0 - tile.y0;
@@ -97,6 +102,49 @@ bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
         out.rows[y - tile.y0] = mask;
     }
     return any;
+}
+
+bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
+    if (use_scalar_kernels()) return rasterize_tile_reference(t, tile, out);
+    const int x0 = std::max(tile.x0, t.min_x), x1 = std::min(tile.x1 - 1, t.max_x);
+    const int y0 = std::max(tile.y0, t.min_y), y1 = std::min(tile.y1 - 1, t.max_y);
+    out.first_row = y0 - tile.y0;
+    out.last_row = y1 - tile.y0;
+    if (x0 > x1 || y0 > y1) {
+        out.last_row = out.first_row - 1;
+        return false;
+    }
+    CrossingEdges edges{};
+    edges.width = x1 - x0 + 1;
+    edges.height = y1 - y0 + 1;
+    edges.shift = x0 - tile.x0;
+    for (int k = 0; k < 3; ++k) {
+        // The edge's extremes over the rectangle are at its corners. max - min = |a| (w - 1) +
+        // |b| (h - 1) < 2 * 2^24 * 63 < 2^31, so an edge that changes sign inside (min < 0 <= max)
+        // has every value in the rectangle within 32 bits.
+        const std::int64_t a = t.a[k], b = t.b[k];
+        const std::int64_t first = a * x0 + b * y0 + t.c[k];
+        const std::int64_t min = first + std::min<std::int64_t>(a, 0) * (edges.width - 1) +
+                                 std::min<std::int64_t>(b, 0) * (edges.height - 1);
+        const std::int64_t max = first + std::max<std::int64_t>(a, 0) * (edges.width - 1) +
+                                 std::max<std::int64_t>(b, 0) * (edges.height - 1);
+        if (max < 0) {  // outside this edge everywhere
+            out.last_row = out.first_row - 1;
+            return false;
+        }
+        if (min >= 0) continue;  // inside this edge everywhere
+        edges.e[edges.count] = static_cast<std::int32_t>(first);
+        edges.a[edges.count] = t.a[k];
+        edges.b[edges.count] = t.b[k];
+        ++edges.count;
+    }
+    std::uint64_t* rows = out.rows + out.first_row;
+    if (edges.count == 0) {
+        const std::uint64_t span = span_mask(edges.shift, edges.shift + edges.width - 1);
+        std::fill(rows, rows + edges.height, span);
+        return true;
+    }
+    return cover_rows_simd(edges, rows);
 }
 
 }  // namespace facet::detail

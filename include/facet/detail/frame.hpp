@@ -87,5 +87,7 @@ struct PixelRect {
 // Coverage of one triangle within one tile (clamped to the triangle's bounds). Exact: integer
 // edge functions, top-left rule. Returns false when no pixel is covered.
 bool rasterize_tile(const TriangleSetup& tri, PixelRect tile, TileCoverage& out);
+// The same result by the scalar row-span algorithm: the specification the SIMD path is tested against.
+bool rasterize_tile_reference(const TriangleSetup& tri, PixelRect tile, TileCoverage& out);
 
 }  // namespace facet::detail
