@@ -75,4 +75,11 @@ DrawStats Renderer::collect_stats(const Plan& plan) const {
     return total;
 }
 
+namespace detail {
+TileVisibility& tile_visibility_scratch() {
+    thread_local TileVisibility scratch;
+    return scratch;
+}
+}  // namespace detail
+
 }  // namespace facet

@@ -49,6 +49,7 @@ private:
     void run_front_end(const DrawInput& input, const Plan& plan);
     DrawStats collect_stats(const Plan& plan) const;
 
+    void prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin, std::size_t b) const;
     template <class S, DepthTest D, bool W, Blend B>
     void run_tiles(Framebuffer& target, const Plan& plan, const S& shader);
 
@@ -65,6 +66,23 @@ namespace detail {
 constexpr std::size_t k_vertex_block = 4096;
 }  // namespace detail
 
+// A tile's triangles sit anywhere in the chunk's set-up array, so the hardware cannot guess the next
+// one: fetch a triangle's record a few triangles ahead, and its vertices' varyings once it has arrived.
+inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin,
+                                     std::size_t b) const {
+    constexpr std::size_t k_record_distance = 12, k_varyings_distance = 6;
+    if (b + k_record_distance < bin.size()) {
+        const char* record = reinterpret_cast<const char*>(&chunk.triangles[bin[b + k_record_distance]]);
+        for (std::size_t line = 0; line < sizeof(detail::TriangleSetup); line += 64) __builtin_prefetch(record + line);
+    }
+    if (b + k_varyings_distance < bin.size()) {
+        const detail::TriangleSetup& t = chunk.triangles[bin[b + k_varyings_distance]];
+        for (std::uint32_t ref : t.vertex)
+            __builtin_prefetch((ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
+                                                             : vertices_.varyings_of(ref));
+    }
+}
+
 template <class S, DepthTest D, bool W, Blend B>
 void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader) {
     const detail::FrontEndParams& p = plan.params;
@@ -74,11 +92,22 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
         const detail::PixelRect tile{std::max(tx * p.tile_size, p.scissor.x0), std::max(ty * p.tile_size, p.scissor.y0),
                                      std::min((tx + 1) * p.tile_size, p.scissor.x1),
                                      std::min((ty + 1) * p.tile_size, p.scissor.y1)};
+        if (tile.x0 >= tile.x1 || tile.y0 >= tile.y1) return;
+        // Without blending or discard only the last triangle to pass the depth test at a pixel shows:
+        // depth for all triangles first, then the shader once per visible pixel (detail/shade.hpp).
+        constexpr bool visible_only = detail::draws_visible_only<S, B>();
+        detail::TileVisibility* vis = nullptr;
+        if constexpr (visible_only) {
+            vis = &detail::tile_visibility_scratch();
+            vis->begin(tile);
+        }
         detail::TileCoverage coverage;
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
             const detail::FrontEndChunk& chunk = chunks_[c];
-            for (std::uint32_t index : chunk.bins[tile_index]) {
-                const detail::TriangleSetup& t = chunk.triangles[index];
+            const std::vector<std::uint32_t>& bin = chunk.bins[tile_index];
+            for (std::size_t b = 0; b < bin.size(); ++b) {
+                prefetch_ahead(chunk, bin, b);
+                const detail::TriangleSetup& t = chunk.triangles[bin[b]];
                 if (!detail::rasterize_tile(t, tile, coverage)) continue;
                 const float* var[3];
                 for (int k = 0; k < 3; ++k) {
@@ -86,9 +115,16 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
                     var[k] = (ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
                                                            : vertices_.varyings_of(ref);
                 }
-                detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view);
+                if constexpr (visible_only) {
+                    const auto id = static_cast<std::uint32_t>(vis->triangles.size());
+                    vis->triangles.push_back({&t, {var[0], var[1], var[2]}});
+                    detail::resolve_depth_dispatch<D, W>(*vis, id, coverage, tile, view);
+                } else {
+                    detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view);
+                }
             }
         }
+        if constexpr (visible_only) detail::shade_visible(shader, *vis, tile, view);
     });
 }
 

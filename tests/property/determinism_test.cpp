@@ -9,8 +9,10 @@
 #include <cstring>
 #include <random>
 #include <set>
+#include <string>
 #include <vector>
 
+#include "facet/isa.hpp"
 #include "facet/renderer.hpp"
 
 namespace {
@@ -146,6 +148,65 @@ TEST(Determinism, ComparisonSeesOrderChanges) {
         }
     EXPECT_FALSE(same_bytes(render(opaque, blended, {.threads = 2, .tile_size = 16}),
                             render(reversed, blended, {.threads = 2, .tile_size = 16})));
+}
+
+// The SIMD kernels (coverage, the depth pass) give the scalar specification's bytes on every ISA the
+// CPU runs, for every depth test, with and without depth writes, at tile sizes narrower than a
+// vector and targets whose width is not a multiple of one.
+struct DerivativeShaderEveryFragment : DerivativeShader {
+    static constexpr bool k_shade_hidden = true;  // the one-pass drawing order
+};
+
+Output render_with_test(const Scene& scene, DepthTest test, bool write, RendererConfig config, bool one_pass = false) {
+    Renderer renderer(config);
+    Framebuffer fb(250, 190);
+    fb.clear(Vec4{0.1f, 0.2f, 0.3f, 1.0f}, test == DepthTest::greater ? 0.0f : 0.6f);
+    DrawState state;
+    state.cull = CullMode::none;
+    state.depth_test = test;
+    state.depth_write = write;
+    const DrawInput input{static_cast<std::uint32_t>(scene.pos.size()), {}};
+    if (one_pass)
+        renderer.draw(fb, state, input, DerivativeShaderEveryFragment{{&scene}});
+    else
+        renderer.draw(fb, state, input, DerivativeShader{&scene});
+    Output out;
+    out.colour.assign(fb.colour_data(), fb.colour_data() + 250 * 190);
+    out.depth.assign(fb.depth_data(), fb.depth_data() + 250 * 190);
+    return out;
+}
+
+struct IsaGuard {
+    ~IsaGuard() { select_isa("best"); }
+};
+
+TEST(Determinism, IdenticalBytesOnEveryIsaAndForEveryDepthTest) {
+    IsaGuard guard;
+    const Scene scene = random_scene(43, 3000);
+    const std::vector<std::string> isas = available_isas();
+    ASSERT_GE(isas.size(), 2u);  // at least one SIMD target besides "scalar" on x86-64
+    for (DepthTest test : {DepthTest::less, DepthTest::lequal, DepthTest::equal, DepthTest::greater, DepthTest::always})
+        for (bool write : {true, false}) {
+            ASSERT_TRUE(select_isa("scalar"));
+            const Output reference = render_with_test(scene, test, write, {.threads = 1, .tile_size = 64});
+            // Shading only visible pixels draws what shading every fragment in order draws.
+            EXPECT_TRUE(same_bytes(render_with_test(scene, test, write, {.threads = 1, .tile_size = 64}, true), reference))
+                << "one-pass order, depth test " << static_cast<int>(test) << ", write " << write;
+            for (const std::string& isa : isas) {
+                ASSERT_TRUE(select_isa(isa));
+                for (int tile : {8, 64}) {
+                    const Output out = render_with_test(scene, test, write, {.threads = 2, .tile_size = tile});
+                    EXPECT_TRUE(same_bytes(out, reference)) << isa << ", depth test " << static_cast<int>(test)
+                                                            << ", write " << write << ", tile " << tile;
+                }
+            }
+        }
+    // The reference is not trivial for the common case.
+    ASSERT_TRUE(select_isa("best"));
+    const Output less = render_with_test(scene, DepthTest::less, true, {.threads = 1, .tile_size = 64});
+    std::set<std::uint32_t> colours;
+    for (const Rgba8 c : less.colour) colours.insert(std::uint32_t{c.r} | std::uint32_t{c.g} << 8 | std::uint32_t{c.b} << 16);
+    EXPECT_GT(colours.size(), 3000u);
 }
 
 }  // namespace

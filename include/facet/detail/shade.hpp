@@ -3,10 +3,22 @@
 // (linear in screen space) tested before the shader runs, perspective-correct varyings through
 // q = 1/w, optional exact derivatives, the shader, then depth write and blending into the target.
 // Out: pixels of the framebuffer inside this tile (the only thread that touches them).
+//
+// Two orders, one result. shade_tile draws a triangle's pixels as they come (needed for blending and
+// discard). When neither is used, a pixel's final colour is that of the last triangle to pass the
+// depth test there, so a tile is drawn in two passes instead (TileVisibility): every triangle's
+// depth first, remembering which triangle last passed at each pixel, then the shader once per
+// visible pixel. Depth tests and writes happen in the same order with the same values, and each
+// visible pixel is shaded by the same code (fragment_at) from the same inputs, so the bytes are those
+// of the one-pass order; hidden pixels are simply never shaded.
 #pragma once
 
+#include <algorithm>
 #include <bit>
+#include <concepts>
+#include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "facet/detail/frame.hpp"
 #include "facet/image.hpp"
@@ -23,65 +35,115 @@ inline bool depth_passes(float z, float stored) {
     return false;
 }
 
+// The same as a run-time choice, for the compiled kernels.
+inline bool depth_passes(DepthTest test, float z, float stored) {
+    switch (test) {
+        case DepthTest::less: return depth_passes<DepthTest::less>(z, stored);
+        case DepthTest::lequal: return depth_passes<DepthTest::lequal>(z, stored);
+        case DepthTest::equal: return depth_passes<DepthTest::equal>(z, stored);
+        case DepthTest::greater: return depth_passes<DepthTest::greater>(z, stored);
+        case DepthTest::always: return true;
+        case DepthTest::never: break;
+    }
+    return false;
+}
+
 struct TargetView {
     Rgba8* colour;
     float* depth;
     int stride;  // pixels per row
 };
 
+template <class S>
+constexpr bool shader_discards() {
+    return std::same_as<decltype(std::declval<const S&>().fragment(std::declval<const FragmentIn<S::k_varyings>&>())),
+                        std::optional<Vec4>>;
+}
+
+// Shaders may set k_shade_hidden = true to be called for every fragment that passes the depth test,
+// hidden later or not (e.g. to count them); otherwise only visible pixels are shaded when possible.
+template <class S>
+constexpr bool shades_visible_only() {
+    if constexpr (requires { S::k_shade_hidden; }) return !S::k_shade_hidden;
+    return true;
+}
+
+template <class S, Blend B>
+constexpr bool draws_visible_only() {
+    return B == Blend::none && !shader_discards<S>() && shades_visible_only<S>();
+}
+
+// Window depth of the pixel (x, y) on triangle t, clamped to [0, 1].
+inline float depth_at(const TriangleSetup& t, int x, int y) {
+    const float dx = (static_cast<float>(x) + 0.5f) - t.x0, dy = (static_cast<float>(y) + 0.5f) - t.y0;
+    const float z = t.z0 + t.dzdx * dx + t.dzdy * dy;
+    return z < 0 ? 0 : (z > 1 ? 1 : z);
+}
+
+// Varyings in barycentric form, v = v0 + b1 d1 + b2 d2, with b1 and b2 perspective-correct.
+template <int N>
+struct VaryingPlanes {
+    float v0[N > 0 ? N : 1], d1[N > 0 ? N : 1], d2[N > 0 ? N : 1];
+    explicit VaryingPlanes(const float* const (&var)[3]) {
+        for (int k = 0; k < N; ++k) {
+            v0[k] = var[0][k];
+            d1[k] = var[1][k] - var[0][k];
+            d2[k] = var[2][k] - var[0][k];
+        }
+    }
+};
+
+// The shader's result at pixel (x, y) of triangle t, whose depth there is z: fills `in` and calls
+// fragment(). Both drawing orders go through here.
+template <class S>
+inline auto fragment_at(const S& shader, const TriangleSetup& t, const VaryingPlanes<S::k_varyings>& planes, int x,
+                        int y, float z, FragmentIn<S::k_varyings>& in) {
+    constexpr int N = S::k_varyings;
+    constexpr int derivative_varyings = derivative_count<S>();
+    const float dx = (static_cast<float>(x) + 0.5f) - t.x0, dy = (static_cast<float>(y) + 0.5f) - t.y0;
+    const float q = t.q0 + t.dqdx * dx + t.dqdy * dy;
+    const float w = 1.0f / q;
+    const float b1 = (t.l1_0 + t.dl1dx * dx + t.dl1dy * dy) * w;
+    const float b2 = (t.l2_0 + t.dl2dx * dx + t.dl2dy * dy) * w;
+    for (int k = 0; k < N; ++k) in.v[k] = planes.v0[k] + b1 * planes.d1[k] + b2 * planes.d2[k];
+    if constexpr (derivative_varyings > 0) {
+        // d(l/q)/dx = (dl/dx - (l/q) dq/dx) / q for each perspective-correct barycentric.
+        const float b1x = (t.dl1dx - b1 * t.dqdx) * w, b1y = (t.dl1dy - b1 * t.dqdy) * w;
+        const float b2x = (t.dl2dx - b2 * t.dqdx) * w, b2y = (t.dl2dy - b2 * t.dqdy) * w;
+        for (int k = 0; k < derivative_varyings; ++k) {
+            in.ddx[k] = b1x * planes.d1[k] + b2x * planes.d2[k];
+            in.ddy[k] = b1y * planes.d1[k] + b2y * planes.d2[k];
+        }
+    }
+    in.pos_screen = {static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
+    in.depth = z;
+    in.front_facing = t.front_facing;
+    return shader.fragment(in);
+}
+
+// One pass: test, shade, write each covered pixel of one triangle in turn.
 template <class S, DepthTest D, bool DepthWrite, Blend B>
 void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
                 const float* const (&var)[3], TargetView target) {
-    constexpr int N = S::k_varyings;
-    constexpr int derivative_varyings = derivative_count<S>();
-    // Barycentric form: v = v0 + b1 (v1 - v0) + b2 (v2 - v0), with b1, b2 perspective-correct.
-    float v0[N > 0 ? N : 1], d1[N > 0 ? N : 1], d2[N > 0 ? N : 1];
-    for (int k = 0; k < N; ++k) {
-        v0[k] = var[0][k];
-        d1[k] = var[1][k] - var[0][k];
-        d2[k] = var[2][k] - var[0][k];
-    }
-    FragmentIn<N> in;
-    in.front_facing = t.front_facing;
-
+    const VaryingPlanes<S::k_varyings> planes(var);
+    FragmentIn<S::k_varyings> in;
     for (int row = cov.first_row; row <= cov.last_row; ++row) {
         std::uint64_t mask = cov.rows[row];
         const int y = tile.y0 + row;
-        const float dy = (static_cast<float>(y) + 0.5f) - t.y0;
         Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
         float* depth_row = target.depth + static_cast<std::size_t>(y) * target.stride;
         while (mask) {
             const int x = tile.x0 + std::countr_zero(mask);
             mask &= mask - 1;
-            const float dx = (static_cast<float>(x) + 0.5f) - t.x0;
-            float z = t.z0 + t.dzdx * dx + t.dzdy * dy;
-            z = z < 0 ? 0 : (z > 1 ? 1 : z);
+            const float z = depth_at(t, x, y);
             if (!depth_passes<D>(z, depth_row[x])) continue;
-
-            const float q = t.q0 + t.dqdx * dx + t.dqdy * dy;
-            const float w = 1.0f / q;
-            const float b1 = (t.l1_0 + t.dl1dx * dx + t.dl1dy * dy) * w;
-            const float b2 = (t.l2_0 + t.dl2dx * dx + t.dl2dy * dy) * w;
-            for (int k = 0; k < N; ++k) in.v[k] = v0[k] + b1 * d1[k] + b2 * d2[k];
-            if constexpr (derivative_varyings > 0) {
-                // d(l/q)/dx = (dl/dx - (l/q) dq/dx) / q for each perspective-correct barycentric.
-                const float b1x = (t.dl1dx - b1 * t.dqdx) * w, b1y = (t.dl1dy - b1 * t.dqdy) * w;
-                const float b2x = (t.dl2dx - b2 * t.dqdx) * w, b2y = (t.dl2dy - b2 * t.dqdy) * w;
-                for (int k = 0; k < derivative_varyings; ++k) {
-                    in.ddx[k] = b1x * d1[k] + b2x * d2[k];
-                    in.ddy[k] = b1y * d1[k] + b2y * d2[k];
-                }
-            }
-            in.pos_screen = {static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
-            in.depth = z;
-
             Vec4 c;
-            if constexpr (std::same_as<decltype(shader.fragment(in)), std::optional<Vec4>>) {
-                std::optional<Vec4> r = shader.fragment(in);
+            if constexpr (shader_discards<S>()) {
+                const std::optional<Vec4> r = fragment_at(shader, t, planes, x, y, z, in);
                 if (!r) continue;
                 c = *r;
             } else {
-                c = shader.fragment(in);
+                c = fragment_at(shader, t, planes, x, y, z, in);
             }
             if constexpr (DepthWrite) depth_row[x] = z;
             if constexpr (B == Blend::alpha) {
@@ -91,6 +153,95 @@ void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov
                          a + dst.w * (1 - a)};
             }
             colour_row[x] = to_rgba8(c);
+        }
+    }
+}
+
+// A tile's triangles, in submission order, and which of them is visible at each pixel.
+struct TileVisibility {
+    struct Triangle {
+        const TriangleSetup* setup;
+        const float* var[3];
+    };
+    static constexpr std::uint32_t k_none = ~0u;
+    std::vector<Triangle> triangles;
+    std::uint32_t owner[k_max_tile_size * k_max_tile_size];  // triangles index per pixel, row-major
+
+    void begin(PixelRect tile) {
+        triangles.clear();
+        const int w = tile.x1 - tile.x0;
+        for (int r = 0; r < tile.y1 - tile.y0; ++r)
+            std::fill(owner + r * k_max_tile_size, owner + r * k_max_tile_size + w, k_none);
+    }
+};
+
+// The calling thread's TileVisibility: one per thread, kept for the life of the thread, so drawing
+// a tile allocates nothing once its triangle list has grown to size.
+TileVisibility& tile_visibility_scratch();
+
+// Pass one: depth test (and write) every covered pixel of triangle `index`, which becomes the owner
+// of each pixel where it passes. The scalar specification of resolve_depth_simd.
+template <DepthTest D, bool DepthWrite>
+void resolve_depth(TileVisibility& vis, std::uint32_t index, const TileCoverage& cov, PixelRect tile,
+                   TargetView target) {
+    const TriangleSetup& t = *vis.triangles[index].setup;
+    for (int row = cov.first_row; row <= cov.last_row; ++row) {
+        std::uint64_t mask = cov.rows[row];
+        const int y = tile.y0 + row;
+        float* depth_row = target.depth + static_cast<std::size_t>(y) * target.stride;
+        std::uint32_t* owner_row = vis.owner + row * k_max_tile_size;
+        while (mask) {
+            const int i = std::countr_zero(mask);
+            mask &= mask - 1;
+            const int x = tile.x0 + i;
+            const float z = depth_at(t, x, y);
+            if (!depth_passes<D>(z, depth_row[x])) continue;
+            if constexpr (DepthWrite) depth_row[x] = z;
+            owner_row[i] = index;
+        }
+    }
+}
+
+// resolve_depth as a SIMD kernel (src/raster/depth_simd.cpp), for the ISA selected in facet/isa.hpp.
+struct DepthJob {
+    const TriangleSetup* setup;
+    const TileCoverage* coverage;
+    PixelRect tile;
+    TargetView target;
+    std::uint32_t* owner;  // TileVisibility::owner
+    std::uint32_t id;
+    DepthTest test;
+    bool write;
+};
+void resolve_depth_simd(const DepthJob& job);
+bool use_scalar_kernels();  // "scalar" selected: run the specifications
+
+template <DepthTest D, bool DepthWrite>
+void resolve_depth_dispatch(TileVisibility& vis, std::uint32_t index, const TileCoverage& cov, PixelRect tile,
+                            TargetView target) {
+    if (use_scalar_kernels()) return resolve_depth<D, DepthWrite>(vis, index, cov, tile, target);
+    resolve_depth_simd({vis.triangles[index].setup, &cov, tile, target, vis.owner, index, D, DepthWrite});
+}
+
+// Pass two: the shader once per visible pixel, with the triangle that owns it.
+template <class S>
+void shade_visible(const S& shader, const TileVisibility& vis, PixelRect tile, TargetView target) {
+    FragmentIn<S::k_varyings> in;
+    std::uint32_t current = TileVisibility::k_none;
+    std::optional<VaryingPlanes<S::k_varyings>> planes;
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        const std::uint32_t* owner_row = vis.owner + (y - tile.y0) * k_max_tile_size;
+        Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
+        for (int x = tile.x0; x < tile.x1; ++x) {
+            const std::uint32_t owner = owner_row[x - tile.x0];
+            if (owner == TileVisibility::k_none) continue;
+            const TileVisibility::Triangle& tri = vis.triangles[owner];
+            if (owner != current) {
+                planes.emplace(tri.var);
+                current = owner;
+            }
+            const TriangleSetup& t = *tri.setup;
+            colour_row[x] = to_rgba8(fragment_at(shader, t, *planes, x, y, depth_at(t, x, y), in));
         }
     }
 }
