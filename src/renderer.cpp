@@ -11,6 +11,10 @@ namespace {
 // output (bins keep submission order), only the balance between threads.
 constexpr std::size_t k_min_chunk_triangles = 2048;
 
+// Triangles per batch and thread: their set-up records (about 1 MiB) stay in the caches between the
+// front end that writes them and the tiles that read them.
+constexpr std::size_t k_batch_triangles_per_thread = 8192;
+
 void require(bool ok, const std::string& message) {
     if (!ok) throw FacetError(Error{ErrorCode::invalid_argument, message});
 }
@@ -45,25 +49,28 @@ Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& s
 
     // A trailing partial triangle (index count not a multiple of 3) is ignored.
     plan.triangle_count = input.indices.empty() ? input.vertex_count / 3 : input.indices.size() / 3;
-    const std::size_t by_size = (plan.triangle_count + k_min_chunk_triangles - 1) / k_min_chunk_triangles;
-    plan.chunk_count = std::max<std::size_t>(1, std::min<std::size_t>(by_size, 2 * static_cast<std::size_t>(threads())));
-    if (chunks_.size() < plan.chunk_count) chunks_.resize(plan.chunk_count);
-    const std::size_t tiles = static_cast<std::size_t>(p.tiles_x) * p.tiles_y;
-    for (std::size_t c = 0; c < plan.chunk_count; ++c) chunks_[c].reset(tiles, stride);
+    plan.stride = stride;
+    plan.batch_size = k_batch_triangles_per_thread * static_cast<std::size_t>(threads());
+    plan.chunk_count = 0;
     return plan;
 }
 
-void Renderer::run_front_end(const DrawInput& input, const Plan& plan) {
-    const std::size_t per_chunk = (plan.triangle_count + plan.chunk_count - 1) / plan.chunk_count;
+void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end) {
+    const std::size_t count = end - first;
+    const std::size_t by_size = (count + k_min_chunk_triangles - 1) / k_min_chunk_triangles;
+    plan.chunk_count = std::max<std::size_t>(1, std::min<std::size_t>(by_size, 2 * static_cast<std::size_t>(threads())));
+    if (chunks_.size() < plan.chunk_count) chunks_.resize(plan.chunk_count);
+    const std::size_t tiles = static_cast<std::size_t>(plan.params.tiles_x) * plan.params.tiles_y;
+    const std::size_t per_chunk = (count + plan.chunk_count - 1) / plan.chunk_count;
     pool_.parallel_for(plan.chunk_count, [&](std::size_t c) {
-        const std::size_t first = std::min(plan.triangle_count, c * per_chunk);
-        const std::size_t end = std::min(plan.triangle_count, first + per_chunk);
-        detail::run_front_end(vertices_, input, first, end, plan.params, chunks_[c]);
+        const std::size_t chunk_first = std::min(end, first + c * per_chunk);
+        const std::size_t chunk_end = std::min(end, chunk_first + per_chunk);
+        chunks_[c].reset(tiles, plan.stride);
+        detail::run_front_end(vertices_, input, chunk_first, chunk_end, plan.params, chunks_[c]);
     });
 }
 
-DrawStats Renderer::collect_stats(const Plan& plan) const {
-    DrawStats total;
+void Renderer::add_stats(const Plan& plan, DrawStats& total) const {
     for (std::size_t c = 0; c < plan.chunk_count; ++c) {
         const DrawStats& s = chunks_[c].stats;
         total.triangles_in += s.triangles_in;
@@ -72,7 +79,6 @@ DrawStats Renderer::collect_stats(const Plan& plan) const {
         total.triangles_clipped += s.triangles_clipped;
         total.triangles_rasterized += s.triangles_rasterized;
     }
-    return total;
 }
 
 namespace detail {

@@ -78,6 +78,9 @@ constexpr int derivative_count() {
 //                                                         where nullopt discards the pixel
 // Optional: static constexpr bool k_derivatives = true; to receive in.ddx / in.ddy of every varying,
 // or static constexpr int k_derivative_count = K; for the first K varyings only.
+// fragment() must be a pure function of its input: without blending or discard it is called only for
+// the pixels that end up visible (hidden surfaces are resolved by depth first). A shader that must
+// see every fragment passing the depth test sets static constexpr bool k_shade_hidden = true.
 template <class S>
 concept Shader = requires(const S& s, std::uint32_t index, Varyings<S::k_varyings>& out,
                           const FragmentIn<S::k_varyings>& in) {

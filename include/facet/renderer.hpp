@@ -1,7 +1,9 @@
 // facet: the Renderer runs draw calls into a Framebuffer.
 //   vertex stage (shader.vertex per vertex, in parallel blocks)
 //   -> front end (assemble, clip, cull, project, snap, set up, bin; in parallel chunks)
-//   -> tiles (coverage, then shader.fragment per covered pixel; one thread per tile, in parallel)
+//   -> tiles (coverage, depth, then shader.fragment per visible pixel, or per covered pixel when
+//      blending or discarding; one thread per tile, in parallel)
+// Front end and tiles run in batches of triangles, in submission order (docs/architecture.md).
 // Output is identical byte for byte whatever the thread count or tile size: per tile, triangles are
 // drawn in submission order, and every value is computed the same way wherever it is computed.
 // A Renderer keeps its scratch memory between draws, so steady-state drawing does not allocate.
@@ -43,11 +45,13 @@ private:
     struct Plan {
         detail::FrontEndParams params;
         std::size_t triangle_count;
-        std::size_t chunk_count;
+        int stride;               // varyings per vertex
+        std::size_t batch_size;   // triangles per batch
+        std::size_t chunk_count;  // of the current batch
     };
     Plan plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input, int stride);
-    void run_front_end(const DrawInput& input, const Plan& plan);
-    DrawStats collect_stats(const Plan& plan) const;
+    void run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end);
+    void add_stats(const Plan& plan, DrawStats& total) const;
 
     void prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin, std::size_t b) const;
     template <class S, DepthTest D, bool W, Blend B>
@@ -93,6 +97,9 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
                                      std::min((tx + 1) * p.tile_size, p.scissor.x1),
                                      std::min((ty + 1) * p.tile_size, p.scissor.y1)};
         if (tile.x0 >= tile.x1 || tile.y0 >= tile.y1) return;
+        bool any = false;
+        for (std::size_t c = 0; c < plan.chunk_count && !any; ++c) any = !chunks_[c].bins[tile_index].empty();
+        if (!any) return;
         // Without blending or discard only the last triangle to pass the depth test at a pixel shows:
         // depth for all triangles first, then the shader once per visible pixel (detail/shade.hpp).
         constexpr bool visible_only = detail::draws_visible_only<S, B>();
@@ -131,7 +138,7 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
 template <Shader S>
 DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader) {
     constexpr int N = S::k_varyings;
-    const Plan plan = plan_draw(target, state, input, N);
+    Plan plan = plan_draw(target, state, input, N);
 
     // Vertex stage, then each vertex's outcode and projection.
     vertices_.resize(input.vertex_count, N);
@@ -147,8 +154,6 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
         detail::project_vertices(vertices_, block * detail::k_vertex_block, end, plan.params);
     });
 
-    run_front_end(input, plan);
-
     // Tiles: the depth function, depth writes and blending become template parameters once here.
     auto with_blend = [&]<DepthTest D, bool W>() {
         if (state.blend == Blend::alpha)
@@ -162,15 +167,23 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
         else
             with_blend.template operator()<D, false>();
     };
-    switch (state.depth_test) {
-        case DepthTest::never: break;
-        case DepthTest::less: with_write.template operator()<DepthTest::less>(); break;
-        case DepthTest::lequal: with_write.template operator()<DepthTest::lequal>(); break;
-        case DepthTest::equal: with_write.template operator()<DepthTest::equal>(); break;
-        case DepthTest::greater: with_write.template operator()<DepthTest::greater>(); break;
-        case DepthTest::always: with_write.template operator()<DepthTest::always>(); break;
+    // Front end and tiles run batch by batch: the set-up records of one batch are still in the caches
+    // when the tiles read them, and memory stays bounded whatever the size of the draw. Batches
+    // are drawn in submission order, so every pixel sees the same sequence of triangles.
+    DrawStats stats;
+    for (std::size_t first = 0; first < plan.triangle_count; first += plan.batch_size) {
+        run_front_end(input, plan, first, std::min(plan.triangle_count, first + plan.batch_size));
+        switch (state.depth_test) {
+            case DepthTest::never: break;
+            case DepthTest::less: with_write.template operator()<DepthTest::less>(); break;
+            case DepthTest::lequal: with_write.template operator()<DepthTest::lequal>(); break;
+            case DepthTest::equal: with_write.template operator()<DepthTest::equal>(); break;
+            case DepthTest::greater: with_write.template operator()<DepthTest::greater>(); break;
+            case DepthTest::always: with_write.template operator()<DepthTest::always>(); break;
+        }
+        add_stats(plan, stats);
     }
-    return collect_stats(plan);
+    return stats;
 }
 
 }  // namespace facet

@@ -42,18 +42,27 @@ struct Hits {
 };
 
 // Draws the whole mesh in one call and returns per-pixel hit counts (see the file comment).
+// Counts every fragment, hidden or not (k_shade_hidden): a pixel covered twice must show.
+struct CountingShader {
+    static constexpr int k_varyings = 0;
+    static constexpr bool k_shade_hidden = true;
+    const Mesh* mesh;
+    std::vector<std::atomic<int>>* hits;
+    int width;
+    Vec4 vertex(std::uint32_t i, Varyings<0>&) const { return mesh->pos[i]; }
+    Vec4 fragment(const FragmentIn<0>& in) const {
+        const int x = static_cast<int>(in.pos_screen.x), y = static_cast<int>(in.pos_screen.y);
+        (*hits)[static_cast<std::size_t>(y) * width + x].fetch_add(1, std::memory_order_relaxed);
+        return Vec4{1, 1, 1, 1};
+    }
+};
+
 Hits count_hits(const Mesh& mesh, int width, int height, RendererConfig config) {
     Renderer renderer(config);
     Framebuffer fb(width, height);
     fb.clear(Vec4{0, 0, 0, 0});
     std::vector<std::atomic<int>> hits(static_cast<std::size_t>(width) * height);
-    const auto shader = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return mesh.pos[i]; },
-                                       [&](const FragmentIn<0>& in) {
-                                           const int x = static_cast<int>(in.pos_screen.x);
-                                           const int y = static_cast<int>(in.pos_screen.y);
-                                           hits[static_cast<std::size_t>(y) * width + x].fetch_add(1, std::memory_order_relaxed);
-                                           return Vec4{1, 1, 1, 1};
-                                       });
+    const CountingShader shader{&mesh, &hits, width};
     const DrawState state{.cull = CullMode::none, .depth_test = DepthTest::always, .viewport = {}};
     Hits out;
     out.stats = renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(mesh.pos.size()), mesh.indices}, shader);
