@@ -125,6 +125,7 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
                 if constexpr (visible_only) {
                     const auto id = static_cast<std::uint32_t>(vis->triangles.size());
                     vis->triangles.push_back({&t, {var[0], var[1], var[2]}});
+                    vis->cover(coverage);
                     detail::resolve_depth_dispatch<D, W>(*vis, id, coverage, tile, view);
                 } else {
                     detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view);

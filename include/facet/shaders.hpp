@@ -66,7 +66,7 @@ inline Vec4 vertex_colour(const MeshArrays& m, const ShadingUniforms& u, std::ui
 inline Vec3 world_normal(const MeshArrays& m, const ShadingUniforms& u, std::uint32_t i) {
     return m.normals ? u.normal_to_world * m.normals[i] : Vec3{};
 }
-inline Vec3 lambert_term(Vec3 n, const ShadingUniforms& u) {
+[[gnu::always_inline]] inline Vec3 lambert_term(Vec3 n, const ShadingUniforms& u) {
     const float k = std::max(dot(n, u.key.direction), 0.0f), f = std::max(dot(n, u.fill.direction), 0.0f);
     return Vec3{u.ambient, u.ambient, u.ambient} + (u.key.colour * k + u.fill.colour * f) * u.diffuse;
 }

@@ -213,7 +213,7 @@ TEST(CliRender, SupersamplingKeepsTheSizeAndAntiAliasesEdges) {
     const std::string model = write_text(dir / "tri.obj", "v -1 -1 0\nv 1.2 -0.6 0\nv -0.3 1.1 0\nf 1 2 3\n");
     for (int n : {1, 2, 4}) {
         SCOPED_TRACE("--ssaa " + std::to_string(n));
-        const fs::path out = dir / ("s" + std::to_string(n) + ".png");
+        const fs::path out = dir / std::string("s").append(std::to_string(n)).append(".png");
         render_ok({model, "--size", "50x30", "--ssaa", std::to_string(n), "--shading", "mask", "--background", "0,0,0",
                    "-o", out.string()});
         const DecodedPng img = load_png(out);

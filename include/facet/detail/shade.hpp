@@ -166,12 +166,22 @@ struct TileVisibility {
     static constexpr std::uint32_t k_none = ~0u;
     std::vector<Triangle> triangles;
     std::uint32_t owner[k_max_tile_size * k_max_tile_size];  // triangles index per pixel, row-major
+    std::uint64_t covered[k_max_tile_size];  // pixels some triangle covers: where owner may be set
 
     void begin(PixelRect tile) {
         triangles.clear();
-        const int w = tile.x1 - tile.x0;
-        for (int r = 0; r < tile.y1 - tile.y0; ++r)
-            std::fill(owner + r * k_max_tile_size, owner + r * k_max_tile_size + w, k_none);
+        std::fill(covered, covered + (tile.y1 - tile.y0), 0);
+    }
+    // Adds a triangle's coverage; owner entries become meaningful where `covered` is set.
+    void cover(const TileCoverage& cov) {
+        for (int r = cov.first_row; r <= cov.last_row; ++r) {
+            std::uint64_t fresh = cov.rows[r] & ~covered[r];
+            covered[r] |= cov.rows[r];
+            while (fresh) {  // first touch of these pixels in this batch
+                owner[r * k_max_tile_size + std::countr_zero(fresh)] = k_none;
+                fresh &= fresh - 1;
+            }
+        }
     }
 };
 
@@ -232,7 +242,8 @@ void shade_visible(const S& shader, const TileVisibility& vis, PixelRect tile, T
     for (int y = tile.y0; y < tile.y1; ++y) {
         const std::uint32_t* owner_row = vis.owner + (y - tile.y0) * k_max_tile_size;
         Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
-        for (int x = tile.x0; x < tile.x1; ++x) {
+        for (std::uint64_t mask = vis.covered[y - tile.y0]; mask; mask &= mask - 1) {
+            const int x = tile.x0 + std::countr_zero(mask);
             const std::uint32_t owner = owner_row[x - tile.x0];
             if (owner == TileVisibility::k_none) continue;
             const TileVisibility::Triangle& tri = vis.triangles[owner];

@@ -49,15 +49,19 @@ struct Vec4 {
     /* The zero vector and non-finite input normalize to the zero vector, never to NaN: callers */ \
     /* that need a fallback direction check the result. Vectors so long that their squared */      \
     /* length overflows (components past ~1e19) are scaled down first, so they keep their direction. */ \
-    inline V normalize(V a) {                                                                    \
-        float l = length(a);                                                                     \
-        if (l > 0 && std::isfinite(l)) return a / l;                                             \
+    /* The rare cases live out of line so that the common one inlines into pixel loops. */     \
+    [[gnu::noinline, gnu::cold]] inline V normalize_rare(V a) {                                  \
         if (!is_finite(a)) return V{};                                                           \
         float m = 0;                                                                             \
         for (std::size_t i = 0; i < N; ++i) m = std::fmax(m, std::fabs(a[i]));                   \
         if (!(m > 0)) return V{};                                                                \
         const V b = a / m;                                                                       \
         return b / length(b);                                                                    \
+    }                                                                                            \
+    inline V normalize(V a) {                                                                    \
+        const float l = length(a);                                                               \
+        if (l > 0 && std::isfinite(l)) [[likely]] return a / l;                                  \
+        return normalize_rare(a);                                                                \
     }                                                                                            \
     constexpr V min(V a, V b) { V r; for (std::size_t i = 0; i < N; ++i) r[i] = a[i] < b[i] ? a[i] : b[i]; return r; } \
     constexpr V max(V a, V b) { V r; for (std::size_t i = 0; i < N; ++i) r[i] = a[i] > b[i] ? a[i] : b[i]; return r; } \
