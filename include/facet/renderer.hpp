@@ -106,7 +106,7 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
         detail::TileVisibility* vis = nullptr;
         if constexpr (visible_only) {
             vis = &detail::tile_visibility_scratch();
-            vis->begin(tile);
+            vis->begin(tile, S::k_varyings);
         }
         detail::TileCoverage coverage;
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
@@ -124,7 +124,9 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
                 }
                 if constexpr (visible_only) {
                     const auto id = static_cast<std::uint32_t>(vis->triangles.size());
-                    vis->triangles.push_back({&t, {var[0], var[1], var[2]}});
+                    vis->triangles.push_back(&t);
+                    vis->planes.resize(vis->planes.size() + static_cast<std::size_t>(vis->stride));
+                    detail::write_varying_planes(var, S::k_varyings, vis->planes.data() + vis->planes.size() - vis->stride);
                     vis->cover(coverage);
                     detail::resolve_depth_dispatch<D, W>(*vis, id, coverage, tile, view);
                 } else {

@@ -80,24 +80,27 @@ inline float depth_at(const TriangleSetup& t, int x, int y) {
     return z < 0 ? 0 : (z > 1 ? 1 : z);
 }
 
-// Varyings in barycentric form, v = v0 + b1 d1 + b2 d2, with b1 and b2 perspective-correct.
+// Varyings in barycentric form, v = v0 + b1 d1 + b2 d2, with b1 and b2 perspective-correct:
+// out[0, n) = v0, out[n, 2n) = d1, out[2n, 3n) = d2.
+inline void write_varying_planes(const float* const (&var)[3], int n, float* out) {
+    for (int k = 0; k < n; ++k) {
+        out[k] = var[0][k];
+        out[n + k] = var[1][k] - var[0][k];
+        out[2 * n + k] = var[2][k] - var[0][k];
+    }
+}
+
 template <int N>
 struct VaryingPlanes {
-    float v0[N > 0 ? N : 1], d1[N > 0 ? N : 1], d2[N > 0 ? N : 1];
-    explicit VaryingPlanes(const float* const (&var)[3]) {
-        for (int k = 0; k < N; ++k) {
-            v0[k] = var[0][k];
-            d1[k] = var[1][k] - var[0][k];
-            d2[k] = var[2][k] - var[0][k];
-        }
-    }
+    float p[N > 0 ? 3 * N : 1];
+    explicit VaryingPlanes(const float* const (&var)[3]) { write_varying_planes(var, N, p); }
 };
 
 // The shader's result at pixel (x, y) of triangle t, whose depth there is z: fills `in` and calls
 // fragment(). Both drawing orders go through here.
 template <class S>
-inline auto fragment_at(const S& shader, const TriangleSetup& t, const VaryingPlanes<S::k_varyings>& planes, int x,
-                        int y, float z, FragmentIn<S::k_varyings>& in) {
+inline auto fragment_at(const S& shader, const TriangleSetup& t, const float* planes, int x, int y, float z,
+                        FragmentIn<S::k_varyings>& in) {
     constexpr int N = S::k_varyings;
     constexpr int derivative_varyings = derivative_count<S>();
     const float dx = (static_cast<float>(x) + 0.5f) - t.x0, dy = (static_cast<float>(y) + 0.5f) - t.y0;
@@ -105,14 +108,15 @@ inline auto fragment_at(const S& shader, const TriangleSetup& t, const VaryingPl
     const float w = 1.0f / q;
     const float b1 = (t.l1_0 + t.dl1dx * dx + t.dl1dy * dy) * w;
     const float b2 = (t.l2_0 + t.dl2dx * dx + t.dl2dy * dy) * w;
-    for (int k = 0; k < N; ++k) in.v[k] = planes.v0[k] + b1 * planes.d1[k] + b2 * planes.d2[k];
+    const float *v0 = planes, *d1 = planes + N, *d2 = planes + 2 * N;
+    for (int k = 0; k < N; ++k) in.v[k] = v0[k] + b1 * d1[k] + b2 * d2[k];
     if constexpr (derivative_varyings > 0) {
         // d(l/q)/dx = (dl/dx - (l/q) dq/dx) / q for each perspective-correct barycentric.
         const float b1x = (t.dl1dx - b1 * t.dqdx) * w, b1y = (t.dl1dy - b1 * t.dqdy) * w;
         const float b2x = (t.dl2dx - b2 * t.dqdx) * w, b2y = (t.dl2dy - b2 * t.dqdy) * w;
         for (int k = 0; k < derivative_varyings; ++k) {
-            in.ddx[k] = b1x * planes.d1[k] + b2x * planes.d2[k];
-            in.ddy[k] = b1y * planes.d1[k] + b2y * planes.d2[k];
+            in.ddx[k] = b1x * d1[k] + b2x * d2[k];
+            in.ddy[k] = b1y * d1[k] + b2y * d2[k];
         }
     }
     in.pos_screen = {static_cast<float>(x) + 0.5f, static_cast<float>(y) + 0.5f};
@@ -139,11 +143,11 @@ void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov
             if (!depth_passes<D>(z, depth_row[x])) continue;
             Vec4 c;
             if constexpr (shader_discards<S>()) {
-                const std::optional<Vec4> r = fragment_at(shader, t, planes, x, y, z, in);
+                const std::optional<Vec4> r = fragment_at(shader, t, planes.p, x, y, z, in);
                 if (!r) continue;
                 c = *r;
             } else {
-                c = fragment_at(shader, t, planes, x, y, z, in);
+                c = fragment_at(shader, t, planes.p, x, y, z, in);
             }
             if constexpr (DepthWrite) depth_row[x] = z;
             if constexpr (B == Blend::alpha) {
@@ -159,17 +163,19 @@ void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov
 
 // A tile's triangles, in submission order, and which of them is visible at each pixel.
 struct TileVisibility {
-    struct Triangle {
-        const TriangleSetup* setup;
-        const float* var[3];
-    };
     static constexpr std::uint32_t k_none = ~0u;
-    std::vector<Triangle> triangles;
+    std::vector<const TriangleSetup*> triangles;
+    // Each triangle's varying planes (write_varying_planes), `stride` floats apart: copied while the
+    // vertices are in the cache, so the shading pass reads them from here, not from scattered vertices.
+    std::vector<float> planes;
+    int stride = 0;
     std::uint32_t owner[k_max_tile_size * k_max_tile_size];  // triangles index per pixel, row-major
     std::uint64_t covered[k_max_tile_size];  // pixels some triangle covers: where owner may be set
 
-    void begin(PixelRect tile) {
+    void begin(PixelRect tile, int varyings) {
         triangles.clear();
+        planes.clear();
+        stride = 3 * varyings;
         std::fill(covered, covered + (tile.y1 - tile.y0), 0);
     }
     // Adds a triangle's coverage; owner entries become meaningful where `covered` is set.
@@ -194,7 +200,7 @@ TileVisibility& tile_visibility_scratch();
 template <DepthTest D, bool DepthWrite>
 void resolve_depth(TileVisibility& vis, std::uint32_t index, const TileCoverage& cov, PixelRect tile,
                    TargetView target) {
-    const TriangleSetup& t = *vis.triangles[index].setup;
+    const TriangleSetup& t = *vis.triangles[index];
     for (int row = cov.first_row; row <= cov.last_row; ++row) {
         std::uint64_t mask = cov.rows[row];
         const int y = tile.y0 + row;
@@ -230,15 +236,13 @@ template <DepthTest D, bool DepthWrite>
 void resolve_depth_dispatch(TileVisibility& vis, std::uint32_t index, const TileCoverage& cov, PixelRect tile,
                             TargetView target) {
     if (use_scalar_kernels()) return resolve_depth<D, DepthWrite>(vis, index, cov, tile, target);
-    resolve_depth_simd({vis.triangles[index].setup, &cov, tile, target, vis.owner, index, D, DepthWrite});
+    resolve_depth_simd({vis.triangles[index], &cov, tile, target, vis.owner, index, D, DepthWrite});
 }
 
 // Pass two: the shader once per visible pixel, with the triangle that owns it.
 template <class S>
 void shade_visible(const S& shader, const TileVisibility& vis, PixelRect tile, TargetView target) {
     FragmentIn<S::k_varyings> in;
-    std::uint32_t current = TileVisibility::k_none;
-    std::optional<VaryingPlanes<S::k_varyings>> planes;
     for (int y = tile.y0; y < tile.y1; ++y) {
         const std::uint32_t* owner_row = vis.owner + (y - tile.y0) * k_max_tile_size;
         Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
@@ -246,13 +250,9 @@ void shade_visible(const S& shader, const TileVisibility& vis, PixelRect tile, T
             const int x = tile.x0 + std::countr_zero(mask);
             const std::uint32_t owner = owner_row[x - tile.x0];
             if (owner == TileVisibility::k_none) continue;
-            const TileVisibility::Triangle& tri = vis.triangles[owner];
-            if (owner != current) {
-                planes.emplace(tri.var);
-                current = owner;
-            }
-            const TriangleSetup& t = *tri.setup;
-            colour_row[x] = to_rgba8(fragment_at(shader, t, *planes, x, y, depth_at(t, x, y), in));
+            const TriangleSetup& t = *vis.triangles[owner];
+            const float* planes = vis.planes.data() + static_cast<std::size_t>(owner) * vis.stride;
+            colour_row[x] = to_rgba8(fragment_at(shader, t, planes, x, y, depth_at(t, x, y), in));
         }
     }
 }
