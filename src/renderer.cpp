@@ -24,10 +24,16 @@ void require(bool ok, const std::string& message) {
 
 }  // namespace
 
-Renderer::Renderer(RendererConfig config) : pool_(config.threads), tile_size_(config.tile_size) {
+Renderer::Renderer(RendererConfig config)
+    : pool_(config.threads),
+      tile_size_(config.tile_size),
+      batch_per_thread_(config.batch_triangles > 0 ? static_cast<std::size_t>(config.batch_triangles)
+                                                   : k_batch_triangles_per_thread) {
     const int s = config.tile_size;
     require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
             "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s));
+    require(config.batch_triangles >= 0, "RendererConfig::batch_triangles must not be negative, got " +
+                                             std::to_string(config.batch_triangles));
 }
 
 Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input,
@@ -53,7 +59,7 @@ Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& s
     // A trailing partial triangle (index count not a multiple of 3) is ignored.
     plan.triangle_count = input.indices.empty() ? input.vertex_count / 3 : input.indices.size() / 3;
     plan.stride = stride;
-    plan.batch_size = k_batch_triangles_per_thread * static_cast<std::size_t>(threads());
+    plan.batch_size = batch_per_thread_ * static_cast<std::size_t>(threads());
     plan.chunk_count = 0;
     return plan;
 }

@@ -26,6 +26,10 @@ namespace facet {
 struct RendererConfig {
     int threads = 0;     // 0: one per core
     int tile_size = 64;  // pixels, a power of two from 8 to 64
+    // Triangles per batch and thread (0: 131072). A draw is set up and rasterized one batch at a
+    // time, so this bounds the renderer's memory (about 140 bytes per triangle of a batch); the
+    // image does not depend on it.
+    int batch_triangles = 0;
 };
 
 class Renderer {
@@ -59,6 +63,7 @@ private:
 
     detail::ThreadPool pool_;
     int tile_size_;
+    std::size_t batch_per_thread_;
     detail::ClipVertices vertices_;
     std::vector<detail::FrontEndChunk> chunks_;
 };

@@ -130,6 +130,12 @@ TEST(Determinism, IdenticalBytesForEveryThreadCountAndTileSize) {
             const Output out = render(opaque, blended, {.threads = threads, .tile_size = tile});
             EXPECT_TRUE(same_bytes(out, reference)) << "threads " << threads << ", tile " << tile;
         }
+    // Batches of any size (down to one triangle per batch) draw the same bytes.
+    for (int batch : {1, 7, 1000})
+        for (int threads : {1, 3}) {
+            const Output out = render(opaque, blended, {.threads = threads, .tile_size = 32, .batch_triangles = batch});
+            EXPECT_TRUE(same_bytes(out, reference)) << "batch " << batch << ", threads " << threads;
+        }
     // A renderer reused across draws (scratch memory kept) gives the same bytes again.
     EXPECT_TRUE(same_bytes(render(opaque, blended, {.threads = 3, .tile_size = 16}, 3), reference));
 }

@@ -90,6 +90,12 @@ TEST(ApiValidation, RendererTileSizeMustBeAPowerOfTwoFrom8To64) {
     for (int t : {8, 16, 32, 64}) EXPECT_EQ(Renderer({.threads = 1, .tile_size = t}).tile_size(), t);
 }
 
+TEST(ApiValidation, RendererBatchSizeMustNotBeNegative) {
+    for (int b : {-1, -1000})
+        EXPECT_EQ(code_thrown_by([&] { Renderer{{.threads = 1, .batch_triangles = b}}; }), ErrorCode::invalid_argument) << b;
+    for (int b : {0, 1, 5000}) EXPECT_NO_THROW(Renderer({.threads = 1, .batch_triangles = b})) << b;
+}
+
 TEST(ApiValidation, NonPositiveThreadCountsMeanOnePerCore) {
     for (int n : {0, -1, -100}) EXPECT_GE(Renderer({.threads = n}).threads(), 1) << n;
 }
