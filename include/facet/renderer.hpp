@@ -75,6 +75,18 @@ namespace detail {
 constexpr std::size_t k_vertex_block = 4096;
 }  // namespace detail
 
+namespace detail {
+// GCC 12 removes __builtin_prefetch whose address comes from loads it can see through (the function
+// holding it counts as side-effect free and its call disappears); an asm statement stays.
+inline void prefetch(const void* p) {
+#if defined(__x86_64__) || defined(__i386__)
+    asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+#else
+    __builtin_prefetch(p);
+#endif
+}
+}  // namespace detail
+
 // A tile's triangles sit anywhere in the chunk's set-up array, so the hardware cannot guess the next
 // one: fetch a triangle's record a few triangles ahead, and its vertices' varyings once it has arrived.
 inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin,
@@ -82,12 +94,12 @@ inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const s
     constexpr std::size_t k_record_distance = 12, k_varyings_distance = 6;
     if (b + k_record_distance < bin.size()) {
         const char* record = reinterpret_cast<const char*>(&chunk.triangles[bin[b + k_record_distance]]);
-        for (std::size_t line = 0; line < sizeof(detail::TriangleSetup); line += 64) __builtin_prefetch(record + line);
+        for (std::size_t line = 0; line < sizeof(detail::TriangleSetup); line += 64) detail::prefetch(record + line);
     }
     if (b + k_varyings_distance < bin.size()) {
         const detail::TriangleSetup& t = chunk.triangles[bin[b + k_varyings_distance]];
         for (std::uint32_t ref : t.vertex)
-            __builtin_prefetch((ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
+            detail::prefetch((ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
                                                              : vertices_.varyings_of(ref));
     }
 }
