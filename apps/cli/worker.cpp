@@ -27,6 +27,11 @@ namespace {
 // the message parse unambiguously whatever the message holds.
 constexpr char k_phase_mark = '\x1e';
 constexpr char k_error_mark = '\x1f';
+// The parent reads a report only once the worker has closed the pipe (waking up for every phase
+// would cost context switches on a busy machine), so the whole report must fit into the pipe's
+// buffer (64 KiB on Linux, at least 4 KiB by POSIX) or the worker would block: a few phases and
+// a message cut to this length do.
+constexpr std::size_t k_max_message = 3500;
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 constexpr bool k_sanitized = true;
@@ -180,7 +185,7 @@ void WorkerReport::phase(WorkerPhase p) const {
 void WorkerReport::error(const std::string& message) const {
     if (fd_ < 0) return;
     write_all(fd_, &k_error_mark, 1);
-    write_all(fd_, message.data(), message.size());
+    write_all(fd_, message.data(), std::min(message.size(), k_max_message));
 }
 
 std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& limits, const std::vector<Worker>& others,
@@ -218,7 +223,8 @@ std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worke
     std::vector<std::pair<Worker, WorkerOutcome>> ended;
     while (ended.empty() && !running.empty()) {
         std::vector<pollfd> polled;
-        for (const Worker& w : running) polled.push_back({w.fd, POLLIN, 0});
+        // No POLLIN: the end of the pipe (POLLHUP, always reported) is what matters.
+        for (const Worker& w : running) polled.push_back({w.fd, 0, 0});
         if (poll(polled.data(), polled.size(), poll_timeout_ms(running)) < 0 && errno != EINTR) {
             std::fprintf(stderr, "facet: poll failed: %s\n", std::strerror(errno));
             std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -230,9 +236,10 @@ std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worke
             bool closed = false;
             if (polled[i].revents != 0) {
                 char buf[4096];
-                const ssize_t n = read(w.fd, buf, sizeof buf);
-                if (n > 0) w.report.append(buf, static_cast<std::size_t>(n));
-                closed = n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN);
+                ssize_t n;
+                while ((n = read(w.fd, buf, sizeof buf)) > 0 || (n < 0 && errno == EINTR))
+                    if (n > 0) w.report.append(buf, static_cast<std::size_t>(n));
+                closed = true;  // read to the end (or an error: nothing more will come either way)
             }
             if (closed) {
                 WorkerOutcome o = reap(w);
