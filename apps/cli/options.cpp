@@ -1,6 +1,8 @@
 // facet command line: parsing and validating render options, and rendering by them.
 #include "options.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -2,8 +2,6 @@
 // parsing, and the one function that turns a loaded scene into pixels.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +10,12 @@
 #include "facet/model.hpp"
 #include "facet/scene.hpp"
 #include "worker.hpp"
+
+// CLI11 is header-only and costs seconds of compile time per file that includes it: only
+// main.cpp and options.cpp do, the others see the name.
+namespace CLI {
+class App;
+}
 
 namespace facet::cli {
 

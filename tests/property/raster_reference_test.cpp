@@ -20,6 +20,7 @@
 
 #include "facet/renderer.hpp"
 #include "support/reference_raster.hpp"
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -215,7 +216,8 @@ void PrintTo(const RasterCase& c, std::ostream* os) { *os << c.name; }
 
 class RasterReference : public ::testing::TestWithParam<RasterCase> {};
 
-constexpr int k_triangles_per_case = 5000;  // x 6 cases = 30,000 triangles, each drawn in 2 windings
+// x 6 cases = 30,000 triangles, each drawn in 2 windings (fewer under the sanitizers: sweep_size).
+const int k_triangles_per_case = facet_test::sweep_size(5000);
 
 TEST_P(RasterReference, RandomTrianglesMatchTheReferenceExactly) {
     const RasterCase& c = GetParam();
