@@ -92,6 +92,13 @@ TEST(RenderIsolation, EveryInputThatCrashesTheReaderFailsWithOneNamingTheFileAnd
     ASSERT_EQ(inputs.size(), 12u) << "tests/regression/assimp_crashes/ is incomplete";
     for (const fs::path& input : inputs) {
         SCOPED_TRACE(input.filename().string());
+#if defined(__SANITIZE_THREAD__)
+        // ThreadSanitizer's allocator does not check frees: assimp's double free goes unnoticed
+        // there and the file loads (glibc aborts, ASan reports it).
+        if (contains(input.filename().string(), "double-free")) continue;
+#endif
+        fs::remove_all(out_dir);  // one input's failure must not show up as the next one's
+        fs::create_directories(out_dir);
         // The timeout is a safety net (none of these hangs), the memory cap keeps the inputs that
         // allocate without bound from taking gigabytes.
         const CliRun r = run_facet({"render", input.string(), "--size", "32x24", "-o", (out_dir / "o.png").string(),
