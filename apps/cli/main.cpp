@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <optional>
 
 #include "options.hpp"
 #include "viewer.hpp"
@@ -15,13 +16,14 @@ int main(int argc, char** argv) {
 
     RenderOptions render_options;
     std::string model, output = "facet.png", depth_out;
-    int benchmark = 0;
+    std::optional<int> benchmark;
     CLI::App* render = app.add_subcommand("render", "Render a model file (or, with none, the built-in default scene) to a PNG");
     render->add_option("model", model, "Model file: OBJ, STL, PLY, OFF, glTF/GLB, FBX, 3MF, DAE, 3DS, ...");
     render->add_option("-o,--output", output, "Output PNG (written atomically)")->capture_default_str();
     render->add_option("--depth-out", depth_out, "Also write window depth as a 16-bit grayscale PNG");
     render->add_option("--benchmark", benchmark, "Render N timed frames after a warm-up; print one JSON line");
     add_render_options(*render, render_options);
+    add_worker_options(*render, render_options, /*in_process_option=*/true);
 
     RenderOptions thumbs_options;
     thumbs_options.size = "256";
@@ -34,9 +36,7 @@ int main(int argc, char** argv) {
     thumbs->add_option("-o,--output", out_dir, "Output directory")->required();
     add_render_options(*thumbs, thumbs_options);
     thumbs->get_option("--size")->description("Thumbnail size N (square) or WxH");
-    thumbs->add_option("--timeout", thumbs_options.timeout,
-                       "Seconds one file may take (load, render, write) before it is abandoned; 0: no limit")
-        ->capture_default_str();
+    add_worker_options(*thumbs, thumbs_options, /*in_process_option=*/false);
 
     RenderOptions view_options;
     std::string view_model;
@@ -60,6 +60,11 @@ int main(int argc, char** argv) {
     }
     try {
         if (render->parsed()) {
+            if (render_options.no_isolation && (render->count("--timeout") > 0 || render->count("--max-memory") > 0)) {
+                std::fprintf(stderr, "facet render: --timeout and --max-memory apply to the worker process, which "
+                                     "--no-isolation does without\n");
+                return k_exit_usage;
+            }
             return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render));
         }
         if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options);

@@ -1,6 +1,8 @@
 // facet command line: parsing and validating render options, and rendering by them.
 #include "options.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -45,10 +47,13 @@ Result<Vec4> parse_background(const std::string& value) {
     int n = 0;
     if (!parse_floats(value, 3, 4, v, n))
         return usage("--background must be R,G,B[,A] (0..1 or 0..255) or 'transparent', got '" + value + "'");
-    // Values above 1 are read as 0..255.
-    const bool bytes = v[0] > 1 || v[1] > 1 || v[2] > 1 || (n == 4 && v[3] > 1);
+    // The colour channels share a scale: 0..255 when any of them is above 1 ("255,128,0"), else
+    // 0..1. Alpha has its own, so that "255,0,0,1" is opaque red rather than alpha 1/255, and
+    // "255,0,0,128" half-transparent.
+    const bool colour_bytes = v[0] > 1 || v[1] > 1 || v[2] > 1;
+    const bool alpha_bytes = n == 4 && v[3] > 1;
     for (int i = 0; i < n; ++i) {
-        if (bytes) v[i] /= 255.0f;
+        if (i < 3 ? colour_bytes : alpha_bytes) v[i] /= 255.0f;
         if (v[i] < 0 || v[i] > 1) return usage("--background values must lie in 0..1 or 0..255, got '" + value + "'");
     }
     return Vec4{v[0], v[1], v[2], v[3]};
@@ -76,7 +81,7 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_flag("--ortho", o.ortho, "Orthographic projection");
     c.add_option("--shading", o.shading, "lit | lambert | flat | normals | mask | vertex-color | texture")
         ->capture_default_str();
-    c.add_option("--background", o.background, "R,G,B[,A] in 0..1 or 0..255, or 'transparent'")->check(non_empty);
+    c.add_option("--background", o.background, "R,G,B[,A]: R,G,B in 0..1, or 0..255 if any is above 1; A in 0..1, or 0..255 if above 1; or 'transparent'")->check(non_empty);
     c.add_option("--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
     c.add_option("--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
     c.add_option("--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")
@@ -86,6 +91,39 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--max-texture-size", o.max_texture_size,
                  "Largest texture side in pixels (and at most N*N, 64 Mpixels by default); larger ones are not used")
         ->capture_default_str();
+}
+
+void add_worker_options(CLI::App& c, RenderOptions& o, bool in_process_option) {
+    c.add_option("--timeout", o.timeout,
+                 "Seconds one file may take (load, render, write) before it is abandoned; 0: no limit")
+        ->capture_default_str();
+    c.add_option("--max-memory", o.max_memory,
+                 "Memory cap of the worker process loading and rendering a file: MiB, or N followed by K, M or G; "
+                 "0: no limit (default: 3/4 of the physical memory, shared among thumbs' workers)");
+    if (in_process_option)
+        c.add_flag("--no-isolation", o.no_isolation,
+                   "Load and render in this process instead of a worker process (for debuggers; a file that crashes "
+                   "the model reader then crashes facet, and --timeout and --max-memory do not apply)");
+}
+
+Result<WorkerLimits> make_worker_limits(const RenderOptions& o, unsigned workers) {
+    // Below this the worker cannot even start its libraries and threads.
+    constexpr std::uint64_t k_min_memory = std::uint64_t{64} << 20;
+    WorkerLimits limits;
+    if (!(o.timeout >= 0 && std::isfinite(o.timeout))) return usage("--timeout must be 0 (no limit) or a number of seconds");
+    limits.timeout_seconds = o.timeout;
+    if (o.max_memory.empty()) {
+        const std::uint64_t all = default_max_memory_bytes();  // 0: unknown, no cap
+        limits.max_memory_bytes = all == 0 ? 0 : std::max(all / std::max(workers, 1u), k_min_memory);
+    } else {
+        const std::optional<std::uint64_t> bytes = parse_memory_size(o.max_memory);
+        if (!bytes || (*bytes != 0 && *bytes < k_min_memory))
+            return usage("--max-memory must be 0 (no limit) or at least 64 MiB, as MiB or with K, M or G, got '" +
+                         o.max_memory + "'");
+        limits.max_memory_bytes = *bytes;
+    }
+    if (!memory_cap_supported()) limits.max_memory_bytes = 0;
+    return limits;
 }
 
 bool has_camera_options(const CLI::App& c) {

@@ -2,8 +2,6 @@
 // parsing, and the one function that turns a loaded scene into pixels.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +9,13 @@
 #include "facet/error.hpp"
 #include "facet/model.hpp"
 #include "facet/scene.hpp"
+#include "worker.hpp"
+
+// CLI11 is header-only and costs seconds of compile time per file that includes it: only
+// main.cpp and options.cpp do, the others see the name.
+namespace CLI {
+class App;
+}
 
 namespace facet::cli {
 
@@ -34,11 +39,21 @@ struct RenderOptions {
     // Resource limits for loading (LoadOptions, TextureLimits): checked before anything is allocated.
     long long max_triangles = static_cast<long long>(LoadOptions{}.max_triangles);  // signed: -1 is an error, not 2^64 - 1
     int max_texture_size = TextureLimits{}.max_size;
-    double timeout = 60;  // thumbs: seconds a file may take before it is abandoned; 0: no limit
+    // The worker process each file is loaded and rendered in (render, thumbs; worker.hpp).
+    double timeout = 60;     // seconds a file may take (load, render, write) before it is abandoned; 0: no limit
+    std::string max_memory;  // the worker's memory cap (parse_memory_size); empty: the default
+    bool no_isolation = false;  // render: load and render in this process (debugging)
 };
 
 // Adds the options above to a subcommand.
 void add_render_options(CLI::App& command, RenderOptions& options);
+
+// Adds --timeout and --max-memory (render and thumbs), and with `in_process_option` --no-isolation.
+void add_worker_options(CLI::App& command, RenderOptions& options, bool in_process_option);
+
+// The worker limits by the options, for `workers` workers at a time (the default memory cap is
+// shared among them); the error message names the offending option.
+Result<WorkerLimits> make_worker_limits(const RenderOptions& options, unsigned workers);
 
 // The options after validation, ready to render with.
 struct RenderPlan {
@@ -65,8 +80,9 @@ DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& 
 // The default scene, or the model at `path`; warnings go to stderr prefixed with `command`.
 Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command);
 
-int run_render(const std::string& model, const std::string& output, const std::string& depth_out, int benchmark_frames,
-               const RenderOptions& options, bool camera_options_given);
+// `benchmark_frames`: --benchmark N if given.
+int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
+               std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given);
 int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options);
 
 }  // namespace facet::cli

@@ -1,4 +1,10 @@
 // `facet render`: one model (or the default scene) to a PNG, optionally a depth PNG and timings.
+//
+// The job (load, render, write) runs in a worker process (worker.hpp) unless --no-isolation: a
+// file that crashes, hangs or exhausts memory inside the model reader (assimp) then ends in an
+// error naming the file and the reason, exit status 1 and no output file, instead of a crash of
+// facet. The worker inherits stdout and stderr, so its warnings, errors and the --benchmark line
+// reach the user as they are written, and its exit status is facet's.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -7,6 +13,7 @@
 
 #include "facet/io.hpp"
 #include "options.hpp"
+#include "worker.hpp"
 
 namespace facet::cli {
 namespace {
@@ -35,69 +42,121 @@ void print_benchmark(std::vector<double> frame_ms, double load_ms, std::size_t t
     std::fflush(stdout);
 }
 
-}  // namespace
+// A failed run leaves no output behind: takes back a colour image already written (only a regular
+// file: -o may name a device such as /dev/null).
+void remove_output(const std::string& output) {
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(output, ec)) std::filesystem::remove(output, ec);
+}
 
-int run_render(const std::string& model, const std::string& output, const std::string& depth_out, int benchmark_frames,
-               const RenderOptions& options, bool camera_options_given) {
-    Result<RenderPlan> plan = make_plan(options, camera_options_given || !model.empty());
-    if (!plan) {
-        std::fprintf(stderr, "facet render: %s\n", plan.error().message.c_str());
-        return k_exit_usage;
-    }
-    if (benchmark_frames < 0) {
-        std::fprintf(stderr, "facet render: --benchmark must be 1 or more frames\n");
-        return k_exit_usage;
-    }
+struct RenderRequest {
+    std::string model, output, depth_out;
+    int benchmark_frames = 0;  // 0: no benchmark
+    RenderPlan plan;
+    int threads = 0;
+};
+
+// Load, render, write, printing its own messages; returns the exit status.
+int render_job(const RenderRequest& r, const WorkerReport& report) {
+    const RenderPlan& plan = r.plan;
+    report.phase(WorkerPhase::loading);
     const Clock::time_point load_start = Clock::now();
-    Result<Scene> scene = load_scene(model, *plan, "facet render");
+    Result<Scene> scene = load_scene(r.model, plan, "facet render");
     if (!scene) {
         std::fprintf(stderr, "facet render: %s\n", scene.error().message.c_str());
         return k_exit_failed;
     }
     const double load_ms = ms_since(load_start);
 
-    Renderer renderer({.threads = options.threads});
-    Framebuffer target(plan->width * plan->ssaa, plan->height * plan->ssaa);
+    report.phase(WorkerPhase::rendering);
+    Renderer renderer({.threads = r.threads});
+    Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
     Image colour;
     std::vector<float> depth;
-    std::vector<float>* depth_ptr = depth_out.empty() ? nullptr : &depth;
+    std::vector<float>* depth_ptr = r.depth_out.empty() ? nullptr : &depth;
 
     const Clock::time_point render_start = Clock::now();
-    DrawStats stats = render_plan(renderer, *scene, *plan, target, colour, depth_ptr);
+    DrawStats stats = render_plan(renderer, *scene, plan, target, colour, depth_ptr);
     double render_ms = ms_since(render_start);
-    if (benchmark_frames > 0) {
+    if (r.benchmark_frames > 0) {
         // The first frame above was the warm-up; time the next ones.
         std::vector<double> frames;
-        for (int i = 0; i < benchmark_frames; ++i) {
+        for (int i = 0; i < r.benchmark_frames; ++i) {
             const Clock::time_point start = Clock::now();
-            stats = render_plan(renderer, *scene, *plan, target, colour, depth_ptr);
+            stats = render_plan(renderer, *scene, plan, target, colour, depth_ptr);
             frames.push_back(ms_since(start));
         }
-        print_benchmark(frames, load_ms, scene->triangle_count(), renderer.threads(), plan->width, plan->height);
+        print_benchmark(frames, load_ms, scene->triangle_count(), renderer.threads(), plan.width, plan.height);
     }
 
     if (stats.triangles_in > 0 && stats.triangles_invalid == stats.triangles_in) {
-        std::fprintf(stderr, "facet render: %s: no valid triangles to draw\n", model.c_str());
+        std::fprintf(stderr, "facet render: %s: no valid triangles to draw\n", r.model.c_str());
         return k_exit_failed;
     }
-    if (Status s = write_png(output, colour); !s) {
+    report.phase(WorkerPhase::writing);
+    if (Status s = write_png(r.output, colour); !s) {
         std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
         return k_exit_failed;
     }
     if (depth_ptr) {
-        if (Status s = write_png_gray16(depth_out, plan->width, plan->height, depth_to_u16(depth)); !s) {
+        report.phase(WorkerPhase::writing_depth);
+        if (Status s = write_png_gray16(r.depth_out, plan.width, plan.height, depth_to_u16(depth)); !s) {
             std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
-            // A failed run leaves no output behind: take back the colour image just written
-            // (only a regular file: -o may name a device such as /dev/null).
-            std::error_code ec;
-            if (std::filesystem::is_regular_file(output, ec)) std::filesystem::remove(output, ec);
+            remove_output(r.output);
             return k_exit_failed;
         }
     }
     std::fprintf(stderr, "facet render: %s (%dx%d, %zu triangles, load %.1f ms, render %.1f ms, %d threads)\n",
-                 output.c_str(), plan->width, plan->height, scene->triangle_count(), load_ms, render_ms,
+                 r.output.c_str(), plan.width, plan.height, scene->triangle_count(), load_ms, render_ms,
                  renderer.threads());
     return k_exit_ok;
+}
+
+// After a worker that did not finish by itself: a failed run leaves no output behind, neither the
+// temporaries it was writing nor a colour image it had already renamed into place.
+void clean_up_after(const WorkerOutcome& outcome, const RenderRequest& r) {
+    remove_temporaries(r.output);
+    if (!r.depth_out.empty()) {
+        remove_temporaries(r.depth_out);
+        if (outcome.phase == WorkerPhase::writing_depth) remove_output(r.output);
+    }
+}
+
+}  // namespace
+
+int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
+               std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given) {
+    Result<RenderPlan> plan = make_plan(options, camera_options_given || !model.empty());
+    if (!plan) {
+        std::fprintf(stderr, "facet render: %s\n", plan.error().message.c_str());
+        return k_exit_usage;
+    }
+    if (benchmark_frames && *benchmark_frames < 1) {
+        std::fprintf(stderr, "facet render: --benchmark must be 1 or more frames, got %d\n", *benchmark_frames);
+        return k_exit_usage;
+    }
+    Result<WorkerLimits> limits = make_worker_limits(options, 1);
+    if (!limits) {
+        std::fprintf(stderr, "facet render: %s\n", limits.error().message.c_str());
+        return k_exit_usage;
+    }
+    const RenderRequest request{model, output, depth_out, benchmark_frames.value_or(0), *plan, options.threads};
+    if (options.no_isolation) return render_job(request, WorkerReport{});
+
+    // Nothing has started a thread yet (the Renderer is made in the worker), so forking is safe.
+    const WorkerOutcome outcome = run_in_worker(
+        [&](const WorkerReport& report) {
+            test_hook_sleep(model);
+            return render_job(request, report);
+        },
+        *limits);
+    // The worker has printed its own messages for the statuses it chose.
+    if (exited(outcome) && (outcome.status == k_exit_ok || outcome.status == k_exit_failed)) return outcome.status;
+    clean_up_after(outcome, request);
+    const std::string input = model.empty() ? "the default scene" : model;
+    std::fprintf(stderr, "facet render: %s\n", describe_abnormal_end(outcome, input, *limits).c_str());
+    // Any other exit status is passed on (a sanitizer's report in a sanitizer build, say).
+    return exited(outcome) && outcome.status != k_exit_ok ? outcome.status : k_exit_failed;
 }
 
 }  // namespace facet::cli

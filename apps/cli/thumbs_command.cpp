@@ -1,26 +1,19 @@
 // `facet thumbs`: many models to one PNG each, all cores busy, progress on stderr, a summary, and
 // an exit code that says whether everything rendered. One broken file never stops the batch.
 //
-// Each file is loaded, rendered and written by a child process of its own (fork), up to one per
-// worker at a time, while this process only schedules them, shows progress and collects results.
-// A file that makes a reader hang or crash (assimp cannot be interrupted, and a crash in it would
-// take every other file with it) then costs only its own child: past --timeout seconds the child
-// is killed and the file reported as "timed out after N s"; a crash is reported with its signal.
-// The child writes its thumbnail atomically (a temporary file renamed into place); the temporary
-// of a killed child is removed here, so an abandoned file leaves nothing behind.
-// The parent is single-threaded, so forking is safe, and each child draws with one thread.
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
+// Each file is loaded, rendered and written by a worker process of its own (worker.hpp), up to
+// --threads at a time, while this process only schedules them, shows progress and collects results.
+// A file that makes a reader hang, crash or allocate without bound (assimp cannot be interrupted,
+// and a crash in it would take every other file with it) then costs only its own worker: past
+// --timeout seconds the worker is killed and the file reported as "gave up after N s"; a crash is
+// reported with its signal. The worker writes its thumbnail atomically (a temporary file renamed
+// into place); the temporary of a killed worker is removed here, so an abandoned file leaves
+// nothing behind. This process is single-threaded, so forking is safe, and each worker draws with
+// one thread.
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -28,6 +21,7 @@
 
 #include "facet/io.hpp"
 #include "options.hpp"
+#include "worker.hpp"
 
 namespace facet::cli {
 namespace {
@@ -109,176 +103,69 @@ private:
 };
 
 // Renders one model to its thumbnail; fills job.error on failure.
-void render_job(Job& job, const RenderPlan& plan, Renderer& renderer, Framebuffer& target, Image& colour) {
+void render_job(Job& job, const RenderPlan& plan, Renderer& renderer, Framebuffer& target, Image& colour,
+                const WorkerReport& report) {
+    report.phase(WorkerPhase::loading);
     Result<Scene> scene = load_scene(job.input.string(), plan, "facet thumbs");
     if (!scene) {
         job.error = scene.error().message;
         return;
     }
+    report.phase(WorkerPhase::rendering);
     try {
         render_plan(renderer, *scene, plan, target, colour, nullptr);
     } catch (const std::exception& e) {
         job.error = job.input.string() + ": " + e.what();
         return;
     }
+    report.phase(WorkerPhase::writing);
     if (Status s = write_png(job.output.string(), colour); !s) job.error = s.error().message;
 }
 
-// TEST HOOK, for the tests of --timeout only: when FACET_TEST_SLEEP_ON is set to a non-empty
-// string, a child whose input path contains it sleeps instead of working, as a file that hangs a
-// reader would. No file can make assimp hang on purpose, so the tests need this to exercise the
-// timeout; without the variable (as always outside the tests) it does nothing.
-void test_hook_sleep(const Job& job) {
-    const char* pattern = std::getenv("FACET_TEST_SLEEP_ON");
-    if (pattern && *pattern && job.input.string().find(pattern) != std::string::npos)
-        for (;;) pause();  // until the parent kills this child
+// The worker's side: load, render, write; an error goes to the parent through the report.
+int thumbnail_job(Job job, const RenderPlan& plan, const WorkerReport& report) {
+    test_hook_sleep(job.input.string());
+    Renderer renderer({.threads = 1});
+    Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
+    Image colour;
+    render_job(job, plan, renderer, target, colour, report);
+    if (job.error.empty()) return k_exit_ok;
+    report.error(job.error);
+    return k_exit_failed;
 }
 
-// The child's side: load, render, write, report any error through `fd`, exit. _exit, not exit:
-// the child owns none of the parent's buffers or atexit work.
-[[noreturn]] void run_child(Job& job, const RenderPlan& plan, int fd) {
-    int status = 1;
-    try {
-        test_hook_sleep(job);
-        Renderer renderer({.threads = 1});
-        Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
-        Image colour;
-        render_job(job, plan, renderer, target, colour);
-        status = job.error.empty() ? 0 : 1;
-    } catch (const std::exception& e) {
-        job.error = job.input.string() + ": " + e.what();
-    } catch (...) {
-        job.error = job.input.string() + ": failed with an unknown exception";
-    }
-    for (std::size_t done = 0; done < job.error.size();) {
-        const ssize_t n = write(fd, job.error.data() + done, job.error.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        done += static_cast<std::size_t>(n);
-    }
-    std::fflush(stderr);
-    _exit(status);
-}
-
-using Clock = std::chrono::steady_clock;
-
-struct Child {
-    pid_t pid = -1;
-    int fd = -1;          // read end of the pipe the child reports its error through
-    std::size_t job = 0;
-    Clock::time_point deadline;
-    std::string message;  // what the child has written so far
-};
-
-std::string seconds_text(double s) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g", s);
-    return buf;
-}
-
-// The temporary files write_file_atomic makes for `output` ("<name>.tmp<n>"), left by a killed child.
-void remove_temporaries(const fs::path& output) {
-    const std::string prefix = output.filename().string() + ".tmp";
-    std::error_code ec;
-    for (fs::directory_iterator it(output.parent_path(), ec), end; !ec && it != end; it.increment(ec))
-        if (it->path().filename().string().rfind(prefix, 0) == 0) fs::remove(it->path(), ec);
-}
-
-// Runs every job in child processes, at most `workers` at a time, each within `timeout` seconds
-// (0: no limit), reporting each finished job to `progress`.
-void run_jobs(std::vector<Job>& jobs, const RenderPlan& plan, unsigned workers, double timeout, Progress& progress) {
-    std::vector<Child> running;
+// Runs every job in worker processes, at most `workers` at a time, each within `limits`,
+// reporting each finished job to `progress`.
+void run_jobs(std::vector<Job>& jobs, const RenderPlan& plan, unsigned workers, const WorkerLimits& limits,
+              Progress& progress) {
+    std::vector<Worker> running;
     std::size_t next = 0;
-    auto finish = [&](Child& c, const std::string& error) {
-        jobs[c.job].error = error;
-        progress.done(jobs[c.job]);
+    auto finish = [&](std::size_t i, const std::string& error) {
+        jobs[i].error = error;
+        progress.done(jobs[i]);
     };
     while (next < jobs.size() || !running.empty()) {
         while (running.size() < workers && next < jobs.size()) {
-            Child c;
-            c.job = next++;
-            int fds[2];
-            if (pipe(fds) != 0) {
-                finish(c, jobs[c.job].input.string() + ": cannot start a worker process: " + std::strerror(errno));
+            const std::size_t i = next++;
+            WorkerOutcome failed;
+            std::optional<Worker> w = start_worker(
+                [&, i](const WorkerReport& report) { return thumbnail_job(jobs[i], plan, report); }, limits, running, failed);
+            if (!w) {
+                finish(i, describe_abnormal_end(failed, jobs[i].input.string(), limits));
                 continue;
             }
-            std::fflush(stderr);
-            c.pid = fork();
-            if (c.pid == 0) {
-                close(fds[0]);
-                for (const Child& other : running) close(other.fd);
-                run_child(jobs[c.job], plan, fds[1]);
-            }
-            close(fds[1]);
-            if (c.pid < 0) {
-                close(fds[0]);
-                finish(c, jobs[c.job].input.string() + ": cannot start a worker process: " + std::strerror(errno));
-                continue;
-            }
-            c.fd = fds[0];
-            c.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(timeout));
-            running.push_back(std::move(c));
+            w->tag = i;
+            running.push_back(std::move(*w));
         }
-        if (running.empty()) continue;
-
-        int wait_ms = -1;
-        if (timeout > 0) {
-            Clock::time_point first = running.front().deadline;
-            for (const Child& c : running) first = std::min(first, c.deadline);
-            const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(first - Clock::now()).count();
-            wait_ms = static_cast<int>(std::clamp<long long>(left + 1, 0, 60'000));
-        }
-        std::vector<pollfd> polled;
-        for (const Child& c : running) polled.push_back({c.fd, POLLIN, 0});
-        if (poll(polled.data(), polled.size(), wait_ms) < 0 && errno != EINTR) {
-            std::fprintf(stderr, "facet thumbs: poll failed: %s\n", std::strerror(errno));
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        }
-
-        const Clock::time_point now = Clock::now();
-        for (std::size_t i = 0; i < running.size();) {
-            Child& c = running[i];
-            bool ended = false;
-            if (i < polled.size() && polled[i].revents != 0) {
-                char buf[4096];
-                const ssize_t n = read(c.fd, buf, sizeof buf);
-                if (n > 0) c.message.append(buf, static_cast<std::size_t>(n));
-                ended = n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN);
-            }
-            if (ended) {
-                // The pipe is closed: the child is exiting (or has exited).
-                int status = 0;
-                while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {}
-                const std::string& input = jobs[c.job].input.string();
-                std::string error;
-                if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-                    error.clear();
-                } else if (WIFEXITED(status) && WEXITSTATUS(status) == 1 && !c.message.empty()) {
-                    error = c.message;
-                } else if (WIFSIGNALED(status)) {
-                    error = input + ": the worker process crashed (signal " + std::to_string(WTERMSIG(status)) + ", " +
-                            strsignal(WTERMSIG(status)) + ")";
-                    remove_temporaries(jobs[c.job].output);
-                } else {
-                    error = input + ": the worker process failed (exit status " + std::to_string(WEXITSTATUS(status)) + ")" +
-                            (c.message.empty() ? "" : ": " + c.message);
-                }
-                close(c.fd);
-                finish(c, error);
-            } else if (timeout > 0 && now >= c.deadline) {
-                kill(c.pid, SIGKILL);
-                while (waitpid(c.pid, nullptr, 0) < 0 && errno == EINTR) {}
-                close(c.fd);
-                remove_temporaries(jobs[c.job].output);
-                finish(c, jobs[c.job].input.string() + ": timed out after " + seconds_text(timeout) +
-                              " s (abandoned; --timeout sets the limit)");
-                ended = true;
-            }
-            if (ended) {
-                running.erase(running.begin() + static_cast<std::ptrdiff_t>(i));
-                polled.erase(polled.begin() + static_cast<std::ptrdiff_t>(i));
+        for (auto& [w, outcome] : wait_for_workers(running)) {
+            const Job& job = jobs[w.tag];
+            if (exited(outcome) && outcome.status == k_exit_ok) {
+                finish(w.tag, {});
+            } else if (exited(outcome) && outcome.status == k_exit_failed && !outcome.message.empty()) {
+                finish(w.tag, outcome.message);
             } else {
-                ++i;
+                remove_temporaries(job.output);  // of a worker killed while writing
+                finish(w.tag, describe_abnormal_end(outcome, job.input.string(), limits));
             }
         }
     }
@@ -294,8 +181,16 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         std::fprintf(stderr, "facet thumbs: %s\n", plan.error().message.c_str());
         return k_exit_usage;
     }
-    if (!(options.timeout >= 0 && std::isfinite(options.timeout))) {
-        std::fprintf(stderr, "facet thumbs: --timeout must be 0 (no limit) or a number of seconds\n");
+    std::vector<Job> failed;
+    std::vector<Job> jobs = collect_jobs(inputs, output_dir, failed);
+    // Files in parallel, one process each drawing with one thread: loading is single-threaded, so
+    // this keeps every core busy.
+    const unsigned cores = options.threads > 0 ? static_cast<unsigned>(options.threads)
+                                               : std::max(1u, std::thread::hardware_concurrency());
+    const unsigned workers = std::max(1u, static_cast<unsigned>(std::min<std::size_t>(cores, jobs.size())));
+    Result<WorkerLimits> limits = make_worker_limits(options, workers);
+    if (!limits) {
+        std::fprintf(stderr, "facet thumbs: %s\n", limits.error().message.c_str());
         return k_exit_usage;
     }
     std::error_code ec;
@@ -306,15 +201,8 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         return k_exit_failed;
     }
 
-    std::vector<Job> failed;
-    std::vector<Job> jobs = collect_jobs(inputs, output_dir, failed);
     Progress progress(jobs.size());
-    // Files in parallel, one process each drawing with one thread: loading is single-threaded, so
-    // this keeps every core busy.
-    const unsigned workers = std::max(1u, std::min<unsigned>(options.threads > 0 ? options.threads
-                                                                                  : std::thread::hardware_concurrency(),
-                                                             static_cast<unsigned>(std::max<std::size_t>(jobs.size(), 1))));
-    run_jobs(jobs, *plan, workers, options.timeout, progress);
+    run_jobs(jobs, *plan, workers, *limits, progress);
 
     const std::size_t rendered =
         static_cast<std::size_t>(std::count_if(jobs.begin(), jobs.end(), [](const Job& j) { return j.error.empty(); }));

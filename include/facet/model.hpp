@@ -36,6 +36,11 @@ struct LoadedModel {
     std::vector<std::string> warnings;  // each names the file
 };
 
+// Loads in the calling process: assimp runs here. A few damaged files crash, hang or exhaust memory
+// inside assimp 5.2.5 itself (MDL, COB, OGEX, FBX, LWS, ASE and PLY inputs found by fuzzing,
+// docs/RELIABILITY.md), which no Result can report. A program that loads files it does not trust
+// should call this in a process of its own, as `facet render` and `facet thumbs` do
+// (apps/cli/worker.hpp: fork, a time limit, RLIMIT_DATA).
 Result<LoadedModel> load_model(const std::string& path, const LoadOptions& options = {});
 
 // True when the file name has an extension of a format load_model reads (case-insensitive).

@@ -738,6 +738,10 @@ Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene,
     return out;
 }
 
+Error out_of_memory(const std::string& path) {
+    return fail(ErrorCode::limit_exceeded, path, "needs more memory than is available");
+}
+
 }  // namespace
 
 bool is_supported_model_file(const std::string& path) {
@@ -770,6 +774,9 @@ Result<LoadedModel> load_model(const std::string& path, const LoadOptions& optio
         const aiScene* scene = importer.ReadFile(path, flags);
         if (!scene) {
             const std::string why = importer.GetErrorString();
+            // assimp catches the std::bad_alloc of a reader that asked for more than there is
+            // (a damaged count in a header, or a process memory cap) and keeps only its name.
+            if (why == "std::bad_alloc") return out_of_memory(path);
             if (means_no_triangles(why)) return fail(ErrorCode::bad_format, path, "contains no triangles (" + why + ")");
             return fail(ErrorCode::bad_format, path, "cannot be read as a model (" + why + ")");
         }
@@ -779,7 +786,7 @@ Result<LoadedModel> load_model(const std::string& path, const LoadOptions& optio
             if (std::optional<std::string> w = logged.warning(path)) model->warnings.insert(model->warnings.begin(), *w);
         return model;
     } catch (const std::bad_alloc&) {
-        return fail(ErrorCode::limit_exceeded, path, "needs more memory than is available");
+        return out_of_memory(path);
     } catch (const FacetError& e) {
         return fail(e.error().code, path, e.error().message);
     } catch (const std::exception& e) {

@@ -48,6 +48,13 @@ std::string cgal_meshes_missing() {
            " is missing or cannot be unpacked: install Debian's libcgal-demo (scripts/setup does)";
 }
 
+int sweep_size(int n, int minimum) {
+    const char* text = std::getenv("FACET_TEST_SWEEP_DIVISOR");
+    const long divisor = text ? std::strtol(text, nullptr, 10) : 1;
+    if (divisor <= 1) return n;
+    return std::max(static_cast<int>(n / divisor), std::min(n, minimum));
+}
+
 fs::path test_temp_dir(const std::string& prefix) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     std::string name = prefix + "_" + std::to_string(geteuid());

@@ -27,6 +27,13 @@ std::string cgal_meshes_missing();
 // Per user, because a directory left by another user's run could not be cleared.
 std::filesystem::path test_temp_dir(const std::string& prefix);
 
+// The size of a random sweep: `n`, divided by FACET_TEST_SWEEP_DIVISOR (a whole number >= 1) when
+// that is set, but never below `minimum`. The sanitizer test presets set it: under ASan or TSan the
+// same code runs 5 to 20 times slower, and a quarter of the random cases still takes every path
+// (the kinds, windings and configurations cycle within the first few dozen cases); the release
+// suite keeps the full counts.
+int sweep_size(int n, int minimum = 100);
+
 }  // namespace facet_test
 
 // Skips the running test when assimp's test models are not installed.

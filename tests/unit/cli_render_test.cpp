@@ -259,7 +259,11 @@ TEST(CliRender, BackgroundColoursAndTransparency) {
     };
     for (const Case& c : {Case{"transparent", {0, 0, 0, 0}, 0}, Case{"255,0,0", {255, 0, 0, 255}, 0},
                           Case{"1,0,0,0.5", {255, 0, 0, 128}, 1}, Case{"0,0,1", {0, 0, 255, 255}, 0},
-                          Case{"0,128,255", {0, 128, 255, 255}, 0}}) {
+                          Case{"0,128,255", {0, 128, 255, 255}, 0},
+                          // Alpha has a scale of its own: 1 is opaque even when the colour is in 0..255.
+                          Case{"255,0,0,1", {255, 0, 0, 255}, 0}, Case{"255,0,0,0.5", {255, 0, 0, 128}, 1},
+                          Case{"255,0,0,51", {255, 0, 0, 51}, 0}, Case{"0,0,1,255", {0, 0, 255, 255}, 0},
+                          Case{"1,1,1,0", {255, 255, 255, 0}, 0}}) {
         SCOPED_TRACE(c.value);
         const fs::path out = dir / "bg.png";
         render_ok(with({model, "--background", c.value, "-o", out.string()}, camera));
@@ -277,7 +281,7 @@ TEST(CliRender, BackgroundColoursAndTransparency) {
                 }
             }
     }
-    for (const char* bad : {"1,2", "1,2,3,4,5", "red", "-1,0,0", "300,0,0", "0,0,0,-0.5", "1,,0", "nan,0,0", "",
+    for (const char* bad : {"1,2", "1,2,3,4,5", "red", "-1,0,0", "300,0,0", "0,0,0,-0.5", "255,0,0,256", "1,0,0,300", "1,,0", "nan,0,0", "",
                             "transparent,1"}) {
         SCOPED_TRACE(std::string("'") + bad + "'");
         const CliRun r = run_facet(with({"render", model, "--background", bad, "-o", (dir / "bad.png").string()}, camera));
@@ -343,6 +347,21 @@ TEST(CliRender, BenchmarkPrintsOneJsonLine) {
     EXPECT_NE(b.out.find("\"frames\":1,"), std::string::npos) << b.out;
     EXPECT_NE(b.out.find("\"triangles\":" + std::to_string(faces) + ","), std::string::npos) << b.out;
     EXPECT_NE(b.out.find("\"threads\":1,"), std::string::npos) << b.out;
+}
+
+TEST(CliRender, BenchmarkNeedsAtLeastOneFrame) {
+    const fs::path dir = temp_dir();
+    for (const char* bad : {"0", "-1", "x"}) {
+        SCOPED_TRACE(bad);
+        const CliRun r = run_facet({"render", "--size", "16x16", "--benchmark", bad, "-o", (dir / "b.png").string()});
+        EXPECT_EQ(r.exit_code, 2) << r.all();
+        EXPECT_NE(r.err.find("--benchmark"), std::string::npos) << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+        EXPECT_FALSE(fs::exists(dir / "b.png"));
+    }
+    const CliRun one = run_facet({"render", "--size", "16x16", "--benchmark", "1", "-o", (dir / "b.png").string()});
+    EXPECT_EQ(one.exit_code, 0) << one.all();
+    EXPECT_NE(one.out.find("\"frames\":1,"), std::string::npos) << one.out;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,0 +1,319 @@
+// facet command line: jobs in worker processes (worker.hpp).
+#include "worker.hpp"
+
+#include <poll.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#if defined(__linux__)
+#include <sys/prctl.h>
+#endif
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <thread>
+
+namespace facet::cli {
+namespace {
+
+// Report records: a phase is k_phase_mark and one WorkerPhase character; the error message is
+// k_error_mark and everything after it. Neither mark can appear in a phase, so the phases before
+// the message parse unambiguously whatever the message holds.
+constexpr char k_phase_mark = '\x1e';
+constexpr char k_error_mark = '\x1f';
+// The parent reads a report only once the worker has closed the pipe (waking up for every phase
+// would cost context switches on a busy machine), so the whole report must fit into the pipe's
+// buffer (64 KiB on Linux, at least 4 KiB by POSIX) or the worker would block: a few phases and
+// a message cut to this length do.
+constexpr std::size_t k_max_message = 3500;
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool k_sanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+constexpr bool k_sanitized = true;
+#else
+constexpr bool k_sanitized = false;
+#endif
+#else
+constexpr bool k_sanitized = false;
+#endif
+
+void write_all(int fd, const char* data, std::size_t size) {
+    for (std::size_t done = 0; done < size;) {
+        const ssize_t n = write(fd, data + done, size - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return;  // the parent is gone: nobody to tell
+        done += static_cast<std::size_t>(n);
+    }
+}
+
+// The last phase and the error message in a worker's report.
+void parse_report(const std::string& report, WorkerOutcome& outcome) {
+    for (std::size_t i = 0; i < report.size(); ++i) {
+        if (report[i] == k_error_mark) {
+            outcome.message = report.substr(i + 1);
+            return;
+        }
+        if (report[i] == k_phase_mark && i + 1 < report.size()) outcome.phase = static_cast<WorkerPhase>(report[++i]);
+    }
+}
+
+void close_quietly(int fd) {
+    if (fd >= 0) close(fd);
+}
+
+// The worker's side: limits, then the job, then exit with its status. exit, not _exit: it flushes
+// the worker's stdio (warnings, the --benchmark line) and lets LeakSanitizer check the worker in
+// sanitizer builds; the parent flushed its own buffers before forking, so nothing is written twice.
+[[noreturn]] void run_worker(const WorkerJob& job, const WorkerLimits& limits, pid_t parent, int fd) {
+#if defined(__linux__)
+    // A parent that is killed (Ctrl-C reaches both, but a kill of the parent alone does not) takes
+    // its worker along instead of leaving it hanging in a reader.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(1);
+#endif
+    if (limits.max_memory_bytes > 0 && memory_cap_supported()) {
+        const rlimit cap{static_cast<rlim_t>(limits.max_memory_bytes), static_cast<rlim_t>(limits.max_memory_bytes)};
+        setrlimit(RLIMIT_DATA, &cap);
+    }
+    const WorkerReport report(fd);
+    int status = 1;
+    try {
+        status = job(report);
+    } catch (const std::bad_alloc&) {
+        report.error("out of memory");
+    } catch (const std::exception& e) {
+        report.error(e.what());
+    } catch (...) {
+        report.error("failed with an unknown exception");
+    }
+    close(fd);
+    std::fflush(nullptr);
+    std::exit(status);
+}
+
+std::string seconds_text(double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", s);
+    return buf;
+}
+
+std::string signal_text(int sig) {
+    const char* abbrev = sigabbrev_np(sig);
+    const std::string name = abbrev ? std::string("SIG") + abbrev : "signal " + std::to_string(sig);
+    const char* what = strsignal(sig);
+    return what ? name + ": " + what : name;
+}
+
+// Who crashed, by the phase the worker had reached: while loading, the model reader (assimp).
+std::string crashed_while(WorkerPhase phase) {
+    switch (phase) {
+    case WorkerPhase::starting:
+    case WorkerPhase::loading:
+        return "the importer crashed";
+    case WorkerPhase::rendering:
+        return "the worker process crashed while rendering";
+    case WorkerPhase::writing:
+    case WorkerPhase::writing_depth:
+        break;
+    }
+    return "the worker process crashed while writing";
+}
+
+// Waits for a worker whose pipe has closed (it is exiting) and says how it ended.
+WorkerOutcome reap(Worker& w) {
+    WorkerOutcome o;
+    int status = 0;
+    while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {}
+    close_quietly(w.fd);
+    w.fd = -1;
+    parse_report(w.report, o);
+    if (WIFSIGNALED(status)) {
+        o.end = WorkerOutcome::End::signalled;
+        o.status = WTERMSIG(status);
+    } else {
+        o.end = WorkerOutcome::End::exited;
+        o.status = WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+    }
+    return o;
+}
+
+WorkerOutcome kill_timed_out(Worker& w) {
+    kill(w.pid, SIGKILL);
+    while (waitpid(w.pid, nullptr, 0) < 0 && errno == EINTR) {}
+    close_quietly(w.fd);
+    w.fd = -1;
+    WorkerOutcome o;
+    parse_report(w.report, o);
+    o.end = WorkerOutcome::End::timed_out;
+    return o;
+}
+
+// Milliseconds until the nearest deadline (-1: none), for poll.
+int poll_timeout_ms(const std::vector<Worker>& running) {
+    std::optional<WorkerClock::time_point> first;
+    for (const Worker& w : running)
+        if (w.deadline && (!first || *w.deadline < *first)) first = w.deadline;
+    if (!first) return -1;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(*first - WorkerClock::now()).count();
+    return static_cast<int>(std::clamp<long long>(left + 1, 0, 60'000));
+}
+
+}  // namespace
+
+bool memory_cap_supported() { return !k_sanitized; }
+
+std::uint64_t default_max_memory_bytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || page <= 0) return 0;
+    return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
+}
+
+void WorkerReport::phase(WorkerPhase p) const {
+    if (fd_ < 0) return;
+    const char record[2] = {k_phase_mark, static_cast<char>(p)};
+    write_all(fd_, record, sizeof record);
+}
+
+void WorkerReport::error(const std::string& message) const {
+    if (fd_ < 0) return;
+    write_all(fd_, &k_error_mark, 1);
+    write_all(fd_, message.data(), std::min(message.size(), k_max_message));
+}
+
+std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& limits, const std::vector<Worker>& others,
+                                   WorkerOutcome& outcome) {
+    outcome = WorkerOutcome{};
+    int fds[2];
+    if (pipe(fds) != 0) {
+        outcome.message = std::string("cannot start a worker process: ") + std::strerror(errno);
+        return std::nullopt;
+    }
+    std::fflush(nullptr);  // or the worker would write the parent's buffered output again
+    const pid_t parent = getpid();
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        for (const Worker& other : others) close_quietly(other.fd);
+        run_worker(job, limits, parent, fds[1]);
+    }
+    close(fds[1]);
+    if (pid < 0) {
+        close(fds[0]);
+        outcome.message = std::string("cannot start a worker process: ") + std::strerror(errno);
+        return std::nullopt;
+    }
+    Worker w;
+    w.pid = pid;
+    w.fd = fds[0];
+    if (limits.timeout_seconds > 0)
+        w.deadline = WorkerClock::now() + std::chrono::duration_cast<WorkerClock::duration>(
+                                              std::chrono::duration<double>(limits.timeout_seconds));
+    return w;
+}
+
+std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worker>& running) {
+    std::vector<std::pair<Worker, WorkerOutcome>> ended;
+    while (ended.empty() && !running.empty()) {
+        std::vector<pollfd> polled;
+        // No POLLIN: the end of the pipe (POLLHUP, always reported) is what matters.
+        for (const Worker& w : running) polled.push_back({w.fd, 0, 0});
+        if (poll(polled.data(), polled.size(), poll_timeout_ms(running)) < 0 && errno != EINTR) {
+            std::fprintf(stderr, "facet: poll failed: %s\n", std::strerror(errno));
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        const WorkerClock::time_point now = WorkerClock::now();
+        std::vector<Worker> still;
+        for (std::size_t i = 0; i < running.size(); ++i) {
+            Worker& w = running[i];
+            bool closed = false;
+            if (polled[i].revents != 0) {
+                char buf[4096];
+                ssize_t n;
+                while ((n = read(w.fd, buf, sizeof buf)) > 0 || (n < 0 && errno == EINTR))
+                    if (n > 0) w.report.append(buf, static_cast<std::size_t>(n));
+                closed = true;  // read to the end (or an error: nothing more will come either way)
+            }
+            if (closed) {
+                WorkerOutcome o = reap(w);
+                ended.emplace_back(std::move(w), std::move(o));
+            } else if (w.deadline && now >= *w.deadline) {
+                WorkerOutcome o = kill_timed_out(w);
+                ended.emplace_back(std::move(w), std::move(o));
+            } else {
+                still.push_back(std::move(w));
+            }
+        }
+        running = std::move(still);
+    }
+    return ended;
+}
+
+WorkerOutcome run_in_worker(const WorkerJob& job, const WorkerLimits& limits) {
+    WorkerOutcome outcome;
+    std::optional<Worker> w = start_worker(job, limits, {}, outcome);
+    if (!w) return outcome;
+    std::vector<Worker> running{std::move(*w)};
+    return wait_for_workers(running).front().second;
+}
+
+std::string describe_abnormal_end(const WorkerOutcome& o, const std::string& input, const WorkerLimits& limits) {
+    switch (o.end) {
+    case WorkerOutcome::End::not_started:
+        return input + ": " + o.message;
+    case WorkerOutcome::End::timed_out:
+        return input + ": gave up after " + seconds_text(limits.timeout_seconds) + " s (--timeout sets the limit)";
+    case WorkerOutcome::End::signalled: {
+        // SIGKILL that facet did not send: the kernel's OOM killer, most likely.
+        const std::string hint = o.status == SIGKILL ? "; out of memory? --max-memory caps the worker" : "";
+        return input + ": " + crashed_while(o.phase) + " (" + signal_text(o.status) + ")" + hint;
+    }
+    case WorkerOutcome::End::exited:
+        break;
+    }
+    return input + ": the worker process failed (exit status " + std::to_string(o.status) + ")" +
+           (o.message.empty() ? "" : ": " + o.message);
+}
+
+void test_hook_sleep(const std::string& input) {
+    const char* pattern = std::getenv("FACET_TEST_SLEEP_ON");
+    if (pattern && *pattern && input.find(pattern) != std::string::npos)
+        for (;;) pause();  // until the parent kills this worker
+}
+
+void remove_temporaries(const std::filesystem::path& output) {
+    namespace fs = std::filesystem;
+    const std::string prefix = output.filename().string() + ".tmp";
+    const fs::path dir = output.has_parent_path() ? output.parent_path() : fs::path(".");
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
+            name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+            fs::remove(it->path(), ec);
+    }
+}
+
+std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
+    if (text.empty() || text.size() > 20) return std::nullopt;
+    std::size_t digits = 0;
+    while (digits < text.size() && text[digits] >= '0' && text[digits] <= '9') ++digits;
+    if (digits == 0) return std::nullopt;
+    const std::string suffix = text.substr(digits);
+    int shift = 20;  // MiB without a suffix
+    if (suffix == "K" || suffix == "k") shift = 10;
+    else if (suffix == "G" || suffix == "g") shift = 30;
+    else if (!(suffix.empty() || suffix == "M" || suffix == "m")) return std::nullopt;
+    const std::uint64_t n = std::strtoull(text.substr(0, digits).c_str(), nullptr, 10);
+    if (n > (std::uint64_t{1} << (63 - shift))) return std::nullopt;  // would not fit
+    return n << shift;
+}
+
+}  // namespace facet::cli

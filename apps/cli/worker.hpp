@@ -1,0 +1,118 @@
+// facet command line: one job (load a model, render, write) in a worker process of its own.
+//
+// assimp cannot be interrupted, and some damaged files make it crash, hang or allocate without
+// bound (docs/RELIABILITY.md lists them). A job in a forked worker costs only itself when that
+// happens: the parent sees the worker die of a signal, kills it past its deadline, and caps its
+// memory, then reports the file with the reason. `facet render` runs its one job this way and
+// `facet thumbs` many at once; both go through the functions below.
+//
+// Fork only while the process has one thread (before any Renderer exists): a forked child gets
+// only the forking thread, and locks held by the others would stay locked forever.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <sys/types.h>
+#include <vector>
+
+namespace facet::cli {
+
+// What a worker is doing. It tells the parent as it goes, so that a crash can be blamed on the
+// model reader (loading) or on facet (rendering, writing), and so that a worker killed after it
+// renamed its colour image into place can have that image taken back.
+enum class WorkerPhase : char {
+    starting = 's',
+    loading = 'l',
+    rendering = 'r',
+    writing = 'w',
+    writing_depth = 'd',  // the colour image is in place, the depth image is being written
+};
+
+struct WorkerLimits {
+    double timeout_seconds = 0;          // the whole job; 0: no limit
+    std::uint64_t max_memory_bytes = 0;  // the worker's RLIMIT_DATA; 0: no limit
+};
+
+// Whether --max-memory can be applied: not in sanitizer builds, whose shadow memory alone is
+// terabytes of writable mappings that RLIMIT_DATA counts (every allocation would fail).
+bool memory_cap_supported();
+
+// The default memory cap: three quarters of the physical memory, so that a file that makes the
+// reader allocate without bound fails alone instead of pushing the machine into swap or the OOM
+// killer. 0 when it cannot be determined.
+std::uint64_t default_max_memory_bytes();
+
+// The worker's end of its report pipe. In-process runs (--no-isolation) use one without a pipe,
+// whose reports go nowhere.
+class WorkerReport {
+public:
+    explicit WorkerReport(int fd = -1) : fd_(fd) {}
+    void phase(WorkerPhase p) const;
+    // The job's error message (thumbs: the parent prints it in its summary). Last in the report.
+    void error(const std::string& message) const;
+
+private:
+    int fd_;
+};
+
+// Runs in the worker; returns its exit status.
+using WorkerJob = std::function<int(const WorkerReport&)>;
+
+struct WorkerOutcome {
+    enum class End { exited, signalled, timed_out, not_started };
+    End end = End::not_started;
+    int status = 0;  // exited: the exit status; signalled: the signal
+    WorkerPhase phase = WorkerPhase::starting;
+    std::string message;  // exited: the error the job reported; not_started: why
+};
+
+using WorkerClock = std::chrono::steady_clock;
+
+// A running worker, as the parent sees it.
+struct Worker {
+    pid_t pid = -1;
+    int fd = -1;  // read end of the report pipe
+    std::optional<WorkerClock::time_point> deadline;
+    std::string report;  // what it has written so far
+    std::size_t tag = 0;  // the caller's: which job this is
+};
+
+// Forks a worker that applies `limits.max_memory_bytes`, runs `job` and exits with its result.
+// `others` are running workers whose pipes the new worker must not keep open. On failure to start,
+// `outcome` says why and nothing is running.
+std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& limits, const std::vector<Worker>& others,
+                                   WorkerOutcome& outcome);
+
+// Waits until at least one of `running` has ended or passed its deadline (killing it), removes
+// those from `running` and returns them with how they ended.
+std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worker>& running);
+
+// Runs one job in a worker and waits for it.
+WorkerOutcome run_in_worker(const WorkerJob& job, const WorkerLimits& limits);
+
+// One line for a worker that did not end by itself: "<input>: the importer crashed (SIGSEGV:
+// Segmentation fault)", "<input>: gave up after 60 s (--timeout sets the limit)", ...
+std::string describe_abnormal_end(const WorkerOutcome& outcome, const std::string& input, const WorkerLimits& limits);
+
+// Whether the worker ended by itself with an exit status (as opposed to a signal, a timeout or
+// not starting at all).
+inline bool exited(const WorkerOutcome& o) { return o.end == WorkerOutcome::End::exited; }
+
+// TEST HOOK, for the tests of --timeout only: when FACET_TEST_SLEEP_ON is set to a non-empty
+// string, a worker whose input path contains it sleeps instead of working, as a file that hangs a
+// reader would, until it is killed. Without the variable (as always outside the tests) it does
+// nothing.
+void test_hook_sleep(const std::string& input);
+
+// Removes the temporaries write_file_atomic makes for `output` ("<name>.tmp<digits>"): a worker
+// killed while writing leaves one behind.
+void remove_temporaries(const std::filesystem::path& output);
+
+// Parses --max-memory: a number of MiB, or with a suffix K, M, G (KiB, MiB, GiB); 0: no limit.
+std::optional<std::uint64_t> parse_memory_size(const std::string& text);
+
+}  // namespace facet::cli
