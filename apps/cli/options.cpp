@@ -8,10 +8,19 @@
 #include <cstdio>
 #include <sstream>
 
+#include "facet/isa.hpp"
+
 namespace facet::cli {
 namespace {
 
 Error usage(const std::string& message) { return Error{ErrorCode::invalid_argument, message}; }
+
+// The ISAs this CPU runs, best first: "avx512, avx2, sse4, scalar".
+std::string isa_list() {
+    std::string out;
+    for (const std::string& name : available_isas()) out += (out.empty() ? "" : ", ") + name;
+    return out;
+}
 
 bool parse_size(const std::string& s, int& w, int& h) {
     int n = 0;
@@ -84,6 +93,9 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--background", o.background, "R,G,B[,A]: R,G,B in 0..1, or 0..255 if any is above 1; A in 0..1, or 0..255 if above 1; or 'transparent'")->check(non_empty);
     c.add_option("--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
     c.add_option("--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
+    c.add_option("--isa", o.isa, "SIMD instruction set: best, or one of " + isa_list() +
+                                     " (same image on every one; lower ones for comparison)")
+        ->capture_default_str();
     c.add_option("--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")
         ->capture_default_str();
     c.add_option("--max-triangles", o.max_triangles, "Refuse models with more triangles, before loading them")
@@ -140,6 +152,8 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     if (static_cast<long>(p.width) * o.ssaa > k_max_target_size || static_cast<long>(p.height) * o.ssaa > k_max_target_size)
         return usage("--size times --ssaa must stay within " + std::to_string(k_max_target_size) + " pixels per side");
     if (o.threads < 0) return usage("--threads must be 0 (all cores) or more");
+    // Process-wide, and inherited by worker processes.
+    if (!select_isa(o.isa)) return usage("--isa must be best or one of " + isa_list() + " on this CPU, got '" + o.isa + "'");
     if (!(o.fov > 0 && o.fov < 180)) return usage("--fov must be between 0 and 180 degrees");
     if (!parse_shading(o.shading, p.settings.shading)) return usage("unknown --shading '" + o.shading + "'");
     if (!o.background.empty()) {

@@ -35,6 +35,7 @@ struct RenderOptions {
     std::string background = "";  // default: the built-in dark grey
     int ssaa = 1;
     int threads = 0;
+    std::string isa = "best";  // instruction set of the SIMD kernels (facet/isa.hpp)
     float crease_angle = 40;
     // Resource limits for loading (LoadOptions, TextureLimits): checked before anything is allocated.
     long long max_triangles = static_cast<long long>(LoadOptions{}.max_triangles);  // signed: -1 is an error, not 2^64 - 1

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "facet/io.hpp"
+#include "facet/isa.hpp"
 #include "support/cli.hpp"
 #include "support/test_data.hpp"
 
@@ -614,3 +615,31 @@ TEST(CliRender, ModelsThatCannotBeLoadedExitWithOneAndWriteNothing) {
 }
 
 }  // namespace
+
+namespace {
+std::string file_bytes(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+}  // namespace
+
+// --isa: every instruction set this CPU runs draws the same PNG, byte for byte, as the default; a
+// name the CPU cannot run is a usage error that writes nothing.
+TEST(CliRender, EveryIsaDrawsTheSameImage) {
+    const fs::path dir = temp_dir();
+    render_ok({"--size", "96x64", "-o", (dir / "best.png").string()});
+    const std::string best = file_bytes(dir / "best.png");
+    ASSERT_GT(best.size(), 100u);
+    for (const std::string& isa : facet::available_isas()) {
+        SCOPED_TRACE(isa);
+        const fs::path out = dir / (isa + ".png");
+        render_ok({"--size", "96x64", "--isa", isa, "-o", out.string()});
+        EXPECT_EQ(file_bytes(out), best);
+    }
+    for (const char* bad : {"neon", "", "AVX2"}) {
+        const CliRun r = run_facet({"render", "--size", "16x16", "--isa", bad, "-o", (dir / "bad.png").string()});
+        EXPECT_EQ(r.exit_code, 2) << bad << ": " << r.all();
+        EXPECT_NE(r.err.find("--isa"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "bad.png"));
+    }
+}
