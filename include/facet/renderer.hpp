@@ -58,8 +58,16 @@ private:
     void add_stats(const Plan& plan, DrawStats& total) const;
 
     void prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin, std::size_t b) const;
+    // Every tile in parallel: context = begin(tile), each(context, tile, setup, coverage, varyings)
+    // per triangle that covers pixels of it, in submission order, then end(context, tile).
+    template <class Begin, class Each, class End>
+    void walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end);
+    // The two drawing orders of detail/shade.hpp: one pass (blending, discard), or depth first and
+    // the shader once per visible pixel, whose depth test is a run-time choice (one copy per shader).
     template <class S, DepthTest D, bool W, Blend B>
-    void run_tiles(Framebuffer& target, const Plan& plan, const S& shader);
+    void run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader);
+    template <class S>
+    void run_tiles_visible_only(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test, bool depth_write);
 
     detail::ThreadPool pool_;
     int tile_size_;
@@ -104,10 +112,9 @@ inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const s
     }
 }
 
-template <class S, DepthTest D, bool W, Blend B>
-void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader) {
+template <class Begin, class Each, class End>
+void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end) {
     const detail::FrontEndParams& p = plan.params;
-    const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
     pool_.parallel_for(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, [&](std::size_t tile_index) {
         const int tx = static_cast<int>(tile_index % p.tiles_x), ty = static_cast<int>(tile_index / p.tiles_x);
         const detail::PixelRect tile{std::max(tx * p.tile_size, p.scissor.x0), std::max(ty * p.tile_size, p.scissor.y0),
@@ -117,14 +124,7 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
         bool any = false;
         for (std::size_t c = 0; c < plan.chunk_count && !any; ++c) any = !chunks_[c].bins[tile_index].empty();
         if (!any) return;
-        // Without blending or discard only the last triangle to pass the depth test at a pixel shows:
-        // depth for all triangles first, then the shader once per visible pixel (detail/shade.hpp).
-        constexpr bool visible_only = detail::draws_visible_only<S, B>();
-        detail::TileVisibility* vis = nullptr;
-        if constexpr (visible_only) {
-            vis = &detail::tile_visibility_scratch();
-            vis->begin(tile, S::k_varyings);
-        }
+        auto&& context = begin(tile);
         detail::TileCoverage coverage;
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
             const detail::FrontEndChunk& chunk = chunks_[c];
@@ -139,20 +139,44 @@ void Renderer::run_tiles(Framebuffer& target, const Plan& plan, const S& shader)
                     var[k] = (ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
                                                            : vertices_.varyings_of(ref);
                 }
-                if constexpr (visible_only) {
-                    const auto id = static_cast<std::uint32_t>(vis->triangles.size());
-                    vis->triangles.push_back(&t);
-                    vis->planes.resize(vis->planes.size() + static_cast<std::size_t>(vis->stride));
-                    detail::write_varying_planes(var, S::k_varyings, vis->planes.data() + vis->planes.size() - vis->stride);
-                    vis->cover(coverage);
-                    detail::resolve_depth_dispatch<D, W>(*vis, id, coverage, tile, view);
-                } else {
-                    detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view);
-                }
+                each(context, tile, t, coverage, var);
             }
         }
-        if constexpr (visible_only) detail::shade_visible(shader, *vis, tile, view);
+        end(context, tile);
     });
+}
+
+template <class S, DepthTest D, bool W, Blend B>
+void Renderer::run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader) {
+    const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
+    walk_tiles(
+        plan, [](detail::PixelRect) { return 0; },
+        [&](int, detail::PixelRect tile, const detail::TriangleSetup& t, const detail::TileCoverage& coverage,
+            const float* const (&var)[3]) { detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view); },
+        [](int, detail::PixelRect) {});
+}
+
+template <class S>
+void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test,
+                                      bool depth_write) {
+    const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
+    walk_tiles(
+        plan,
+        [&](detail::PixelRect tile) -> detail::TileVisibility& {
+            detail::TileVisibility& vis = detail::tile_visibility_scratch();
+            vis.begin(tile, S::k_varyings);
+            return vis;
+        },
+        [&](detail::TileVisibility& vis, detail::PixelRect tile, const detail::TriangleSetup& t,
+            const detail::TileCoverage& coverage, const float* const (&var)[3]) {
+            const auto id = static_cast<std::uint32_t>(vis.triangles.size());
+            vis.triangles.push_back(&t);
+            vis.planes.resize(vis.planes.size() + static_cast<std::size_t>(vis.stride));
+            detail::write_varying_planes(var, S::k_varyings, vis.planes.data() + vis.planes.size() - vis.stride);
+            vis.cover(coverage);
+            detail::resolve_depth({&t, &coverage, tile, view, vis.owner, id, test, depth_write});
+        },
+        [&](detail::TileVisibility& vis, detail::PixelRect tile) { detail::shade_visible(shader, vis, tile, view); });
 }
 
 template <Shader S>
@@ -174,12 +198,15 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
         detail::project_vertices(vertices_, block * detail::k_vertex_block, end, plan.params);
     });
 
-    // Tiles: the depth function, depth writes and blending become template parameters once here.
+    // Tiles, drawn in order: the depth function, depth writes and blending become template
+    // parameters once here. Without blending a shader that cannot discard is drawn visible-only.
+    constexpr bool can_skip_hidden = detail::draws_visible_only<S, Blend::none>();
+    const bool visible_only = can_skip_hidden && state.blend == Blend::none;
     auto with_blend = [&]<DepthTest D, bool W>() {
         if (state.blend == Blend::alpha)
-            run_tiles<S, D, W, Blend::alpha>(target, plan, shader);
-        else
-            run_tiles<S, D, W, Blend::none>(target, plan, shader);
+            run_tiles_in_order<S, D, W, Blend::alpha>(target, plan, shader);
+        else if constexpr (!can_skip_hidden)
+            run_tiles_in_order<S, D, W, Blend::none>(target, plan, shader);
     };
     auto with_write = [&]<DepthTest D>() {
         if (state.depth_write)
@@ -193,6 +220,14 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
     DrawStats stats;
     for (std::size_t first = 0; first < plan.triangle_count; first += plan.batch_size) {
         run_front_end(input, plan, first, std::min(plan.triangle_count, first + plan.batch_size));
+        if constexpr (can_skip_hidden) {
+            if (visible_only) {
+                if (state.depth_test != DepthTest::never)
+                    run_tiles_visible_only(target, plan, shader, state.depth_test, state.depth_write);
+                add_stats(plan, stats);
+                continue;
+            }
+        }
         switch (state.depth_test) {
             case DepthTest::never: break;
             case DepthTest::less: with_write.template operator()<DepthTest::less>(); break;

@@ -2,7 +2,7 @@
 // compiled per ISA by Highway and dispatched at run time. Lanes compute each pixel's depth with the
 // same operations in the same order as depth_at (no FMA: the project builds with -ffp-contract=off
 // and Highway's Mul and Add round separately), so every ISA writes the bytes of the scalar
-// specification, resolve_depth in detail/shade.hpp. Columns past the last whole group of lanes
+// specification, resolve_depth_reference in detail/shade.hpp. Columns past the last whole group of lanes
 // (tiles narrower than a vector, the target's right edge) go through depth_at one by one.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "raster/depth_simd.cpp"
@@ -84,9 +84,32 @@ void ResolveDepth(const DepthJob& job) {
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
+#include "simd/isa.hpp"
+
 namespace facet::detail {
+namespace {
+
+void resolve_depth_scalar(const DepthJob& job) {
+    auto with_write = [&]<DepthTest D>() {
+        job.write ? resolve_depth_reference<D, true>(job) : resolve_depth_reference<D, false>(job);
+    };
+    switch (job.test) {
+        case DepthTest::never: break;
+        case DepthTest::less: with_write.template operator()<DepthTest::less>(); break;
+        case DepthTest::lequal: with_write.template operator()<DepthTest::lequal>(); break;
+        case DepthTest::equal: with_write.template operator()<DepthTest::equal>(); break;
+        case DepthTest::greater: with_write.template operator()<DepthTest::greater>(); break;
+        case DepthTest::always: with_write.template operator()<DepthTest::always>(); break;
+    }
+}
+
+}  // namespace
+
 HWY_EXPORT(ResolveDepth);
 
-void resolve_depth_simd(const DepthJob& job) { HWY_DYNAMIC_DISPATCH(ResolveDepth)(job); }
+void resolve_depth(const DepthJob& job) {
+    if (use_scalar_kernels()) return resolve_depth_scalar(job);
+    HWY_DYNAMIC_DISPATCH(ResolveDepth)(job);
+}
 }  // namespace facet::detail
 #endif

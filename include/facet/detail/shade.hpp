@@ -195,30 +195,8 @@ struct TileVisibility {
 // a tile allocates nothing once its triangle list has grown to size.
 TileVisibility& tile_visibility_scratch();
 
-// Pass one: depth test (and write) every covered pixel of triangle `index`, which becomes the owner
-// of each pixel where it passes. The scalar specification of resolve_depth_simd.
-template <DepthTest D, bool DepthWrite>
-void resolve_depth(TileVisibility& vis, std::uint32_t index, const TileCoverage& cov, PixelRect tile,
-                   TargetView target) {
-    const TriangleSetup& t = *vis.triangles[index];
-    for (int row = cov.first_row; row <= cov.last_row; ++row) {
-        std::uint64_t mask = cov.rows[row];
-        const int y = tile.y0 + row;
-        float* depth_row = target.depth + static_cast<std::size_t>(y) * target.stride;
-        std::uint32_t* owner_row = vis.owner + row * k_max_tile_size;
-        while (mask) {
-            const int i = std::countr_zero(mask);
-            mask &= mask - 1;
-            const int x = tile.x0 + i;
-            const float z = depth_at(t, x, y);
-            if (!depth_passes<D>(z, depth_row[x])) continue;
-            if constexpr (DepthWrite) depth_row[x] = z;
-            owner_row[i] = index;
-        }
-    }
-}
-
-// resolve_depth as a SIMD kernel (src/raster/depth_simd.cpp), for the ISA selected in facet/isa.hpp.
+// Pass one: depth test (and write) every covered pixel of one triangle, which becomes the owner of
+// each pixel where it passes.
 struct DepthJob {
     const TriangleSetup* setup;
     const TileCoverage* coverage;
@@ -229,15 +207,32 @@ struct DepthJob {
     DepthTest test;
     bool write;
 };
-void resolve_depth_simd(const DepthJob& job);
-bool use_scalar_kernels();  // "scalar" selected: run the specifications
 
+// The scalar specification, one pixel at a time.
 template <DepthTest D, bool DepthWrite>
-void resolve_depth_dispatch(TileVisibility& vis, std::uint32_t index, const TileCoverage& cov, PixelRect tile,
-                            TargetView target) {
-    if (use_scalar_kernels()) return resolve_depth<D, DepthWrite>(vis, index, cov, tile, target);
-    resolve_depth_simd({vis.triangles[index], &cov, tile, target, vis.owner, index, D, DepthWrite});
+void resolve_depth_reference(const DepthJob& job) {
+    const TriangleSetup& t = *job.setup;
+    const TileCoverage& cov = *job.coverage;
+    for (int row = cov.first_row; row <= cov.last_row; ++row) {
+        std::uint64_t mask = cov.rows[row];
+        const int y = job.tile.y0 + row;
+        float* depth_row = job.target.depth + static_cast<std::size_t>(y) * job.target.stride;
+        std::uint32_t* owner_row = job.owner + row * k_max_tile_size;
+        while (mask) {
+            const int i = std::countr_zero(mask);
+            mask &= mask - 1;
+            const int x = job.tile.x0 + i;
+            const float z = depth_at(t, x, y);
+            if (!depth_passes<D>(z, depth_row[x])) continue;
+            if constexpr (DepthWrite) depth_row[x] = z;
+            owner_row[i] = job.id;
+        }
+    }
 }
+
+// The pass for the ISA selected in facet/isa.hpp: a SIMD kernel (src/raster/depth_simd.cpp), or
+// resolve_depth_reference when "scalar" is selected. Compiled once, not per shader.
+void resolve_depth(const DepthJob& job);
 
 // Pass two: the shader once per visible pixel, with the triangle that owns it.
 template <class S>
