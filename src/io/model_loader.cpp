@@ -63,6 +63,17 @@ void aiAssertViolation(const char* expression, const char* file, int line) {
 namespace facet {
 namespace {
 
+// assimp's messages sometimes quote the text they failed on, up to the whole file; keep the start
+// and replace control characters so that one bad file cannot flood or garble a terminal or a log.
+std::string readable_reason(const std::string& why) {
+    constexpr std::size_t k_max = 200;
+    std::string out;
+    for (char c : why.substr(0, k_max)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? ' ' : c;
+    if (why.size() > k_max) out += "...";
+    return out;
+}
+
+
 namespace fs = std::filesystem;
 
 Error fail(ErrorCode code, const std::string& path, const std::string& problem) {
@@ -778,7 +789,7 @@ Result<LoadedModel> load_model(const std::string& path, const LoadOptions& optio
             // (a damaged count in a header, or a process memory cap) and keeps only its name.
             if (why == "std::bad_alloc") return out_of_memory(path);
             if (means_no_triangles(why)) return fail(ErrorCode::bad_format, path, "contains no triangles (" + why + ")");
-            return fail(ErrorCode::bad_format, path, "cannot be read as a model (" + why + ")");
+            return fail(ErrorCode::bad_format, path, "cannot be read as a model (" + readable_reason(why) + ")");
         }
         if (logged.bad_index()) return fail(ErrorCode::bad_format, path, "has out-of-range indices (" + *logged.bad_index() + ")");
         Result<LoadedModel> model = convert_scene(path, *scene, options);
