@@ -228,14 +228,7 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
                 continue;
             }
         }
-        switch (state.depth_test) {
-            case DepthTest::never: break;
-            case DepthTest::less: with_write.template operator()<DepthTest::less>(); break;
-            case DepthTest::lequal: with_write.template operator()<DepthTest::lequal>(); break;
-            case DepthTest::equal: with_write.template operator()<DepthTest::equal>(); break;
-            case DepthTest::greater: with_write.template operator()<DepthTest::greater>(); break;
-            case DepthTest::always: with_write.template operator()<DepthTest::always>(); break;
-        }
+        detail::with_depth_test(state.depth_test, with_write);
         add_stats(plan, stats);
     }
     return stats;

@@ -8,6 +8,7 @@
 // drops the edges that pass everywhere in the rectangle and lets the SIMD kernel evaluate the rest
 // pixel by pixel, which for the small triangles of real meshes costs far less than its divisions.
 #include <algorithm>
+#include <optional>
 
 #include "facet/detail/frame.hpp"
 #include "raster/coverage.hpp"
@@ -46,17 +47,30 @@ struct FloorStepper {
     }
 };
 
+struct InclusiveRect {
+    int x0, y0, x1, y1;  // first and last pixel indices
+};
+
+// The triangle's bounds within the tile, with out's row range set to them; nothing (and an empty
+// row range) when they do not meet.
+std::optional<InclusiveRect> overlap(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
+    const InclusiveRect r{std::max(tile.x0, t.min_x), std::max(tile.y0, t.min_y), std::min(tile.x1 - 1, t.max_x),
+                      std::min(tile.y1 - 1, t.max_y)};
+    out.first_row = r.y0 - tile.y0;
+    out.last_row = r.y1 - tile.y0;
+    if (r.x0 > r.x1 || r.y0 > r.y1) {
+        out.last_row = out.first_row - 1;
+        return std::nullopt;
+    }
+    return r;
+}
+
 }  // namespace
 
 bool rasterize_tile_reference(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
-    const int x0 = std::max(tile.x0, t.min_x), x1 = std::min(tile.x1 - 1, t.max_x);
-    const int y0 = std::max(tile.y0, t.min_y), y1 = std::min(tile.y1 - 1, t.max_y);
-    out.first_row = y0 - tile.y0;
-    out.last_row = y1 - tile.y0;
-    if (x0 > x1 || y0 > y1) {
-        out.last_row = out.first_row - 1;
-        return false;
-    }
+    const std::optional<InclusiveRect> rect = overlap(t, tile, out);
+    if (!rect) return false;
+    const int x0 = rect->x0, x1 = rect->x1, y0 = rect->y0, y1 = rect->y1;
 
     // Edge e holds where a*x + r(y) >= 0 with r(y) = b*y + c:
     //   a > 0:  x >= ceil(-r / a) = -floor(r / a)     (a lower bound)
@@ -106,14 +120,9 @@ bool rasterize_tile_reference(const TriangleSetup& t, PixelRect tile, TileCovera
 
 bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
     if (use_scalar_kernels()) return rasterize_tile_reference(t, tile, out);
-    const int x0 = std::max(tile.x0, t.min_x), x1 = std::min(tile.x1 - 1, t.max_x);
-    const int y0 = std::max(tile.y0, t.min_y), y1 = std::min(tile.y1 - 1, t.max_y);
-    out.first_row = y0 - tile.y0;
-    out.last_row = y1 - tile.y0;
-    if (x0 > x1 || y0 > y1) {
-        out.last_row = out.first_row - 1;
-        return false;
-    }
+    const std::optional<InclusiveRect> rect = overlap(t, tile, out);
+    if (!rect) return false;
+    const int x0 = rect->x0, x1 = rect->x1, y0 = rect->y0, y1 = rect->y1;
     CrossingEdges edges{};
     edges.width = x1 - x0 + 1;
     edges.height = y1 - y0 + 1;

@@ -93,14 +93,7 @@ void resolve_depth_scalar(const DepthJob& job) {
     auto with_write = [&]<DepthTest D>() {
         job.write ? resolve_depth_reference<D, true>(job) : resolve_depth_reference<D, false>(job);
     };
-    switch (job.test) {
-        case DepthTest::never: break;
-        case DepthTest::less: with_write.template operator()<DepthTest::less>(); break;
-        case DepthTest::lequal: with_write.template operator()<DepthTest::lequal>(); break;
-        case DepthTest::equal: with_write.template operator()<DepthTest::equal>(); break;
-        case DepthTest::greater: with_write.template operator()<DepthTest::greater>(); break;
-        case DepthTest::always: with_write.template operator()<DepthTest::always>(); break;
-    }
+    with_depth_test(job.test, with_write);
 }
 
 }  // namespace

@@ -35,6 +35,20 @@ inline bool depth_passes(float z, float stored) {
     return false;
 }
 
+// Calls f.template operator()<D>() with the depth test `test` as a template argument (nothing for
+// never): where a run-time choice becomes a compile-time one.
+template <class F>
+void with_depth_test(DepthTest test, F&& f) {
+    switch (test) {
+        case DepthTest::never: break;
+        case DepthTest::less: f.template operator()<DepthTest::less>(); break;
+        case DepthTest::lequal: f.template operator()<DepthTest::lequal>(); break;
+        case DepthTest::equal: f.template operator()<DepthTest::equal>(); break;
+        case DepthTest::greater: f.template operator()<DepthTest::greater>(); break;
+        case DepthTest::always: f.template operator()<DepthTest::always>(); break;
+    }
+}
+
 // The same as a run-time choice, for the compiled kernels.
 inline bool depth_passes(DepthTest test, float z, float stored) {
     switch (test) {
