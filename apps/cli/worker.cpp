@@ -19,6 +19,8 @@
 #include <new>
 #include <thread>
 
+#include "facet/model.hpp"
+
 namespace facet::cli {
 namespace {
 
@@ -103,13 +105,6 @@ std::string seconds_text(double s) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", s);
     return buf;
-}
-
-std::string signal_text(int sig) {
-    const char* abbrev = sigabbrev_np(sig);
-    const std::string name = abbrev ? std::string("SIG") + abbrev : "signal " + std::to_string(sig);
-    const char* what = strsignal(sig);
-    return what ? name + ": " + what : name;
 }
 
 // Who crashed, by the phase the worker had reached: while loading, the model reader (assimp).
@@ -273,7 +268,7 @@ std::string describe_abnormal_end(const WorkerOutcome& o, const std::string& inp
     case WorkerOutcome::End::signalled: {
         // SIGKILL that facet did not send: the kernel's OOM killer, most likely.
         const std::string hint = o.status == SIGKILL ? "; out of memory? --max-memory caps the worker" : "";
-        return input + ": " + crashed_while(o.phase) + " (" + signal_text(o.status) + ")" + hint;
+        return input + ": " + crashed_while(o.phase) + " (" + describe_signal(o.status) + ")" + hint;
     }
     case WorkerOutcome::End::exited:
         break;

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -37,11 +38,28 @@ struct LoadedModel {
 };
 
 // Loads in the calling process: assimp runs here. A few damaged files crash, hang or exhaust memory
-// inside assimp 5.2.5 itself (MDL, COB, OGEX, FBX, LWS, ASE and PLY inputs found by fuzzing,
-// docs/RELIABILITY.md), which no Result can report. A program that loads files it does not trust
-// should call this in a process of its own, as `facet render` and `facet thumbs` do
-// (apps/cli/worker.hpp: fork, a time limit, RLIMIT_DATA).
+// inside assimp 5.2.5 itself (MDL, COB, OGEX, FBX, LWS, ASE, PLY, X, HMP and COLLADA inputs found
+// by fuzzing, docs/RELIABILITY.md), which no Result can report. A program that loads files it does
+// not trust should use load_model_isolated below, or run the whole job in a process of its own as
+// `facet render` and `facet thumbs` do (apps/cli/worker.hpp).
 Result<LoadedModel> load_model(const std::string& path, const LoadOptions& options = {});
+
+struct IsolationLimits {
+    double timeout_seconds = 60;         // the child is killed after this; 0: no limit
+    std::uint64_t max_memory_bytes = 0;  // the child's RLIMIT_DATA; 0: no limit (not for sanitizer builds)
+};
+
+// load_model in a child process (Linux: fork, an anonymous memory file for the result): a file
+// that crashes, hangs or exhausts memory inside the reader gives an Error naming the file and what
+// happened ("the importer crashed (SIGSEGV: Segmentation fault)", "gave up after 60 s", "needs more
+// memory than is available") and the calling program goes on. Costs a fork and a copy of the scene
+// (about a millisecond per megabyte). Call it while the program has one thread, or at least while no
+// other thread holds a lock the reader needs (a forked child gets only the calling thread).
+Result<LoadedModel> load_model_isolated(const std::string& path, const LoadOptions& options = {},
+                                        const IsolationLimits& limits = {});
+
+// "SIGSEGV: Segmentation fault" for SIGSEGV, and so on: how facet names a signal in its errors.
+std::string describe_signal(int signal);
 
 // True when the file name has an extension of a format load_model reads (case-insensitive).
 bool is_supported_model_file(const std::string& path);
