@@ -39,6 +39,7 @@ public:
     void array(const std::vector<T>& v) {
         static_assert(std::is_trivially_copyable_v<T>);
         pod<std::uint64_t>(v.size());
+        if (v.empty()) return;
         const auto* p = reinterpret_cast<const char*>(v.data());
         bytes_.insert(bytes_.end(), p, p + v.size() * sizeof(T));
     }
@@ -70,7 +71,7 @@ public:
             return v;
         }
         v.resize(n);
-        std::memcpy(v.data(), p_, n * sizeof(T));
+        if (n > 0) std::memcpy(v.data(), p_, n * sizeof(T));  // an empty vector's data() may be null
         p_ += n * sizeof(T);
         return v;
     }
