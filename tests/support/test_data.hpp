@@ -33,6 +33,8 @@ std::filesystem::path test_temp_dir(const std::string& prefix);
 // (the kinds, windings and configurations cycle within the first few dozen cases); the release
 // suite keeps the full counts.
 int sweep_size(int n, int minimum = 100);
+// Standard base64 with padding, for data: URIs in generated glTF files.
+std::string base64(const std::string& bytes);
 
 }  // namespace facet_test
 

@@ -40,6 +40,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace facet;
+using facet_test::base64;
 
 constexpr float k_nan = std::numeric_limits<float>::quiet_NaN();
 constexpr float k_inf = std::numeric_limits<float>::infinity();
@@ -69,21 +70,6 @@ void put(std::string& out, T value) {
     char bytes[sizeof(T)];
     std::memcpy(bytes, &value, sizeof(T));  // little-endian host, as the formats want
     out.append(bytes, sizeof(T));
-}
-
-std::string base64(const std::string& in) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < in.size(); i += 3) {
-        std::uint32_t n = static_cast<unsigned char>(in[i]) << 16;
-        if (i + 1 < in.size()) n |= static_cast<unsigned char>(in[i + 1]) << 8;
-        if (i + 2 < in.size()) n |= static_cast<unsigned char>(in[i + 2]);
-        out += table[n >> 18 & 63];
-        out += table[n >> 12 & 63];
-        out += i + 1 < in.size() ? table[n >> 6 & 63] : '=';
-        out += i + 2 < in.size() ? table[n & 63] : '=';
-    }
-    return out;
 }
 
 std::string binary_stl(const std::vector<std::array<Vec3, 3>>& triangles, const std::string& header = "") {

@@ -27,6 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace facet;
+using facet_test::base64;
 
 const fs::path k_regression_dir = fs::path(FACET_SOURCE_DIR) / "tests" / "regression";
 
@@ -41,21 +42,6 @@ void write_bytes(const fs::path& path, const std::string& bytes) {
 }
 
 bool mentions(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-std::string base64(const std::string& in) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (std::size_t i = 0; i < in.size(); i += 3) {
-        std::uint32_t n = static_cast<std::uint32_t>(static_cast<unsigned char>(in[i])) << 16;
-        if (i + 1 < in.size()) n |= static_cast<std::uint32_t>(static_cast<unsigned char>(in[i + 1])) << 8;
-        if (i + 2 < in.size()) n |= static_cast<unsigned char>(in[i + 2]);
-        out += table[n >> 18 & 63];
-        out += table[n >> 12 & 63];
-        out += i + 1 < in.size() ? table[n >> 6 & 63] : '=';
-        out += i + 2 < in.size() ? table[n & 63] : '=';
-    }
-    return out;
-}
 
 // A glTF whose one mesh (`triangles` triangles, unindexed) is placed by `instances` nodes.
 std::string instanced_gltf(int triangles, int instances) {
@@ -124,7 +110,6 @@ TEST(Regression, InstancingAMeshManyTimesIsHeldToTheSceneMemoryLimit) {
 }
 
 // ---- replayed fuzzer inputs ------------------------------------------------------------------------
-
 
 // fuzz/texture_fuzzer: a BMP header that stb_image decodes "successfully" to a 0-pixel image; the
 // copy into the Image passed a null pointer to memcpy (UBSan) and the empty Image then made the
