@@ -17,6 +17,7 @@
 #include "facet/detail/front_end.hpp"
 #include "facet/detail/shade.hpp"
 #include "facet/detail/thread_pool.hpp"
+#include "facet/detail/visible_pass.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
 #include "facet/pipeline.hpp"
@@ -172,11 +173,16 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
             const auto id = static_cast<std::uint32_t>(vis.triangles.size());
             vis.triangles.push_back(&t);
             vis.planes.resize(vis.planes.size() + static_cast<std::size_t>(vis.stride));
-            detail::write_varying_planes(var, S::k_varyings, vis.planes.data() + vis.planes.size() - vis.stride);
+            detail::write_shading_record(t, var, S::k_varyings, vis.planes.data() + vis.planes.size() - vis.stride);
             vis.cover(coverage);
             detail::resolve_depth({&t, &coverage, tile, view, vis.owner, id, test, depth_write});
         },
-        [&](detail::TileVisibility& vis, detail::PixelRect tile) { detail::shade_visible(shader, vis, tile, view); });
+        [&](detail::TileVisibility& vis, detail::PixelRect tile) {
+            if constexpr (detail::CompiledVisiblePass<S>::available)
+                detail::CompiledVisiblePass<S>::run(shader, vis, tile, view);
+            else
+                detail::shade_visible(shader, vis, tile, view);
+        });
 }
 
 template <Shader S>

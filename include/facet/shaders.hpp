@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "facet/detail/visible_pass.hpp"
 #include "facet/mesh.hpp"
 #include "facet/pipeline.hpp"
 #include "facet/texture.hpp"
@@ -210,4 +211,20 @@ struct Mask {
 };
 
 }  // namespace shaders
+
+// The built-in shaders whose visible pixels are shaded by SIMD kernels (src/shade/visible_simd.cpp):
+// the same bytes as fragment(), several pixels at a time. "scalar" (facet/isa.hpp) runs fragment().
+namespace detail {
+#define FACET_COMPILED_VISIBLE_PASS(S)                                                                  \
+    template <>                                                                                     \
+    struct CompiledVisiblePass<shaders::S> {                                                        \
+        static constexpr bool available = true;                                                     \
+        static void run(const shaders::S& shader, const TileVisibility& vis, PixelRect tile, TargetView target); \
+    };
+FACET_COMPILED_VISIBLE_PASS(Lambert)
+FACET_COMPILED_VISIBLE_PASS(BlinnPhong)
+FACET_COMPILED_VISIBLE_PASS(Normals)
+FACET_COMPILED_VISIBLE_PASS(VertexColour)
+#undef FACET_COMPILED_VISIBLE_PASS
+}  // namespace detail
 }  // namespace facet

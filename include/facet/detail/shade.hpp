@@ -104,6 +104,19 @@ inline void write_varying_planes(const float* const (&var)[3], int n, float* out
     }
 }
 
+// What the shading pass needs of one triangle in one tile, as one record of floats: the set-up
+// values fragment_at reads (k_shading_head of them), then the varying planes. Contiguous floats, so
+// that SIMD kernels can gather them by triangle index (src/shade/visible_simd.cpp).
+enum ShadingHead : int { sh_x0, sh_y0, sh_q0, sh_dqdx, sh_dqdy, sh_l1_0, sh_dl1dx, sh_dl1dy, sh_l2_0, sh_dl2dx,
+                         sh_dl2dy, sh_front, k_shading_head };
+
+inline void write_shading_record(const TriangleSetup& t, const float* const (&var)[3], int n, float* out) {
+    const float head[k_shading_head] = {t.x0,    t.y0,    t.q0,     t.dqdx,   t.dqdy,   t.l1_0,
+                                        t.dl1dx, t.dl1dy, t.l2_0,   t.dl2dx,  t.dl2dy,  t.front_facing ? 1.0f : 0.0f};
+    std::copy(head, head + k_shading_head, out);
+    write_varying_planes(var, n, out + k_shading_head);
+}
+
 template <int N>
 struct VaryingPlanes {
     float p[N > 0 ? 3 * N : 1];
@@ -179,7 +192,7 @@ void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov
 struct TileVisibility {
     static constexpr std::uint32_t k_none = ~0u;
     std::vector<const TriangleSetup*> triangles;
-    // Each triangle's varying planes (write_varying_planes), `stride` floats apart: copied while the
+    // Each triangle's shading record (write_shading_record), `stride` floats apart: copied while the
     // vertices are in the cache, so the shading pass reads them from here, not from scattered vertices.
     std::vector<float> planes;
     int stride = 0;
@@ -189,7 +202,7 @@ struct TileVisibility {
     void begin(PixelRect tile, int varyings) {
         triangles.clear();
         planes.clear();
-        stride = 3 * varyings;
+        stride = k_shading_head + 3 * varyings;
         std::fill(covered, covered + (tile.y1 - tile.y0), 0);
     }
     // Adds a triangle's coverage; owner entries become meaningful where `covered` is set.
@@ -248,23 +261,29 @@ void resolve_depth_reference(const DepthJob& job) {
 // resolve_depth_reference when "scalar" is selected. Compiled once, not per shader.
 void resolve_depth(const DepthJob& job);
 
-// Pass two: the shader once per visible pixel, with the triangle that owns it. Flattened: GCC
-// otherwise keeps fragment() and to_rgba8 as calls here (measured: 10% of a bunny frame).
+// Pass two: the shader once per visible pixel, with the triangle that owns it. This is the scalar
+// specification; built-in shaders also have SIMD kernels with the same results (CompiledVisiblePass).
+// Shades the pixels of row y whose bits are set in `mask` (bit i: pixel tile.x0 + i).
+template <class S>
+[[gnu::always_inline]] inline void shade_visible_pixels(const S& shader, const TileVisibility& vis, PixelRect tile,
+                                                        TargetView target, int y, std::uint64_t mask) {
+    FragmentIn<S::k_varyings> in;
+    const std::uint32_t* owner_row = vis.owner + (y - tile.y0) * k_max_tile_size;
+    Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
+    for (; mask; mask &= mask - 1) {
+        const int x = tile.x0 + std::countr_zero(mask);
+        const std::uint32_t owner = owner_row[x - tile.x0];
+        if (owner == TileVisibility::k_none) continue;
+        const TriangleSetup& t = *vis.triangles[owner];
+        const float* planes = vis.planes.data() + static_cast<std::size_t>(owner) * vis.stride + k_shading_head;
+        colour_row[x] = to_rgba8(fragment_at(shader, t, planes, x, y, depth_at(t, x, y), in));
+    }
+}
+
+// Flattened: GCC otherwise keeps fragment() and to_rgba8 as calls here (measured: 10% of a bunny frame).
 template <class S>
 [[gnu::flatten]] void shade_visible(const S& shader, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    FragmentIn<S::k_varyings> in;
-    for (int y = tile.y0; y < tile.y1; ++y) {
-        const std::uint32_t* owner_row = vis.owner + (y - tile.y0) * k_max_tile_size;
-        Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
-        for (std::uint64_t mask = vis.covered[y - tile.y0]; mask; mask &= mask - 1) {
-            const int x = tile.x0 + std::countr_zero(mask);
-            const std::uint32_t owner = owner_row[x - tile.x0];
-            if (owner == TileVisibility::k_none) continue;
-            const TriangleSetup& t = *vis.triangles[owner];
-            const float* planes = vis.planes.data() + static_cast<std::size_t>(owner) * vis.stride;
-            colour_row[x] = to_rgba8(fragment_at(shader, t, planes, x, y, depth_at(t, x, y), in));
-        }
-    }
+    for (int y = tile.y0; y < tile.y1; ++y) shade_visible_pixels(shader, vis, tile, target, y, vis.covered[y - tile.y0]);
 }
 
 }  // namespace facet::detail

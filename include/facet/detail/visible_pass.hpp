@@ -1,0 +1,20 @@
+// facet internals: the hook by which a shader type brings its own compiled visible-pixel pass.
+// The renderer's visible-only order ends each tile with detail::shade_visible (shade.hpp), which calls
+// fragment() once per visible pixel. A shader type for which CompiledVisiblePass is specialized with
+// available = true is shaded by its run() instead: the built-in shaders (shaders.hpp) have SIMD
+// kernels compiled into the library for every ISA (src/shade/visible_simd.cpp), which compute the
+// same bytes as shade_visible over 4 to 16 pixels at a time.
+#pragma once
+
+namespace facet::detail {
+
+struct TileVisibility;
+struct PixelRect;
+struct TargetView;
+
+template <class S>
+struct CompiledVisiblePass {
+    static constexpr bool available = false;
+};
+
+}  // namespace facet::detail

@@ -1,0 +1,311 @@
+// facet shade: the visible-pixel pass (pass two of the visible-only order, detail/shade.hpp) of the
+// built-in shaders as SIMD kernels, compiled once per ISA by Highway and dispatched at run time.
+// In: a tile's TileVisibility (which triangle owns each pixel, and each triangle's shading record).
+// Out: the colour of every visible pixel of the tile.
+//
+// A vector of pixels of one row is shaded at once: each lane gathers the record of the triangle that
+// owns its pixel (or, when one triangle owns them all, every lane reads the same record), then the
+// lanes interpolate the varyings and run the shader's arithmetic. Every lane performs the operations
+// of fragment_at and of the shader's fragment() in the same order with the same rounding (no FMA:
+// the project builds with -ffp-contract=off and Highway's Mul and Add round separately; sqrt and
+// division are correctly rounded everywhere), so the bytes are those of the scalar specification,
+// shade_visible. What has no exact vector form goes through the specification pixel by pixel: the
+// rare cases of normalize (zero, non-finite or overflowing vectors), pow, and the columns past the
+// last whole vector of a row.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "shade/visible_simd.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include "facet/detail/shade.hpp"
+#include "facet/shaders.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace facet::detail::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using DU = hn::RebindToUnsigned<DF>;
+using VF = hn::Vec<DF>;
+using MF = hn::Mask<DF>;
+
+struct Vec3Lanes {
+    VF x, y, z;
+};
+struct ColourLanes {
+    VF r, g, b, a;
+};
+
+// The lanes of a mask as bits, lane i at bit i.
+HWY_INLINE std::uint64_t mask_bits(MF m) {
+    std::uint8_t bytes[8] = {};
+    hn::StoreMaskBits(DF(), m, bytes);
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, bytes, sizeof(bits));
+    return bits;
+}
+
+HWY_INLINE Vec3Lanes splat(Vec3 v) {
+    const DF df;
+    return {hn::Set(df, v.x), hn::Set(df, v.y), hn::Set(df, v.z)};
+}
+
+// facet::dot: the sum starts from 0, as there.
+HWY_INLINE VF dot(const Vec3Lanes& a, const Vec3Lanes& b) {
+    const DF df;
+    return hn::Add(hn::Add(hn::Add(hn::Zero(df), hn::Mul(a.x, b.x)), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+}
+
+// std::max(v, 0.0f): v unless v < 0 (so NaN stays NaN).
+HWY_INLINE VF max_zero(VF v) {
+    const DF df;
+    return hn::IfThenElse(hn::Lt(v, hn::Zero(df)), hn::Zero(df), v);
+}
+
+// facet::normalize's common case, a / length(a). Lanes where the length is zero, infinite or NaN
+// need normalize_rare: they are added to `scalar`, whose pixels are shaded again by the specification.
+HWY_INLINE Vec3Lanes normalize(const Vec3Lanes& a, MF& scalar) {
+    const DF df;
+    const VF l = hn::Sqrt(dot(a, a));
+    const MF ok = hn::And(hn::Gt(l, hn::Zero(df)), hn::Lt(l, hn::Set(df, std::numeric_limits<float>::infinity())));
+    scalar = hn::Or(scalar, hn::Not(ok));
+    return {hn::Div(a.x, l), hn::Div(a.y, l), hn::Div(a.z, l)};
+}
+
+HWY_INLINE Vec3Lanes negate(const Vec3Lanes& a) { return {hn::Neg(a.x), hn::Neg(a.y), hn::Neg(a.z)}; }
+
+HWY_INLINE Vec3Lanes select(MF m, const Vec3Lanes& a, const Vec3Lanes& b) {
+    return {hn::IfThenElse(m, a.x, b.x), hn::IfThenElse(m, a.y, b.y), hn::IfThenElse(m, a.z, b.z)};
+}
+
+// shaders::detail::lambert_term: ambient + (key * k + fill * f) * diffuse, per channel.
+HWY_INLINE Vec3Lanes lambert_term(const Vec3Lanes& n, const ShadingUniforms& u) {
+    const DF df;
+    const VF k = max_zero(dot(n, splat(u.key.direction))), f = max_zero(dot(n, splat(u.fill.direction)));
+    const VF ambient = hn::Set(df, u.ambient), diffuse = hn::Set(df, u.diffuse);
+    auto channel = [&](float key, float fill) {
+        return hn::Add(ambient, hn::Mul(hn::Add(hn::Mul(hn::Set(df, key), k), hn::Mul(hn::Set(df, fill), f)), diffuse));
+    };
+    return {channel(u.key.colour.x, u.fill.colour.x), channel(u.key.colour.y, u.fill.colour.y),
+            channel(u.key.colour.z, u.fill.colour.z)};
+}
+
+// shaders::detail::shade: albedo times light, alpha kept.
+HWY_INLINE ColourLanes shade(const VF* albedo, const Vec3Lanes& light) {
+    return {hn::Mul(albedo[0], light.x), hn::Mul(albedo[1], light.y), hn::Mul(albedo[2], light.z), albedo[3]};
+}
+
+// What each lane of a row knows, for the shaders below: its varyings, whether its triangle faces
+// the viewer, which lanes are visible, and which must be redone by the specification.
+template <int N>
+struct LanesIn {
+    VF v[N > 0 ? N : 1];
+    MF front_facing;
+    MF visible;
+    MF scalar;
+};
+
+// The lane-wide fragment() of each built-in shader with a compiled pass.
+struct LambertLanes {
+    static constexpr int N = 7;
+    const shaders::Lambert& s;
+    ColourLanes operator()(LanesIn<N>& in) const {
+        const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
+        return shade(in.v + 3, lambert_term(n, s.u));
+    }
+};
+
+struct BlinnPhongLanes {
+    static constexpr int N = 10;
+    const shaders::BlinnPhong& s;
+    ColourLanes operator()(LanesIn<N>& in) const {
+        const DF df;
+        const ShadingUniforms& u = s.u;
+        Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
+        n = select(in.front_facing, n, negate(n));
+        const Vec3Lanes eye = splat(u.eye);
+        const Vec3Lanes to_eye =
+            normalize({hn::Sub(eye.x, in.v[3]), hn::Sub(eye.y, in.v[4]), hn::Sub(eye.z, in.v[5])}, in.scalar);
+        // shaders::detail::blinn_phong
+        const ColourLanes c = shade(in.v + 6, lambert_term(n, u));
+        const Vec3Lanes key = splat(u.key.direction);
+        const Vec3Lanes h = normalize({hn::Add(key.x, to_eye.x), hn::Add(key.y, to_eye.y), hn::Add(key.z, to_eye.z)},
+                                      in.scalar);
+        const VF s_lanes = hn::Mul(hn::Set(df, u.specular), pow_lanes(max_zero(dot(n, h)), u.shininess, in.visible));
+        return {hn::Add(c.r, hn::Mul(s_lanes, hn::Set(df, u.key.colour.x))),
+                hn::Add(c.g, hn::Mul(s_lanes, hn::Set(df, u.key.colour.y))),
+                hn::Add(c.b, hn::Mul(s_lanes, hn::Set(df, u.key.colour.z))), c.a};
+    }
+    // std::pow has no exact vector form: the visible lanes call it one by one.
+    static VF pow_lanes(VF base, float exponent, MF visible) {
+        const DF df;
+        HWY_ALIGN float b[HWY_MAX_BYTES / sizeof(float)];
+        hn::Store(base, df, b);
+        std::uint64_t bits = mask_bits(visible);
+        for (; bits; bits &= bits - 1) {
+            const int i = std::countr_zero(bits);
+            b[i] = std::pow(b[i], exponent);
+        }
+        return hn::Load(df, b);
+    }
+};
+
+struct NormalsLanes {
+    static constexpr int N = 3;
+    const shaders::Normals& s;
+    ColourLanes operator()(LanesIn<N>& in) const {
+        const DF df;
+        const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
+        const VF half = hn::Set(df, 0.5f);
+        return {hn::Add(half, hn::Mul(half, n.x)), hn::Add(half, hn::Mul(half, n.y)), hn::Add(half, hn::Mul(half, n.z)),
+                hn::Set(df, 1.0f)};
+    }
+};
+
+struct VertexColourLanes {
+    static constexpr int N = 4;
+    const shaders::VertexColour& s;
+    ColourLanes operator()(LanesIn<N>& in) const { return {in.v[0], in.v[1], in.v[2], in.v[3]}; }
+};
+
+// to_rgba8 of one channel, as an integer in [0, 255]: clamp to [0, 1] (NaN to 0), scale, round.
+HWY_INLINE hn::Vec<DU> unorm8(VF v) {
+    const DF df;
+    v = hn::IfThenElse(hn::Gt(v, hn::Zero(df)), v, hn::Zero(df));
+    v = hn::IfThenElse(hn::Lt(v, hn::Set(df, 1.0f)), v, hn::Set(df, 1.0f));
+    return hn::BitCast(DU(), hn::ConvertTo(DI(), hn::Add(hn::Mul(v, hn::Set(df, 255.0f)), hn::Set(df, 0.5f))));
+}
+
+// Rgba8 in memory order r, g, b, a: one little-endian 32-bit word per pixel.
+HWY_INLINE hn::Vec<DU> to_rgba8(const ColourLanes& c) {
+    return hn::Or(hn::Or(unorm8(c.r), hn::ShiftLeft<8>(unorm8(c.g))),
+                  hn::Or(hn::ShiftLeft<16>(unorm8(c.b)), hn::ShiftLeft<24>(unorm8(c.a))));
+}
+
+// The colours of the lanes in `active`, pixels (x + lane, y): interpolation as in fragment_at, with
+// each triangle value read by field(j) (record offset j), then the shader's lanes. Lanes whose
+// result needs the specification are added to `scalar`.
+template <int N, class Lanes, class Field>
+HWY_INLINE hn::Vec<DU> shade_lanes(const Lanes& lanes, const Field& field, int x, VF pixel_y, MF active, MF& scalar) {
+    const DF df;
+    const VF dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(x)), hn::Set(df, 0.5f)), field(sh_x0));
+    const VF dy = hn::Sub(pixel_y, field(sh_y0));
+    const VF q = hn::Add(hn::Add(field(sh_q0), hn::Mul(field(sh_dqdx), dx)), hn::Mul(field(sh_dqdy), dy));
+    const VF w = hn::Div(hn::Set(df, 1.0f), q);
+    const VF b1 = hn::Mul(hn::Add(hn::Add(field(sh_l1_0), hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
+    const VF b2 = hn::Mul(hn::Add(hn::Add(field(sh_l2_0), hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
+    LanesIn<N> in;
+    for (int k = 0; k < N; ++k)
+        in.v[k] = hn::Add(hn::Add(field(k_shading_head + k), hn::Mul(b1, field(k_shading_head + N + k))),
+                          hn::Mul(b2, field(k_shading_head + 2 * N + k)));
+    in.front_facing = hn::Gt(field(sh_front), hn::Zero(df));
+    in.visible = active;
+    in.scalar = hn::FirstN(df, 0);
+    const auto rgba = to_rgba8(lanes(in));
+    scalar = hn::Or(scalar, hn::And(in.scalar, active));
+    return rgba;
+}
+
+template <class S, class Lanes>
+void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility& vis, PixelRect tile,
+                      TargetView target) {
+    constexpr int N = S::k_varyings;
+    static_assert(Lanes::N == N);
+    const DF df;
+    const DU du;
+    const DI di;
+    const int lane_count = static_cast<int>(hn::Lanes(df));
+    const std::uint64_t lane_bits = lane_count >= 64 ? ~0ull : (1ull << lane_count) - 1;
+    const int simd_width = (tile.x1 - tile.x0) / lane_count * lane_count;  // whole vectors inside the tile
+    const std::uint64_t tail_bits = simd_width >= 64 ? 0 : ~0ull << simd_width;
+    const float* records = vis.planes.data();
+    const auto stride = hn::Set(di, vis.stride);
+    const auto none = hn::Set(du, TileVisibility::k_none);
+
+    for (int y = tile.y0; y < tile.y1; ++y) {
+        const int row = y - tile.y0;
+        const std::uint64_t covered = vis.covered[row];
+        if (!covered) continue;
+        const std::uint32_t* owner_row = vis.owner + row * k_max_tile_size;
+        // Rgba8 is four bytes, r first: stored as 32-bit lanes (Highway stores may alias).
+        auto* colour_row =
+            reinterpret_cast<std::uint32_t*>(target.colour + static_cast<std::size_t>(y) * target.stride + tile.x0);
+        const VF pixel_y = hn::Set(df, static_cast<float>(y) + 0.5f);
+        std::uint64_t redo = covered & tail_bits;  // pixels for the specification
+        for (int i = 0; i < simd_width; i += lane_count) {
+            const std::uint64_t bits = (covered >> i) & lane_bits;
+            if (!bits) continue;
+            std::uint8_t bytes[8];
+            std::memcpy(bytes, &bits, sizeof(bytes));
+            const auto owners = hn::LoadU(du, owner_row + i);
+            const MF visible = hn::RebindMask(df, hn::And(hn::LoadMaskBits(du, bytes), hn::Ne(owners, none)));
+            if (hn::AllFalse(df, visible)) continue;
+            const int x = tile.x0 + i;
+            MF scalar = hn::FirstN(df, 0);
+            // Each lane gathers its triangle's values; when one triangle owns every visible lane (large
+            // triangles), they are read once. (Shading the vector once per distinct triangle with
+            // values read once was measured slower than gathering, even for two triangles.)
+            const std::uint32_t first = owner_row[i + hn::FindFirstTrue(df, visible)];
+            const bool uniform = hn::AllTrue(df, hn::Or(hn::Not(visible), hn::RebindMask(df, hn::Eq(owners, hn::Set(du, first)))));
+            hn::Vec<DU> rgba;
+            if (uniform) {
+                const float* record = records + static_cast<std::size_t>(first) * vis.stride;
+                auto field = [&](int j) { return hn::Set(df, record[j]); };
+                rgba = shade_lanes<N>(lanes, field, x, pixel_y, visible, scalar);
+            } else {
+                const auto index = hn::Mul(hn::BitCast(di, hn::IfThenElseZero(hn::RebindMask(du, visible), owners)), stride);
+                auto field = [&](int j) { return hn::GatherIndex(df, records + j, index); };
+                rgba = shade_lanes<N>(lanes, field, x, pixel_y, visible, scalar);
+            }
+            rgba = hn::IfThenElse(hn::RebindMask(du, visible), rgba, hn::LoadU(du, colour_row + i));
+            hn::StoreU(rgba, du, colour_row + i);
+            redo |= mask_bits(scalar) << i;
+        }
+        if (redo) shade_visible_pixels(shader, vis, tile, target, y, redo);
+    }
+}
+
+void ShadeLambert(const shaders::Lambert& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
+    ShadeVisibleTile(s, LambertLanes{s}, vis, tile, target);
+}
+void ShadeBlinnPhong(const shaders::BlinnPhong& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
+    ShadeVisibleTile(s, BlinnPhongLanes{s}, vis, tile, target);
+}
+void ShadeNormals(const shaders::Normals& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
+    ShadeVisibleTile(s, NormalsLanes{s}, vis, tile, target);
+}
+void ShadeVertexColour(const shaders::VertexColour& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
+    ShadeVisibleTile(s, VertexColourLanes{s}, vis, tile, target);
+}
+
+}  // namespace facet::detail::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include "simd/isa.hpp"
+
+namespace facet::detail {
+
+// "scalar" (facet/isa.hpp) runs the specification itself.
+#define FACET_DEFINE_VISIBLE_PASS(S, KERNEL)                                                                   \
+    HWY_EXPORT(KERNEL);                                                                                      \
+    void CompiledVisiblePass<shaders::S>::run(const shaders::S& shader, const TileVisibility& vis, PixelRect tile, \
+                                              TargetView target) {                                           \
+        if (use_scalar_kernels()) return shade_visible(shader, vis, tile, target);                          \
+        HWY_DYNAMIC_DISPATCH(KERNEL)(shader, vis, tile, target);                                             \
+    }
+FACET_DEFINE_VISIBLE_PASS(Lambert, ShadeLambert)
+FACET_DEFINE_VISIBLE_PASS(BlinnPhong, ShadeBlinnPhong)
+FACET_DEFINE_VISIBLE_PASS(Normals, ShadeNormals)
+FACET_DEFINE_VISIBLE_PASS(VertexColour, ShadeVertexColour)
+#undef FACET_DEFINE_VISIBLE_PASS
+
+}  // namespace facet::detail
+#endif

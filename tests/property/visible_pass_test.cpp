@@ -1,0 +1,148 @@
+// Property: the built-in shaders' compiled visible-pixel pass (src/shade/visible_simd.cpp) draws the
+// bytes of the scalar specification, fragment() once per visible pixel, on every ISA the CPU runs.
+// The mesh is random and adversarial for the shaders' arithmetic: normals of every length including
+// zero, huge and NaN ones, colours outside [0, 1], triangles of every size, facing both ways, seen in
+// perspective; targets whose width is not a multiple of a vector; tiles narrower than a vector.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "facet/camera.hpp"
+#include "facet/isa.hpp"
+#include "facet/renderer.hpp"
+#include "facet/shaders.hpp"
+
+namespace {
+
+using namespace facet;
+
+Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f), size(0.01f, 0.5f);
+    Mesh m;
+    for (int t = 0; t < triangles; ++t) {
+        const Vec3 centre{u(rng), u(rng), u(rng)};
+        const float r = size(rng);
+        for (int k = 0; k < 3; ++k) {
+            m.positions.push_back(centre + Vec3{u(rng), u(rng), u(rng)} * r);
+            Vec3 n{u(rng), u(rng), u(rng)};
+            switch ((t * 3 + k) % 97) {
+                case 0: n = {}; break;                                           // zero: normalize_rare
+                case 1: n = n * 1e30f; break;                                    // squared length overflows
+                case 2: n.y = std::numeric_limits<float>::quiet_NaN(); break;    // NaN
+                case 3: n = n * 1e-30f; break;                                   // squared length underflows
+                default: break;
+            }
+            m.normals.push_back(n);
+            m.colours.push_back(Vec4{unit(rng) * 1.4f - 0.2f, unit(rng), unit(rng), unit(rng)});
+        }
+    }
+    for (std::uint32_t i = 0; i < m.positions.size(); ++i) m.indices.push_back(i);
+    return m;
+}
+
+ShadingUniforms uniforms(int width, int height) {
+    Camera camera;
+    camera.position = {0.4f, 0.7f, 3.2f};
+    camera.target = {0, 0, 0};
+    ShadingUniforms u;
+    u.clip_from_object = camera.projection(static_cast<float>(width) / static_cast<float>(height)) * camera.view();
+    u.eye = camera.position;
+    u.key = {normalize(Vec3{0.3f, 0.8f, 0.6f}), {1.0f, 0.97f, 0.92f}};
+    u.fill = {normalize(Vec3{-0.7f, 0.1f, 0.3f}), {0.25f, 0.28f, 0.35f}};
+    u.specular = 0.35f;
+    u.shininess = 40.0f;
+    return u;
+}
+
+// The same shader, drawn by the generic path in the one-pass order (every fragment in turn).
+template <class S>
+struct EveryFragment : S {
+    static constexpr bool k_shade_hidden = true;
+};
+
+constexpr int k_width = 203, k_height = 157;
+
+// The built-in shader B for the mesh, as type S (B itself or a type derived from it).
+template <class S, class B>
+S shader_for(const Mesh& mesh) {
+    const B base{MeshArrays::of(mesh), uniforms(k_width, k_height)};
+    if constexpr (std::is_same_v<S, B>) return base;
+    else return S{base};
+}
+
+template <class S, class B = S>
+std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config) {
+    Renderer renderer(config);
+    Framebuffer fb(k_width, k_height);
+    fb.clear(Vec4{0.1f, 0.2f, 0.3f, 1.0f}, 1.0f);
+    DrawState state;
+    state.cull = CullMode::none;
+    const S shader = shader_for<S, B>(mesh);
+    renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(mesh.positions.size()), mesh.indices}, shader);
+    return {fb.colour_data(), fb.colour_data() + k_width * k_height};
+}
+
+// Where two images first differ, for the failure message.
+std::string first_difference(const std::vector<Rgba8>& a, const std::vector<Rgba8>& b) {
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (a[i] != b[i])
+            return "pixel (" + std::to_string(i % k_width) + ", " + std::to_string(i / k_width) + "): " +
+                   std::to_string(a[i].r) + "," + std::to_string(a[i].g) + "," + std::to_string(a[i].b) + "," +
+                   std::to_string(a[i].a) + " vs " + std::to_string(b[i].r) + "," + std::to_string(b[i].g) + "," +
+                   std::to_string(b[i].b) + "," + std::to_string(b[i].a);
+    return "identical";
+}
+
+struct IsaGuard {
+    ~IsaGuard() { select_isa("best"); }
+};
+
+template <class S>
+struct Wrapped : S {};
+
+template <class S>
+void expect_every_isa_matches_the_specification(const char* name) {
+    static_assert(detail::CompiledVisiblePass<S>::available);
+    IsaGuard guard;
+    const Mesh mesh = adversarial_mesh(7, 1500);
+    // The specification: fragment() per fragment, in submission order.
+    const std::vector<Rgba8> reference = render<EveryFragment<S>, S>(mesh, {.threads = 1, .tile_size = 64});
+    std::size_t drawn = 0;
+    for (const Rgba8 c : reference) drawn += !(c.r == 26 && c.g == 51 && c.b == 77);
+    EXPECT_GT(drawn, static_cast<std::size_t>(k_width * k_height / 2)) << name << ": the scene covers the image";
+    for (const std::string& isa : available_isas()) {
+        ASSERT_TRUE(select_isa(isa));
+        for (int tile : {8, 16, 64}) {
+            const std::vector<Rgba8> out = render<S>(mesh, {.threads = 2, .tile_size = tile});
+            EXPECT_TRUE(out == reference) << name << " on " << isa << ", tile " << tile << ": "
+                                          << first_difference(out, reference);
+        }
+    }
+}
+
+TEST(CompiledVisiblePass, LambertMatchesTheSpecificationOnEveryIsa) {
+    expect_every_isa_matches_the_specification<shaders::Lambert>("Lambert");
+}
+TEST(CompiledVisiblePass, BlinnPhongMatchesTheSpecificationOnEveryIsa) {
+    expect_every_isa_matches_the_specification<shaders::BlinnPhong>("BlinnPhong");
+}
+TEST(CompiledVisiblePass, NormalsMatchesTheSpecificationOnEveryIsa) {
+    expect_every_isa_matches_the_specification<shaders::Normals>("Normals");
+}
+TEST(CompiledVisiblePass, VertexColourMatchesTheSpecificationOnEveryIsa) {
+    expect_every_isa_matches_the_specification<shaders::VertexColour>("VertexColour");
+}
+
+// A type derived from a built-in shader is a different shader, drawn by the generic path.
+static_assert(!detail::CompiledVisiblePass<Wrapped<shaders::Lambert>>::available);
+static_assert(!detail::CompiledVisiblePass<EveryFragment<shaders::Lambert>>::available);
+static_assert(!detail::CompiledVisiblePass<shaders::Flat>::available);
+
+}  // namespace
