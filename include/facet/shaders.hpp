@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "facet/detail/visible_pass.hpp"
+#include "facet/math/portable_pow.hpp"
 #include "facet/mesh.hpp"
 #include "facet/pipeline.hpp"
 #include "facet/texture.hpp"
@@ -82,7 +83,7 @@ inline Vec4 albedo(const TextureBinding& t, const FragmentIn<N>& in, int uv_at, 
 inline Vec4 blinn_phong(Vec3 n, Vec3 to_eye, Vec4 albedo, const ShadingUniforms& u) {
     Vec4 c = shade(albedo, lambert_term(n, u));
     const Vec3 h = normalize(u.key.direction + to_eye);
-    const float s = u.specular * std::pow(std::max(dot(n, h), 0.0f), u.shininess);
+    const float s = u.specular * portable_pow(std::max(dot(n, h), 0.0f), u.shininess);
     return {c.x + s * u.key.colour.x, c.y + s * u.key.colour.y, c.z + s * u.key.colour.z, c.w};
 }
 }  // namespace detail

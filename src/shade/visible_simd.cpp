@@ -10,7 +10,7 @@
 // the project builds with -ffp-contract=off and Highway's Mul and Add round separately; sqrt and
 // division are correctly rounded everywhere), so the bytes are those of the scalar specification,
 // shade_visible. What has no exact vector form goes through the specification pixel by pixel: the
-// rare cases of normalize (zero, non-finite or overflowing vectors), pow, and the columns past the
+// rare cases of normalize (zero, non-finite or overflowing vectors) and the columns past the
 // last whole vector of a row.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "shade/visible_simd.cpp"
@@ -85,6 +85,56 @@ HWY_INLINE Vec3Lanes select(MF m, const Vec3Lanes& a, const Vec3Lanes& b) {
     return {hn::IfThenElse(m, a.x, b.x), hn::IfThenElse(m, a.y, b.y), hn::IfThenElse(m, a.z, b.z)};
 }
 
+// facet::portable_pow (math/portable_pow.hpp), operation for operation.
+HWY_INLINE VF portable_log2(VF x) {
+    const DF df;
+    const DU du;
+    const DI di;
+    const auto bits = hn::BitCast(du, x);
+    VF e = hn::ConvertTo(df, hn::Sub(hn::BitCast(di, hn::ShiftRight<23>(bits)), hn::Set(di, 127)));
+    VF m = hn::BitCast(df, hn::Or(hn::And(bits, hn::Set(du, 0x007fffffu)), hn::Set(du, 0x3f800000u)));
+    const MF big = hn::Gt(m, hn::Set(df, k_sqrt2));
+    m = hn::IfThenElse(big, hn::Mul(m, hn::Set(df, 0.5f)), m);
+    e = hn::IfThenElse(big, hn::Add(e, hn::Set(df, 1.0f)), e);
+    const VF one = hn::Set(df, 1.0f);
+    const VF t = hn::Div(hn::Sub(m, one), hn::Add(m, one));
+    const VF t2 = hn::Mul(t, t);
+    auto term = [&](float c, VF rest) { return hn::Add(hn::Set(df, c), hn::Mul(t2, rest)); };
+    const VF p = term(k_log2_c1, term(k_log2_c3, term(k_log2_c5, term(k_log2_c7, hn::Set(df, k_log2_c9)))));
+    return hn::Add(e, hn::Mul(t, p));
+}
+
+HWY_INLINE VF portable_exp2(VF z) {
+    const DF df;
+    const DI di;
+    const VF i = hn::Round(z);  // to nearest, ties to even: std::nearbyint in the default rounding mode
+    const VF f = hn::Sub(z, i);
+    auto term = [&](float c, VF rest) { return hn::Add(hn::Set(df, c), hn::Mul(f, rest)); };
+    const VF p = term(1.0f, term(k_exp2_c1, term(k_exp2_c2, term(k_exp2_c3, term(k_exp2_c4, term(k_exp2_c5,
+                     term(k_exp2_c6, hn::Set(df, k_exp2_c7))))))));
+    const auto n = hn::ConvertTo(di, i);
+    const auto half = hn::ShiftRight<1>(n);  // arithmetic: floor(n / 2)
+    const VF s1 = hn::BitCast(df, hn::ShiftLeft<23>(hn::Add(half, hn::Set(di, 127))));
+    const VF s2 = hn::BitCast(df, hn::ShiftLeft<23>(hn::Add(hn::Sub(n, half), hn::Set(di, 127))));
+    return hn::Mul(hn::Mul(p, s1), s2);
+}
+
+HWY_INLINE VF portable_pow(VF x, float y) {
+    const DF df;
+    if (y == 0.0f) return hn::Set(df, 1.0f);
+    const VF zero = hn::Zero(df), inf = hn::Set(df, std::numeric_limits<float>::infinity());
+    const MF subnormal = hn::Lt(x, hn::Set(df, 0x1p-126f));
+    const VF scaled = hn::IfThenElse(subnormal, hn::Mul(x, hn::Set(df, 0x1p23f)), x);
+    const VF bias = hn::IfThenElseZero(subnormal, hn::Set(df, 23.0f));
+    const VF z = hn::Mul(hn::Set(df, y), hn::Sub(portable_log2(scaled), bias));
+    const MF nan_z = hn::Ne(z, z);
+    VF r = hn::IfThenElse(hn::Lt(z, hn::Set(df, -126.0f)), zero, portable_exp2(z));
+    r = hn::IfThenElse(hn::Lt(z, hn::Set(df, 128.0f)), r, hn::IfThenElse(nan_z, z, inf));
+    r = hn::IfThenElse(hn::Eq(x, inf), y > 0.0f ? inf : zero, r);
+    r = hn::IfThenElse(hn::Eq(x, zero), y > 0.0f ? zero : inf, r);
+    return hn::IfThenElse(hn::Ge(x, zero), r, hn::Set(df, std::numeric_limits<float>::quiet_NaN()));
+}
+
 // shaders::detail::lambert_term: ambient + (key * k + fill * f) * diffuse, per channel.
 HWY_INLINE Vec3Lanes lambert_term(const Vec3Lanes& n, const ShadingUniforms& u) {
     const DF df;
@@ -138,22 +188,10 @@ struct BlinnPhongLanes {
         const Vec3Lanes key = splat(u.key.direction);
         const Vec3Lanes h = normalize({hn::Add(key.x, to_eye.x), hn::Add(key.y, to_eye.y), hn::Add(key.z, to_eye.z)},
                                       in.scalar);
-        const VF s_lanes = hn::Mul(hn::Set(df, u.specular), pow_lanes(max_zero(dot(n, h)), u.shininess, in.visible));
+        const VF s_lanes = hn::Mul(hn::Set(df, u.specular), portable_pow(max_zero(dot(n, h)), u.shininess));
         return {hn::Add(c.r, hn::Mul(s_lanes, hn::Set(df, u.key.colour.x))),
                 hn::Add(c.g, hn::Mul(s_lanes, hn::Set(df, u.key.colour.y))),
                 hn::Add(c.b, hn::Mul(s_lanes, hn::Set(df, u.key.colour.z))), c.a};
-    }
-    // std::pow has no exact vector form: the visible lanes call it one by one.
-    static VF pow_lanes(VF base, float exponent, MF visible) {
-        const DF df;
-        HWY_ALIGN float b[HWY_MAX_BYTES / sizeof(float)];
-        hn::Store(base, df, b);
-        std::uint64_t bits = mask_bits(visible);
-        for (; bits; bits &= bits - 1) {
-            const int i = std::countr_zero(bits);
-            b[i] = std::pow(b[i], exponent);
-        }
-        return hn::Load(df, b);
     }
 };
 

@@ -47,7 +47,7 @@ Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
     return m;
 }
 
-ShadingUniforms uniforms(int width, int height) {
+ShadingUniforms uniforms(int width, int height, float shininess) {
     Camera camera;
     camera.position = {0.4f, 0.7f, 3.2f};
     camera.target = {0, 0, 0};
@@ -57,7 +57,7 @@ ShadingUniforms uniforms(int width, int height) {
     u.key = {normalize(Vec3{0.3f, 0.8f, 0.6f}), {1.0f, 0.97f, 0.92f}};
     u.fill = {normalize(Vec3{-0.7f, 0.1f, 0.3f}), {0.25f, 0.28f, 0.35f}};
     u.specular = 0.35f;
-    u.shininess = 40.0f;
+    u.shininess = shininess;
     return u;
 }
 
@@ -71,20 +71,20 @@ constexpr int k_width = 203, k_height = 157;
 
 // The built-in shader B for the mesh, as type S (B itself or a type derived from it).
 template <class S, class B>
-S shader_for(const Mesh& mesh) {
-    const B base{MeshArrays::of(mesh), uniforms(k_width, k_height)};
+S shader_for(const Mesh& mesh, float shininess) {
+    const B base{MeshArrays::of(mesh), uniforms(k_width, k_height, shininess)};
     if constexpr (std::is_same_v<S, B>) return base;
     else return S{base};
 }
 
 template <class S, class B = S>
-std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config) {
+std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config, float shininess = 40.0f) {
     Renderer renderer(config);
     Framebuffer fb(k_width, k_height);
     fb.clear(Vec4{0.1f, 0.2f, 0.3f, 1.0f}, 1.0f);
     DrawState state;
     state.cull = CullMode::none;
-    const S shader = shader_for<S, B>(mesh);
+    const S shader = shader_for<S, B>(mesh, shininess);
     renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(mesh.positions.size()), mesh.indices}, shader);
     return {fb.colour_data(), fb.colour_data() + k_width * k_height};
 }
@@ -108,19 +108,19 @@ template <class S>
 struct Wrapped : S {};
 
 template <class S>
-void expect_every_isa_matches_the_specification(const char* name) {
+void expect_every_isa_matches_the_specification(const char* name, float shininess = 40.0f) {
     static_assert(detail::CompiledVisiblePass<S>::available);
     IsaGuard guard;
     const Mesh mesh = adversarial_mesh(7, 1500);
     // The specification: fragment() per fragment, in submission order.
-    const std::vector<Rgba8> reference = render<EveryFragment<S>, S>(mesh, {.threads = 1, .tile_size = 64});
+    const std::vector<Rgba8> reference = render<EveryFragment<S>, S>(mesh, {.threads = 1, .tile_size = 64}, shininess);
     std::size_t drawn = 0;
     for (const Rgba8 c : reference) drawn += !(c.r == 26 && c.g == 51 && c.b == 77);
     EXPECT_GT(drawn, static_cast<std::size_t>(k_width * k_height / 2)) << name << ": the scene covers the image";
     for (const std::string& isa : available_isas()) {
         ASSERT_TRUE(select_isa(isa));
         for (int tile : {8, 16, 64}) {
-            const std::vector<Rgba8> out = render<S>(mesh, {.threads = 2, .tile_size = tile});
+            const std::vector<Rgba8> out = render<S>(mesh, {.threads = 2, .tile_size = tile}, shininess);
             EXPECT_TRUE(out == reference) << name << " on " << isa << ", tile " << tile << ": "
                                           << first_difference(out, reference);
         }
@@ -131,7 +131,9 @@ TEST(CompiledVisiblePass, LambertMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::Lambert>("Lambert");
 }
 TEST(CompiledVisiblePass, BlinnPhongMatchesTheSpecificationOnEveryIsa) {
-    expect_every_isa_matches_the_specification<shaders::BlinnPhong>("BlinnPhong");
+    // Every branch of portable_pow: x^0, moderate, and exponents that underflow and overflow.
+    for (float shininess : {40.0f, 0.0f, 0.5f, 3000.0f, -2.0f})
+        expect_every_isa_matches_the_specification<shaders::BlinnPhong>("BlinnPhong", shininess);
 }
 TEST(CompiledVisiblePass, NormalsMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::Normals>("Normals");
