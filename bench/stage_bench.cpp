@@ -5,7 +5,8 @@
 //   setup         detail::setup_triangle on projected, snapped vertices
 //   front end     detail::run_front_end: assemble + reject + setup + bin (bin = front end - setup)
 //   coverage      detail::rasterize_tile per (tile, triangle) pair
-//   shading       detail::shade_tile with the Lambert shader over a fully covered tile
+//   shading       detail::shade_tile with the Lambert shader over a fully covered tile, and the
+//                 visible-pixel pass (scalar specification and compiled SIMD kernel)
 //   clear         Framebuffer::clear
 //   texture       Texture::sample, bilinear and trilinear
 //   draw          Renderer::draw end to end, Lambert and a trivial (Mask) shader
@@ -291,6 +292,42 @@ void BM_Shading_Lambert(benchmark::State& state) {
     state.SetLabel("pixels");
 }
 BENCHMARK(BM_Shading_Lambert);
+
+// The visible-pixel pass alone (pass two of the visible-only order) over a 64x64 tile owned by 16
+// triangles in 4x4-pixel cells, as small triangles leave it: Arg 0 runs the scalar specification
+// (shade_visible, fragment() per pixel), Arg 1 the compiled SIMD kernel of the built-in Lambert.
+void BM_ShadeVisible_Lambert(benchmark::State& state) {
+    FullTile ft;
+    d::TileVisibility& vis = d::tile_visibility_scratch();
+    vis.begin(ft.rect, 7);
+    const float* var[3];
+    for (int k = 0; k < 3; ++k) var[k] = ft.vertices.varyings_of(ft.setup.vertex[k]);
+    constexpr int k_owners = 16;
+    for (int id = 0; id < k_owners; ++id) {
+        vis.triangles.push_back(&ft.setup);
+        vis.planes.resize(vis.planes.size() + static_cast<std::size_t>(vis.stride));
+        d::write_shading_record(ft.setup, var, 7, vis.planes.data() + vis.planes.size() - vis.stride);
+    }
+    for (int y = 0; y < 64; ++y) {
+        vis.covered[y] = ~0ull;
+        for (int x = 0; x < 64; ++x) vis.owner[y * d::k_max_tile_size + x] = static_cast<std::uint32_t>((x / 4 + y / 4 * 3) % k_owners);
+    }
+    Framebuffer fb(64, 64);
+    fb.clear({0, 0, 0, 1});
+    shaders::Lambert shader;
+    shader.u.key.direction = {0, 0, 1};
+    const d::TargetView view{fb.colour_data(), fb.depth_data(), fb.width()};
+    for (auto _ : state) {
+        if (state.range(0))
+            d::CompiledVisiblePass<shaders::Lambert>::run(shader, vis, ft.rect, view);
+        else
+            d::shade_visible(shader, vis, ft.rect, view);
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(state.iterations() * 64 * 64);
+    state.SetLabel(state.range(0) ? "pixels, compiled SIMD pass" : "pixels, scalar specification");
+}
+BENCHMARK(BM_ShadeVisible_Lambert)->Arg(0)->Arg(1);
 
 void BM_TextureSample(benchmark::State& state) {
     Image img{256, 256, std::vector<Rgba8>(256 * 256)};
