@@ -4,6 +4,7 @@
 //   Flat          one normal per face, from the screen derivatives of the world position
 //   Lambert       per-pixel diffuse from one directional light plus ambient
 //   BlinnPhong    per-pixel key + fill lights, ambient and specular highlights, two-sided
+//                 (both also as ...BaseColour: one colour for the whole mesh, fewer varyings)
 //   Normals       world-space normal as colour (0.5 + 0.5 n)
 //   Mask          unlit white
 //   Textured      BlinnPhong with the material's base-colour texture and alpha (mask / blend)
@@ -118,36 +119,57 @@ struct Flat {
     }
 };
 
-struct Lambert {
-    static constexpr int k_varyings = 7;  // normal, colour
+// Where a lit shader's albedo comes from: the mesh's vertex colours (interpolated) times
+// u.base_colour, or u.base_colour alone for the whole mesh. The second needs four varyings fewer,
+// which is less to interpolate per pixel and to copy per triangle.
+enum class Albedo { vertex_colours, base_colour };
+
+template <Albedo A>
+struct LambertShader {
+    static constexpr bool k_vertex_colours = A == Albedo::vertex_colours;
+    static constexpr int k_varyings = k_vertex_colours ? 7 : 3;  // normal, colour
     MeshArrays mesh;
     ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<7>& out) const {
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const {
         out.set(0, detail::world_normal(mesh, u, i));
-        out.set(3, detail::vertex_colour(mesh, u, i));
+        if constexpr (k_vertex_colours) out.set(3, detail::vertex_colour(mesh, u, i));
         return u.clip_from_object * Vec4(mesh.positions[i], 1);
     }
-    Vec4 fragment(const FragmentIn<7>& in) const {
-        return detail::shade(in.v.vec4(3), detail::lambert_term(normalize(in.v.vec3(0)), u));
+    Vec4 fragment(const FragmentIn<k_varyings>& in) const {
+        return detail::shade(albedo(in), detail::lambert_term(normalize(in.v.vec3(0)), u));
+    }
+    Vec4 albedo(const FragmentIn<k_varyings>& in) const {
+        if constexpr (k_vertex_colours) return in.v.vec4(3);
+        else return u.base_colour;
     }
 };
+using Lambert = LambertShader<Albedo::vertex_colours>;
+using LambertBaseColour = LambertShader<Albedo::base_colour>;
 
-struct BlinnPhong {
-    static constexpr int k_varyings = 10;  // normal, world position, colour
+template <Albedo A>
+struct BlinnPhongShader {
+    static constexpr bool k_vertex_colours = A == Albedo::vertex_colours;
+    static constexpr int k_varyings = k_vertex_colours ? 10 : 6;  // normal, world position, colour
     MeshArrays mesh;
     ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<10>& out) const {
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const {
         out.set(0, detail::world_normal(mesh, u, i));
         out.set(3, transform_point(u.model, mesh.positions[i]));
-        out.set(6, detail::vertex_colour(mesh, u, i));
+        if constexpr (k_vertex_colours) out.set(6, detail::vertex_colour(mesh, u, i));
         return u.clip_from_object * Vec4(mesh.positions[i], 1);
     }
-    Vec4 fragment(const FragmentIn<10>& in) const {
+    Vec4 fragment(const FragmentIn<k_varyings>& in) const {
         Vec3 n = normalize(in.v.vec3(0));
         if (!in.front_facing) n = -n;  // two-sided: the inside of an open surface is lit too
-        return detail::blinn_phong(n, normalize(u.eye - in.v.vec3(3)), in.v.vec4(6), u);
+        return detail::blinn_phong(n, normalize(u.eye - in.v.vec3(3)), albedo(in), u);
+    }
+    Vec4 albedo(const FragmentIn<k_varyings>& in) const {
+        if constexpr (k_vertex_colours) return in.v.vec4(6);
+        else return u.base_colour;
     }
 };
+using BlinnPhong = BlinnPhongShader<Albedo::vertex_colours>;
+using BlinnPhongBaseColour = BlinnPhongShader<Albedo::base_colour>;
 
 struct Textured {
     static constexpr int k_varyings = 12;  // uv, normal, world position, colour
@@ -223,7 +245,9 @@ namespace detail {
         static void run(const shaders::S& shader, const TileVisibility& vis, PixelRect tile, TargetView target); \
     };
 FACET_COMPILED_VISIBLE_PASS(Lambert)
+FACET_COMPILED_VISIBLE_PASS(LambertBaseColour)
 FACET_COMPILED_VISIBLE_PASS(BlinnPhong)
+FACET_COMPILED_VISIBLE_PASS(BlinnPhongBaseColour)
 FACET_COMPILED_VISIBLE_PASS(Normals)
 FACET_COMPILED_VISIBLE_PASS(VertexColour)
 #undef FACET_COMPILED_VISIBLE_PASS

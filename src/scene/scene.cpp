@@ -88,10 +88,11 @@ DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, 
             if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
             if (textured || o.material.alpha_mode == AlphaMode::mask)
                 return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex});
+            if (!arrays.colours) return draw_with(r, target, state, o, shaders::BlinnPhongBaseColour{arrays, u});
             return draw_with(r, target, state, o, shaders::BlinnPhong{arrays, u});
         case Shading::lambert:
             if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
-            return draw_with(r, target, state, o, shaders::Lambert{arrays, u});
+            return draw_with(r, target, state, o, shaders::LambertBaseColour{arrays, u});  // colours are off
         case Shading::flat: return draw_with(r, target, state, o, shaders::Flat{arrays, u});
         case Shading::normals: return draw_with(r, target, state, o, shaders::Normals{arrays, u});
         case Shading::mask: return draw_with(r, target, state, o, shaders::Mask{arrays, u});

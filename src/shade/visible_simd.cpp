@@ -163,18 +163,33 @@ struct LanesIn {
 };
 
 // The lane-wide fragment() of each built-in shader with a compiled pass.
+// The albedo lanes of a LambertShader or BlinnPhongShader: its vertex-colour varyings from `first`
+// on, or its base colour.
+template <class S, int N>
+HWY_INLINE void albedo_lanes(const S& s, const LanesIn<N>& in, int first, VF (&out)[4]) {
+    const DF df;
+    for (int c = 0; c < 4; ++c) {
+        if constexpr (S::k_vertex_colours) out[c] = in.v[first + c];
+        else out[c] = hn::Set(df, s.u.base_colour[static_cast<std::size_t>(c)]);
+    }
+}
+
+template <class S>
 struct LambertLanes {
-    static constexpr int N = 7;
-    const shaders::Lambert& s;
+    static constexpr int N = S::k_varyings;
+    const S& s;
     ColourLanes operator()(LanesIn<N>& in) const {
         const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
-        return shade(in.v + 3, lambert_term(n, s.u));
+        VF albedo[4];
+        albedo_lanes(s, in, 3, albedo);
+        return shade(albedo, lambert_term(n, s.u));
     }
 };
 
+template <class S>
 struct BlinnPhongLanes {
-    static constexpr int N = 10;
-    const shaders::BlinnPhong& s;
+    static constexpr int N = S::k_varyings;
+    const S& s;
     ColourLanes operator()(LanesIn<N>& in) const {
         const DF df;
         const ShadingUniforms& u = s.u;
@@ -184,7 +199,9 @@ struct BlinnPhongLanes {
         const Vec3Lanes to_eye =
             normalize({hn::Sub(eye.x, in.v[3]), hn::Sub(eye.y, in.v[4]), hn::Sub(eye.z, in.v[5])}, in.scalar);
         // shaders::detail::blinn_phong
-        const ColourLanes c = shade(in.v + 6, lambert_term(n, u));
+        VF albedo[4];
+        albedo_lanes(s, in, 6, albedo);
+        const ColourLanes c = shade(albedo, lambert_term(n, u));
         const Vec3Lanes key = splat(u.key.direction);
         const Vec3Lanes h = normalize({hn::Add(key.x, to_eye.x), hn::Add(key.y, to_eye.y), hn::Add(key.z, to_eye.z)},
                                       in.scalar);
@@ -376,10 +393,18 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
 }
 
 void ShadeLambert(const shaders::Lambert& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, LambertLanes{s}, vis, tile, target);
+    ShadeVisibleTile(s, LambertLanes<shaders::Lambert>{s}, vis, tile, target);
+}
+void ShadeLambertBaseColour(const shaders::LambertBaseColour& s, const TileVisibility& vis, PixelRect tile,
+                            TargetView target) {
+    ShadeVisibleTile(s, LambertLanes<shaders::LambertBaseColour>{s}, vis, tile, target);
 }
 void ShadeBlinnPhong(const shaders::BlinnPhong& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, BlinnPhongLanes{s}, vis, tile, target);
+    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhong>{s}, vis, tile, target);
+}
+void ShadeBlinnPhongBaseColour(const shaders::BlinnPhongBaseColour& s, const TileVisibility& vis, PixelRect tile,
+                               TargetView target) {
+    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhongBaseColour>{s}, vis, tile, target);
 }
 void ShadeNormals(const shaders::Normals& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
     ShadeVisibleTile(s, NormalsLanes{s}, vis, tile, target);
@@ -405,7 +430,9 @@ namespace facet::detail {
         HWY_DYNAMIC_DISPATCH(KERNEL)(shader, vis, tile, target);                                             \
     }
 FACET_DEFINE_VISIBLE_PASS(Lambert, ShadeLambert)
+FACET_DEFINE_VISIBLE_PASS(LambertBaseColour, ShadeLambertBaseColour)
 FACET_DEFINE_VISIBLE_PASS(BlinnPhong, ShadeBlinnPhong)
+FACET_DEFINE_VISIBLE_PASS(BlinnPhongBaseColour, ShadeBlinnPhongBaseColour)
 FACET_DEFINE_VISIBLE_PASS(Normals, ShadeNormals)
 FACET_DEFINE_VISIBLE_PASS(VertexColour, ShadeVertexColour)
 #undef FACET_DEFINE_VISIBLE_PASS

@@ -57,6 +57,7 @@ ShadingUniforms uniforms(int width, int height, float shininess) {
     u.key = {normalize(Vec3{0.3f, 0.8f, 0.6f}), {1.0f, 0.97f, 0.92f}};
     u.fill = {normalize(Vec3{-0.7f, 0.1f, 0.3f}), {0.25f, 0.28f, 0.35f}};
     u.specular = 0.35f;
+    u.base_colour = {0.9f, 0.7f, 1.3f, 0.8f};
     u.shininess = shininess;
     return u;
 }
@@ -134,6 +135,10 @@ TEST(CompiledVisiblePass, BlinnPhongMatchesTheSpecificationOnEveryIsa) {
     // Every branch of portable_pow: x^0, moderate, and exponents that underflow and overflow.
     for (float shininess : {40.0f, 0.0f, 0.5f, 3000.0f, -2.0f})
         expect_every_isa_matches_the_specification<shaders::BlinnPhong>("BlinnPhong", shininess);
+}
+TEST(CompiledVisiblePass, BaseColourVariantsMatchTheSpecificationOnEveryIsa) {
+    expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour");
+    expect_every_isa_matches_the_specification<shaders::BlinnPhongBaseColour>("BlinnPhongBaseColour");
 }
 TEST(CompiledVisiblePass, NormalsMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::Normals>("Normals");
