@@ -7,6 +7,10 @@
 namespace facet::detail {
 namespace {
 
+// Written as nested pairs: std::min of an initializer list compiles to branches, which mispredict.
+std::int32_t min3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::min(a, std::min(b, c)); }
+std::int32_t max3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::max(a, std::max(b, c)); }
+
 // Pixel index range whose centres (i + 0.5) lie in [lo, hi] (fixed point). An arithmetic right
 // shift is floor division by the power of two k_subpixel_one.
 int first_centre(std::int32_t lo) { return -((k_subpixel_one / 2 - lo) >> k_subpixel_bits); }
@@ -20,25 +24,29 @@ int last_centre(std::int32_t hi) { return (hi - k_subpixel_one / 2) >> k_subpixe
 void set_edge(TriangleSetup& t, int e, const ScreenVertex& a, const ScreenVertex& b) {
     const std::int32_t A = a.y - b.y, B = b.x - a.x;
     const std::int64_t C = -(std::int64_t{A} * a.x + std::int64_t{B} * a.y);
-    const bool top_left = A > 0 || (A == 0 && B > 0);
-    const std::int64_t c = C + (top_left ? 0 : -1) + std::int64_t{k_subpixel_one / 2} * (A + B);
+    // Bitwise, not short-circuit: the edge directions are random, so a branch here mispredicts often.
+    const bool top_left = (A > 0) | ((A == 0) & (B > 0));
+    const std::int64_t c = C + (static_cast<std::int64_t>(top_left) - 1) + std::int64_t{k_subpixel_one / 2} * (A + B);
     t.a[e] = A;
     t.b[e] = B;
     t.c[e] = c >> k_subpixel_bits;  // arithmetic shift: floor division by 256
 }
 
 // The four attribute planes f(x, y) = f0 + dfdx (x - x0) + dfdy (y - y0) through the vertex values of
-// depth, q, b1·q and b2·q, in double from the vertex offsets (x1 - x0, ...) in pixels. The offsets are
-// differences of exact multiples of 1/256, so computing them from the integer differences gives the
-// very same doubles as subtracting the scaled coordinates; the operations after that are the
-// specification's, in its order, for every plane alike (the four are independent lanes, which the
-// compiler may run two at a time).
+// depth, q, b1·q and b2·q. The specification, in double with coordinates in pixels (fixed point / 256):
+//   dfdx = (d1 (y2 - y0) - d2 (y1 - y0)) * inv_area,  dfdy = (d2 (x1 - x0) - d1 (x2 - x0)) * inv_area,
+//   d1 = f1 - f0, d2 = f2 - f0, inv_area = 1 / (area / 256²).
+// Here the offsets stay in fixed-point units and inv_area is 256 / area instead: every quantity is then
+// the specification's times an exact power of two (doubles of these magnitudes never reach the
+// subnormal or overflow range), and rounding commutes with such scaling, so each product, difference
+// and quotient rounds to the specification's value scaled, and the results are bit-identical with two
+// fewer multiplications per offset and none before the division. The four planes are independent
+// lanes of the same operations, which the compiler may run two at a time.
 void set_planes(TriangleSetup& t, const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
                 std::int64_t area) {
-    constexpr double scale = 1.0 / k_subpixel_one;
-    const double x1 = (v1.x - v0.x) * scale, x2 = (v2.x - v0.x) * scale;
-    const double y1 = (v1.y - v0.y) * scale, y2 = (v2.y - v0.y) * scale;
-    const double inv_area = 1.0 / (static_cast<double>(area) * scale * scale);
+    const double x1 = v1.x - v0.x, x2 = v2.x - v0.x;
+    const double y1 = v1.y - v0.y, y2 = v2.y - v0.y;
+    const double inv_area = static_cast<double>(k_subpixel_one) / static_cast<double>(area);
     const double z0 = v0.z, z1 = v1.z, z2 = v2.z, q0 = v0.q, q1 = v1.q, q2 = v2.q;
     // Per plane: the values at vertices 0, 1 and 2 (b1·q is q1 at vertex 1 and 0 elsewhere, b2·q likewise).
     const double f0[4] = {z0, q0, 0.0, 0.0};
@@ -50,6 +58,7 @@ void set_planes(TriangleSetup& t, const ScreenVertex& v0, const ScreenVertex& v1
         dfdx[k] = static_cast<float>((d1 * y2 - d2 * y1) * inv_area);
         dfdy[k] = static_cast<float>((d2 * x1 - d1 * x2) * inv_area);
     }
+    constexpr double scale = 1.0 / k_subpixel_one;
     t.x0 = static_cast<float>(v0.x * scale);
     t.y0 = static_cast<float>(v0.y * scale);
     t.z0 = v0.z, t.dzdx = dfdx[0], t.dzdy = dfdy[0];
@@ -89,10 +98,10 @@ SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&ve
     const ScreenVertex& v2 = flip ? sv[1] : sv[2];
     const std::int64_t area = flip ? -signed_area : signed_area;
 
-    t.min_x = std::max(first_centre(std::min({v0.x, v1.x, v2.x})), params.scissor.x0);
-    t.max_x = std::min(last_centre(std::max({v0.x, v1.x, v2.x})), params.scissor.x1 - 1);
-    t.min_y = std::max(first_centre(std::min({v0.y, v1.y, v2.y})), params.scissor.y0);
-    t.max_y = std::min(last_centre(std::max({v0.y, v1.y, v2.y})), params.scissor.y1 - 1);
+    t.min_x = std::max(first_centre(min3(v0.x, v1.x, v2.x)), params.scissor.x0);
+    t.max_x = std::min(last_centre(max3(v0.x, v1.x, v2.x)), params.scissor.x1 - 1);
+    t.min_y = std::max(first_centre(min3(v0.y, v1.y, v2.y)), params.scissor.y0);
+    t.max_y = std::min(last_centre(max3(v0.y, v1.y, v2.y)), params.scissor.y1 - 1);
     if (t.min_x > t.max_x || t.min_y > t.max_y) return SetupResult::empty;
 
     set_edge(t, 0, v0, v1);
