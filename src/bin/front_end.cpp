@@ -3,6 +3,7 @@
 #include "facet/detail/front_end.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "geometry/clip.hpp"
@@ -19,32 +20,61 @@ bool edge_rejects(const TriangleSetup& t, int e, const PixelRect& r) {
     return t.a[e] * x + t.b[e] * y + t.c[e] < 0;
 }
 
-void bin_triangle(const TriangleSetup& t, std::uint32_t index, const FrontEndParams& p, FrontEndChunk& out) {
-    const int s = p.tile_size;
-    const int tx0 = t.min_x / s, tx1 = t.max_x / s, ty0 = t.min_y / s, ty1 = t.max_y / s;
-    const bool single = tx0 == tx1 && ty0 == ty1;
-    for (int ty = ty0; ty <= ty1; ++ty)
-        for (int tx = tx0; tx <= tx1; ++tx) {
-            if (!single) {
+// Appends each triangle that survives setup to the chunk and bins it. Setup writes the record in
+// place, in room made ahead (no copy of the 136 bytes), and the records are counted here and the
+// vector trimmed to the count once the chunk is done.
+class Emitter {
+public:
+    Emitter(const FrontEndParams& p, FrontEndChunk& out)
+        : p_(p), out_(out), first_(out.triangles.size()), count_(first_),
+          tile_shift_(std::countr_zero(static_cast<unsigned>(p.tile_size))) {}
+
+    void emit(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3]) {
+        if (count_ == out_.triangles.size()) make_room();
+        TriangleSetup& t = out_.triangles[count_];
+        switch (setup_triangle(v, ref, p_, t)) {
+            case SetupResult::culled: ++culled_; return;
+            case SetupResult::empty: return;
+            case SetupResult::ok: break;
+        }
+        bin(t, static_cast<std::uint32_t>(count_));
+        ++count_;
+    }
+
+    void finish() {
+        out_.triangles.resize(count_);
+        out_.stats.triangles_rasterized += count_ - first_;
+        out_.stats.triangles_culled += culled_;
+    }
+
+private:
+    // Uninitialised room: the allocator leaves resize() nothing to write.
+    void make_room() { out_.triangles.resize(std::max<std::size_t>(1024, 2 * out_.triangles.size())); }
+
+    // Tile sizes are powers of two and the bounds are inside the scissor (non-negative), so a shift
+    // finds the tile. A triangle inside one tile (most of them) goes to that tile's bin unexamined.
+    void bin(const TriangleSetup& t, std::uint32_t index) {
+        const int tx0 = t.min_x >> tile_shift_, tx1 = t.max_x >> tile_shift_;
+        const int ty0 = t.min_y >> tile_shift_, ty1 = t.max_y >> tile_shift_;
+        if (tx0 == tx1 && ty0 == ty1) {
+            out_.bins[static_cast<std::size_t>(ty0) * p_.tiles_x + tx0].push_back(index);
+            return;
+        }
+        const int s = p_.tile_size;
+        for (int ty = ty0; ty <= ty1; ++ty)
+            for (int tx = tx0; tx <= tx1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
                 if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
+                out_.bins[static_cast<std::size_t>(ty) * p_.tiles_x + tx].push_back(index);
             }
-            out.bins[static_cast<std::size_t>(ty) * p.tiles_x + tx].push_back(index);
-        }
-}
-
-void emit(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], const FrontEndParams& p, FrontEndChunk& out) {
-    TriangleSetup t;
-    switch (setup_triangle(v, ref, p, t)) {
-        case SetupResult::culled: ++out.stats.triangles_culled; return;
-        case SetupResult::empty: return;
-        case SetupResult::ok: break;
     }
-    const auto index = static_cast<std::uint32_t>(out.triangles.size());
-    out.triangles.push_back(t);
-    ++out.stats.triangles_rasterized;
-    bin_triangle(t, index, p, out);
-}
+
+    const FrontEndParams& p_;
+    FrontEndChunk& out_;
+    std::size_t first_, count_;
+    std::uint64_t culled_ = 0;
+    int tile_shift_;
+};
 
 GuardBand guard_band(const FrontEndParams& p) {
     return {k_guard_band_pixels / (p.vp_w * 0.5f), k_guard_band_pixels / (p.vp_h * 0.5f)};
@@ -83,8 +113,9 @@ void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::si
     const GuardBand guard = guard_band(p);
     const bool indexed = !input.indices.empty();
     const std::size_t vertex_count = vertices.pos.size();
+    Emitter emitter(p, out);
+    out.stats.triangles_in += end - first;
     for (std::size_t t = first; t < end; ++t) {
-        ++out.stats.triangles_in;
         std::uint32_t idx[3];
         std::uint32_t codes[3];
         bool valid = true;
@@ -102,7 +133,7 @@ void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::si
         if (codes[0] & codes[1] & codes[2]) continue;  // wholly outside one plane
         if ((codes[0] | codes[1] | codes[2]) == 0) {
             const ScreenVertex v[3] = {vertices.screen[idx[0]], vertices.screen[idx[1]], vertices.screen[idx[2]]};
-            emit(v, idx, p, out);
+            emitter.emit(v, idx);
             continue;
         }
         ++out.stats.triangles_clipped;
@@ -121,9 +152,10 @@ void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::si
         for (int i = 1; i + 1 < n; ++i) {
             const ScreenVertex v[3] = {projected[0], projected[i], projected[i + 1]};
             const std::uint32_t ref[3] = {poly[0].ref, poly[i].ref, poly[i + 1].ref};
-            emit(v, ref, p, out);
+            emitter.emit(v, ref);
         }
     }
+    emitter.finish();
 }
 
 }  // namespace facet::detail

@@ -7,28 +7,64 @@
 namespace facet::detail {
 namespace {
 
-// A projected vertex widened to 64 bits for the products of setup.
-struct Vertex64 {
-    std::int64_t x, y;
-    float z, q;
-};
+// Written as nested pairs: std::min of an initializer list compiles to branches, which mispredict.
+std::int32_t min3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::min(a, std::min(b, c)); }
+std::int32_t max3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::max(a, std::max(b, c)); }
 
-std::int64_t floor_div(std::int64_t n, std::int64_t d) {  // d > 0
-    std::int64_t q = n / d;
-    return (n % d != 0 && n < 0) ? q - 1 : q;
+// Pixel index range whose centres (i + 0.5) lie in [lo, hi] (fixed point). An arithmetic right
+// shift is floor division by the power of two k_subpixel_one.
+int first_centre(std::int32_t lo) { return -((k_subpixel_one / 2 - lo) >> k_subpixel_bits); }
+int last_centre(std::int32_t hi) { return (hi - k_subpixel_one / 2) >> k_subpixel_bits; }
+
+// Edge a->b: E(p) = A px + B py + C, positive inside. A pixel centre exactly on an edge belongs to
+// the triangle only for a top edge (horizontal, inside below) or a left edge (inside to the right).
+// With p = 256 i + 128 per axis, E = 256 (A ix + B iy) + 128 (A + B) + C, and for integers
+// 256 k + c >= 0  <=>  k + floor(c / 256) >= 0, which turns E into pixel units exactly.
+// Snapped coordinates are below 2^22 in magnitude, so A and B fit in 32 bits and only C needs 64.
+void set_edge(TriangleSetup& t, int e, const ScreenVertex& a, const ScreenVertex& b) {
+    const std::int32_t A = a.y - b.y, B = b.x - a.x;
+    const std::int64_t C = -(std::int64_t{A} * a.x + std::int64_t{B} * a.y);
+    // Bitwise, not short-circuit: the edge directions are random, so a branch here mispredicts often.
+    const bool top_left = (A > 0) | ((A == 0) & (B > 0));
+    const std::int64_t c = C + (static_cast<std::int64_t>(top_left) - 1) + std::int64_t{k_subpixel_one / 2} * (A + B);
+    t.a[e] = A;
+    t.b[e] = B;
+    t.c[e] = c >> k_subpixel_bits;  // arithmetic shift: floor division by 256
 }
 
-// Pixel index range whose centres (i + 0.5) lie in [lo, hi] (fixed point).
-int first_centre(std::int64_t lo) { return static_cast<int>(-floor_div(-(lo - k_subpixel_one / 2), k_subpixel_one)); }
-int last_centre(std::int64_t hi) { return static_cast<int>(floor_div(hi - k_subpixel_one / 2, k_subpixel_one)); }
-
-// A plane f(x, y) = f0 + dfdx (x - x0) + dfdy (y - y0) through three vertex values.
-void plane(const double (&x)[3], const double (&y)[3], double inv_area, const double (&f)[3], float& f0,
-           float& dfdx, float& dfdy) {
-    const double d1 = f[1] - f[0], d2 = f[2] - f[0];
-    f0 = static_cast<float>(f[0]);
-    dfdx = static_cast<float>((d1 * (y[2] - y[0]) - d2 * (y[1] - y[0])) * inv_area);
-    dfdy = static_cast<float>((d2 * (x[1] - x[0]) - d1 * (x[2] - x[0])) * inv_area);
+// The four attribute planes f(x, y) = f0 + dfdx (x - x0) + dfdy (y - y0) through the vertex values of
+// depth, q, b1·q and b2·q. The specification, in double with coordinates in pixels (fixed point / 256):
+//   dfdx = (d1 (y2 - y0) - d2 (y1 - y0)) * inv_area,  dfdy = (d2 (x1 - x0) - d1 (x2 - x0)) * inv_area,
+//   d1 = f1 - f0, d2 = f2 - f0, inv_area = 1 / (area / 256²).
+// Here the offsets stay in fixed-point units and inv_area is 256 / area instead: every quantity is then
+// the specification's times an exact power of two (doubles of these magnitudes never reach the
+// subnormal or overflow range), and rounding commutes with such scaling, so each product, difference
+// and quotient rounds to the specification's value scaled, and the results are bit-identical with two
+// fewer multiplications per offset and none before the division. The four planes are independent
+// lanes of the same operations, which the compiler may run two at a time.
+void set_planes(TriangleSetup& t, const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
+                std::int64_t area) {
+    const double x1 = v1.x - v0.x, x2 = v2.x - v0.x;
+    const double y1 = v1.y - v0.y, y2 = v2.y - v0.y;
+    const double inv_area = static_cast<double>(k_subpixel_one) / static_cast<double>(area);
+    const double z0 = v0.z, z1 = v1.z, z2 = v2.z, q0 = v0.q, q1 = v1.q, q2 = v2.q;
+    // Per plane: the values at vertices 0, 1 and 2 (b1·q is q1 at vertex 1 and 0 elsewhere, b2·q likewise).
+    const double f0[4] = {z0, q0, 0.0, 0.0};
+    const double f1[4] = {z1, q1, q1, 0.0};
+    const double f2[4] = {z2, q2, 0.0, q2};
+    float dfdx[4], dfdy[4];
+    for (int k = 0; k < 4; ++k) {
+        const double d1 = f1[k] - f0[k], d2 = f2[k] - f0[k];
+        dfdx[k] = static_cast<float>((d1 * y2 - d2 * y1) * inv_area);
+        dfdy[k] = static_cast<float>((d2 * x1 - d1 * x2) * inv_area);
+    }
+    constexpr double scale = 1.0 / k_subpixel_one;
+    t.x0 = static_cast<float>(v0.x * scale);
+    t.y0 = static_cast<float>(v0.y * scale);
+    t.z0 = v0.z, t.dzdx = dfdx[0], t.dzdy = dfdy[0];
+    t.q0 = v0.q, t.dqdx = dfdx[1], t.dqdy = dfdy[1];
+    t.l1_0 = 0.0f, t.dl1dx = dfdx[2], t.dl1dy = dfdy[2];
+    t.l2_0 = 0.0f, t.dl2dx = dfdx[3], t.dl2dy = dfdy[3];
 }
 
 }  // namespace
@@ -44,59 +80,39 @@ ScreenVertex project(Vec4 p, const FrontEndParams& v) {
 
 SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&vertex_ref)[3],
                            const FrontEndParams& params, TriangleSetup& t) {
-    Vertex64 v[3];
-    for (int i = 0; i < 3; ++i) v[i] = {sv[i].x, sv[i].y, sv[i].z, sv[i].q};
-    std::uint32_t ref[3] = {vertex_ref[0], vertex_ref[1], vertex_ref[2]};
-
     // Twice the signed area in fixed point. Screen y grows downward, so a positive area is a
     // clockwise triangle to the viewer.
-    std::int64_t area = (v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[2].x - v[0].x) * (v[1].y - v[0].y);
-    if (area == 0) return SetupResult::culled;
-    const bool viewer_ccw = area < 0;
+    const std::int64_t signed_area = std::int64_t{sv[1].x - sv[0].x} * (sv[2].y - sv[0].y) -
+                                     std::int64_t{sv[2].x - sv[0].x} * (sv[1].y - sv[0].y);
+    if (signed_area == 0) return SetupResult::culled;
+    const bool viewer_ccw = signed_area < 0;
     const bool front = (params.state.front_face == FrontFace::ccw) == viewer_ccw;
     if ((params.state.cull == CullMode::back && !front) || (params.state.cull == CullMode::front && front))
         return SetupResult::culled;
-    if (area < 0) {  // orient so that the inside of every edge is where its function is positive
-        std::swap(v[1], v[2]);
-        std::swap(ref[1], ref[2]);
-        area = -area;
-    }
 
-    const std::int64_t min_x = std::min({v[0].x, v[1].x, v[2].x}), max_x = std::max({v[0].x, v[1].x, v[2].x});
-    const std::int64_t min_y = std::min({v[0].y, v[1].y, v[2].y}), max_y = std::max({v[0].y, v[1].y, v[2].y});
-    t.min_x = std::max(first_centre(min_x), params.scissor.x0);
-    t.max_x = std::min(last_centre(max_x), params.scissor.x1 - 1);
-    t.min_y = std::max(first_centre(min_y), params.scissor.y0);
-    t.max_y = std::min(last_centre(max_y), params.scissor.y1 - 1);
+    // Orient so that the inside of every edge is where its function is positive. Left to a branch on
+    // purpose: the windings that survive culling are almost always alike (all of them with back-face
+    // culling), and indexing the vertices by the sign instead made the loads wait for the area
+    // (measured slower on the sphere benchmark).
+    const bool flip = signed_area < 0;
+    const ScreenVertex& v0 = sv[0];
+    const ScreenVertex& v1 = flip ? sv[2] : sv[1];
+    const ScreenVertex& v2 = flip ? sv[1] : sv[2];
+    const std::int64_t area = flip ? -signed_area : signed_area;
+
+    t.min_x = std::max(first_centre(min3(v0.x, v1.x, v2.x)), params.scissor.x0);
+    t.max_x = std::min(last_centre(max3(v0.x, v1.x, v2.x)), params.scissor.x1 - 1);
+    t.min_y = std::max(first_centre(min3(v0.y, v1.y, v2.y)), params.scissor.y0);
+    t.max_y = std::min(last_centre(max3(v0.y, v1.y, v2.y)), params.scissor.y1 - 1);
     if (t.min_x > t.max_x || t.min_y > t.max_y) return SetupResult::empty;
 
-    // Edge a->b: E(p) = A px + B py + C, positive inside. A pixel centre exactly on an edge belongs to
-    // the triangle only for a top edge (horizontal, inside below) or a left edge (inside to the right).
-    // With p = 256 i + 128 per axis, E = 256 (A ix + B iy) + 128 (A + B) + C, and for integers
-    // 256 k + c >= 0  <=>  k + floor(c / 256) >= 0, which turns E into pixel units exactly.
-    for (int e = 0; e < 3; ++e) {
-        const Vertex64& a = v[e];
-        const Vertex64& b = v[(e + 1) % 3];
-        const std::int64_t A = a.y - b.y, B = b.x - a.x;
-        const std::int64_t C = -(A * a.x + B * a.y);
-        const bool top_left = A > 0 || (A == 0 && B > 0);
-        const std::int64_t c = C + (top_left ? 0 : -1) + (k_subpixel_one / 2) * (A + B);
-        t.a[e] = static_cast<std::int32_t>(A);
-        t.b[e] = static_cast<std::int32_t>(B);
-        t.c[e] = c >> k_subpixel_bits;  // arithmetic shift: floor division by 256
-    }
-
-    const double scale = 1.0 / k_subpixel_one;
-    const double x[3] = {v[0].x * scale, v[1].x * scale, v[2].x * scale};
-    const double y[3] = {v[0].y * scale, v[1].y * scale, v[2].y * scale};
-    const double inv_area = 1.0 / (static_cast<double>(area) * scale * scale);
-    t.x0 = static_cast<float>(x[0]);
-    t.y0 = static_cast<float>(y[0]);
-    plane(x, y, inv_area, {v[0].z, v[1].z, v[2].z}, t.z0, t.dzdx, t.dzdy);
-    plane(x, y, inv_area, {v[0].q, v[1].q, v[2].q}, t.q0, t.dqdx, t.dqdy);
-    plane(x, y, inv_area, {0.0, v[1].q, 0.0}, t.l1_0, t.dl1dx, t.dl1dy);
-    plane(x, y, inv_area, {0.0, 0.0, v[2].q}, t.l2_0, t.dl2dx, t.dl2dy);
-    for (int i = 0; i < 3; ++i) t.vertex[i] = ref[i];
+    set_edge(t, 0, v0, v1);
+    set_edge(t, 1, v1, v2);
+    set_edge(t, 2, v2, v0);
+    set_planes(t, v0, v1, v2, area);
+    t.vertex[0] = vertex_ref[0];
+    t.vertex[1] = vertex_ref[flip ? 2 : 1];
+    t.vertex[2] = vertex_ref[flip ? 1 : 2];
     t.front_facing = front;
     return SetupResult::ok;
 }

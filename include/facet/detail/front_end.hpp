@@ -6,6 +6,9 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
+#include <new>
+#include <utility>
 #include <vector>
 
 #include "facet/detail/frame.hpp"
@@ -20,8 +23,29 @@ struct FrontEndParams {
     int tiles_x, tiles_y;
 };
 
+// An allocator whose resize() leaves new elements uninitialised (default-initialised), so a vector of
+// set-up records can be sized ahead and each record written once, in place, by setup.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitialisedAllocator<U>;
+    };
+    UninitialisedAllocator() = default;
+    template <class U>
+    UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
 struct FrontEndChunk {
-    std::vector<TriangleSetup> triangles;
+    std::vector<TriangleSetup, UninitialisedAllocator<TriangleSetup>> triangles;
     ClipVertices extras;                        // vertices made by clipping
     std::vector<std::vector<std::uint32_t>> bins;  // per tile (row-major), indices into triangles
     DrawStats stats;
