@@ -18,8 +18,11 @@ constexpr std::size_t k_min_chunk_triangles = 2048;
 // 1920x1080 30% slower, one batch per draw is fastest, the 1M-triangle sphere is indifferent).
 constexpr std::size_t k_batch_triangles_per_thread = 131072;
 
-void require(bool ok, const std::string& message) {
-    if (!ok) throw FacetError(Error{ErrorCode::invalid_argument, message});
+// Throws invalid_argument with message() unless ok. The message is built only on failure: draw()
+// checks its arguments every call, and must not allocate when they are fine.
+template <class Message>
+void require(bool ok, const Message& message) {
+    if (!ok) throw FacetError(Error{ErrorCode::invalid_argument, message()});
 }
 
 }  // namespace
@@ -31,18 +34,19 @@ Renderer::Renderer(RendererConfig config)
                                                    : k_batch_triangles_per_thread) {
     const int s = config.tile_size;
     require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
-            "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s));
-    require(config.batch_triangles >= 0, "RendererConfig::batch_triangles must not be negative, got " +
-                                             std::to_string(config.batch_triangles));
+            [&] { return "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s); });
+    require(config.batch_triangles >= 0, [&] {
+        return "RendererConfig::batch_triangles must not be negative, got " + std::to_string(config.batch_triangles);
+    });
 }
 
 Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input,
                                    int stride) {
     Rect vp = state.viewport;
     if (vp.width == 0 && vp.height == 0) vp = Rect{0, 0, target.width(), target.height()};
-    require(vp.width > 0 && vp.height > 0, "draw: the viewport must have a positive size");
+    require(vp.width > 0 && vp.height > 0, [] { return std::string("draw: the viewport must have a positive size"); });
     require(vp.x >= 0 && vp.y >= 0 && vp.x + vp.width <= k_max_target_size && vp.y + vp.height <= k_max_target_size,
-            "draw: the viewport must lie within [0, " + std::to_string(k_max_target_size) + "] in x and y");
+            [] { return "draw: the viewport must lie within [0, " + std::to_string(k_max_target_size) + "] in x and y"; });
 
     Plan plan;
     detail::FrontEndParams& p = plan.params;

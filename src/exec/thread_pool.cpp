@@ -20,7 +20,7 @@ struct ThreadPool::State {
     bool stopping = false;
     int busy = 0;                  // workers still inside the current loop
 
-    const std::function<void(std::size_t)>* task = nullptr;
+    ThreadPool::TaskRef task{};
     std::size_t count = 0;
     std::atomic<std::size_t> next{0};
     std::atomic<bool> failed{false};
@@ -31,7 +31,7 @@ struct ThreadPool::State {
             std::size_t i = next.fetch_add(1, std::memory_order_relaxed);
             if (i >= count || failed.load(std::memory_order_relaxed)) return;
             try {
-                (*task)(i);
+                task(i);
             } catch (...) {
                 std::lock_guard lock(mutex);
                 if (!error) error = std::current_exception();
@@ -73,7 +73,7 @@ ThreadPool::~ThreadPool() {
 
 int ThreadPool::size() const { return state_->size; }
 
-void ThreadPool::parallel_for(std::size_t count, const std::function<void(std::size_t)>& task) {
+void ThreadPool::run(std::size_t count, TaskRef task) {
     State& s = *state_;
     if (count == 0) return;
     if (s.threads.empty() || count == 1) {
@@ -82,7 +82,7 @@ void ThreadPool::parallel_for(std::size_t count, const std::function<void(std::s
     }
     {
         std::lock_guard lock(s.mutex);
-        s.task = &task;
+        s.task = task;
         s.count = count;
         s.next = 0;
         s.failed = false;
@@ -97,7 +97,7 @@ void ThreadPool::parallel_for(std::size_t count, const std::function<void(std::s
         std::unique_lock lock(s.mutex);
         s.finished.wait(lock, [&] { return s.busy == 0; });
         error = s.error;
-        s.task = nullptr;
+        s.task = {};
     }
     if (error) std::rethrow_exception(error);
 }

@@ -192,26 +192,12 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
     const Mat4 clip_from_world = camera.projection(aspect) * camera.view();
     const bool lambert = settings.shading == Shading::lambert;
 
-    // Blended objects go last, farthest first; everything else keeps the file's order.
-    std::vector<std::pair<float, std::size_t>> blended;
-    std::vector<std::size_t> order;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const SceneObject& o = scene.objects[i];
-        if (o.material.alpha_mode == AlphaMode::blend && !lambert && settings.shading != Shading::mask) {
-            Aabb box;
-            for (Vec3 p : o.mesh.positions) box.extend(transform_point(o.model, p));
-            blended.push_back({-length(box.centre() - camera.position), i});
-        } else {
-            order.push_back(i);
-        }
-    }
-    std::stable_sort(blended.begin(), blended.end());
-    const std::size_t opaque_count = order.size();
-    for (const auto& b : blended) order.push_back(b.second);
-
-    DrawStats total;
-    for (std::size_t k = 0; k < order.size(); ++k) {
-        const SceneObject& o = scene.objects[order[k]];
+    // Opaque objects first, in the file's order; blended ones last, farthest first. Only a scene with
+    // blended objects needs a list (and its allocation) for that order.
+    auto blends = [&](const SceneObject& o) {
+        return o.material.alpha_mode == AlphaMode::blend && !lambert && settings.shading != Shading::mask;
+    };
+    auto draw = [&](const SceneObject& o, bool blended) {
         const ShadingUniforms u = uniforms_for(o, camera, clip_from_world, settings);
         MeshArrays arrays = MeshArrays::of(o.mesh);
         if (lambert) arrays.colours = nullptr;  // the contract ignores materials
@@ -219,12 +205,26 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
         state.cull = lambert ? CullMode::none
                              : (settings.cull != CullMode::none ? settings.cull
                                                                 : (o.material.double_sided ? CullMode::none : CullMode::back));
-        if (k >= opaque_count) {
+        if (blended) {
             state.blend = Blend::alpha;
             state.depth_write = false;
         }
-        add(total, draw_object(renderer, target, state, o, u, arrays, settings.shading));
+        return draw_object(renderer, target, state, o, u, arrays, settings.shading);
+    };
+    DrawStats total;
+    std::vector<std::pair<float, std::size_t>> blended;
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const SceneObject& o = scene.objects[i];
+        if (!blends(o)) {
+            add(total, draw(o, false));
+            continue;
+        }
+        Aabb box;
+        for (Vec3 p : o.mesh.positions) box.extend(transform_point(o.model, p));
+        blended.push_back({-length(box.centre() - camera.position), i});
     }
+    std::stable_sort(blended.begin(), blended.end());
+    for (const auto& b : blended) add(total, draw(scene.objects[b.second], true));
     return total;
 }
 
