@@ -226,8 +226,11 @@ void compute_creased_normals(Mesh& mesh, float crease_angle_radians) {
                            mesh.positions[mesh.indices[3 * t + 2]]};
         face[t] = normalize(cross(p[1] - p[0], p[2] - p[0]));
         if (!(dot(face[t], face[t]) > 0)) continue;  // degenerate: no weight anywhere (and no NaN angles)
+        // Each side normalized once: the corner at k sees sides k and k + 2 reversed, and
+        // normalize(-v) is exactly -normalize(v).
+        const Vec3 side[3] = {normalize(p[1] - p[0]), normalize(p[2] - p[1]), normalize(p[0] - p[2])};
         for (int k = 0; k < 3; ++k) {
-            const Vec3 e1 = normalize(p[(k + 1) % 3] - p[k]), e2 = normalize(p[(k + 2) % 3] - p[k]);
+            const Vec3 e1 = side[k], e2 = -side[(k + 2) % 3];
             corner_angle[3 * t + k] = std::acos(clamp(dot(e1, e2), -1.0f, 1.0f));
         }
     }
