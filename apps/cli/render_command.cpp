@@ -141,6 +141,7 @@ int run_render(const std::string& model, const std::string& output, const std::s
         return k_exit_usage;
     }
     const RenderRequest request{model, output, depth_out, benchmark_frames.value_or(0), *plan, options.threads};
+    keep_freed_memory_for_reuse();  // this process, or its worker, renders one file and exits
     if (options.no_isolation) return render_job(request, WorkerReport{});
 
     // Nothing has started a thread yet (the Renderer is made in the worker), so forking is safe.

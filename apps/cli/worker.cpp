@@ -1,6 +1,7 @@
 // facet command line: jobs in worker processes (worker.hpp).
 #include "worker.hpp"
 
+#include <malloc.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -309,6 +310,12 @@ std::optional<std::uint64_t> parse_memory_size(const std::string& text) {
     const std::uint64_t n = std::strtoull(text.substr(0, digits).c_str(), nullptr, 10);
     if (n > (std::uint64_t{1} << (63 - shift))) return std::nullopt;  // would not fit
     return n << shift;
+}
+
+void keep_freed_memory_for_reuse() {
+    // glibc's largest mmap threshold (32 MiB on 64-bit); larger blocks are still mapped.
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
 }
 
 }  // namespace facet::cli

@@ -112,6 +112,11 @@ void test_hook_sleep(const std::string& input);
 // killed while writing leaves one behind.
 void remove_temporaries(const std::filesystem::path& output);
 
+// Lets glibc's malloc serve large buffers (the model, the framebuffers) from its heap and keep what
+// is freed instead of mapping and unmapping each one: a job's memory freed after loading is reused
+// by the render without new page faults. For a process that does one job and exits.
+void keep_freed_memory_for_reuse();
+
 // Parses --max-memory: a number of MiB, or with a suffix K, M, G (KiB, MiB, GiB); 0: no limit.
 std::optional<std::uint64_t> parse_memory_size(const std::string& text);
 

@@ -95,28 +95,56 @@ Mesh split_faces_flat(const Mesh& mesh) {
 
 namespace {
 
-// Welding for crease detection: an id per distinct position (exact bits, -0 equal to +0), so
-// vertices that are only duplicated by position (STL, seams in uv or colour) count as shared.
-std::vector<std::uint32_t> weld_by_position(const std::vector<Vec3>& positions) {
+// Welding for crease detection: positions are compared by their bit patterns (-0 as +0), so
+// vertices that are only duplicated by position (STL, seams in uv or colour) count as shared, and
+// NaN is no trouble.
+struct PositionKey {
+    std::uint32_t x, y, z;
+    bool operator==(const PositionKey&) const = default;
+};
+
+PositionKey key_of(Vec3 p) {
     auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0.0f ? 0.0f : f); };
-    auto key = [&](std::uint32_t i) {
-        const Vec3 p = positions[i];
-        return std::array<std::uint32_t, 3>{bits(p.x), bits(p.y), bits(p.z)};
-    };
-    // Sorting bit patterns is a total order even with NaN, unlike comparing floats.
-    std::vector<std::uint32_t> order(positions.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return key(a) < key(b); });
-    std::vector<std::uint32_t> id(positions.size());
-    std::uint32_t next = 0;
-    for (std::size_t k = 0; k < order.size(); ++k) {
-        if (k > 0 && key(order[k]) != key(order[k - 1])) ++next;
-        id[order[k]] = next;
-    }
-    return id;
+    return {bits(p.x), bits(p.y), bits(p.z)};
 }
 
-// Union-find over triangle corners (3 * triangle + k).
+std::uint64_t hash_of(const PositionKey& k) {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h = (h ^ k.y) * 0xC2B2AE3D27D4EB4Full;
+    h = (h ^ k.z) * 0x165667B19E3779F9ull;
+    return h ^ (h >> 29);
+}
+
+// An id per distinct position (in order of first appearance), and each id's key.
+struct Weld {
+    std::vector<std::uint32_t> id;   // per vertex
+    std::vector<PositionKey> key;    // per id
+};
+
+Weld weld_by_position(const std::vector<Vec3>& positions) {
+    constexpr std::uint32_t empty = ~0u;
+    Weld w;
+    w.id.resize(positions.size());
+    const std::size_t capacity = std::bit_ceil(2 * positions.size() + 2);
+    std::vector<std::uint32_t> table(capacity, empty);  // open addressing: ids, linear probing
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const PositionKey k = key_of(positions[v]);
+        for (std::size_t slot = hash_of(k) & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
+            if (table[slot] == empty) {
+                table[slot] = static_cast<std::uint32_t>(w.key.size());
+                w.key.push_back(k);
+            }
+            if (w.key[table[slot]] == k) {
+                w.id[v] = table[slot];
+                break;
+            }
+        }
+    }
+    return w;
+}
+
+// Union-find over triangle corners (3 * triangle + k). A set's root is its smallest corner, so
+// the sets and their roots do not depend on the order of the joins.
 struct CornerSets {
     std::vector<std::uint32_t> parent;
     explicit CornerSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
@@ -130,10 +158,46 @@ struct CornerSets {
     }
 };
 
-// An edge between two welded positions (lo < hi) of a triangle, with the corners at each end.
-struct WeldedEdge {
-    std::uint32_t lo, hi, corner_lo, corner_hi;
+// One triangle's side, seen from the end with the smaller weld id ("lo"): the other end's weld id
+// and the triangle's corners at both ends. Which end is lo does not matter: the sides of an edge
+// come in triangle order either way, and the joins are the same at both ends.
+struct EdgeSide {
+    std::uint32_t hi, corner_lo, corner_hi;
 };
+
+// The sides of the triangles grouped by edge: the sides with lo == l are
+// sides[start[l] .. start[l + 1]), ordered by hi and then by corner_lo (file order), so that the
+// sides of one edge are adjacent and in the order of their triangles.
+struct EdgeSides {
+    std::vector<std::uint32_t> start;
+    std::vector<EdgeSide> sides;
+};
+
+template <class ForEachSide>
+EdgeSides group_sides_by_edge(std::size_t weld_ids, ForEachSide&& for_each_side) {
+    EdgeSides out;
+    out.start.assign(weld_ids + 1, 0);
+    std::size_t count = 0;
+    for_each_side([&](std::uint32_t lo, const EdgeSide&) { ++out.start[lo + 1], ++count; });
+    for (std::size_t l = 0; l < weld_ids; ++l) out.start[l + 1] += out.start[l];
+    out.sides.resize(count);
+    std::vector<std::uint32_t> next(out.start.begin(), out.start.end() - 1);
+    // Sides come in triangle order, so each lo's list is in corner_lo order; a stable sort by hi
+    // keeps that order within each edge.
+    for_each_side([&](std::uint32_t lo, const EdgeSide& side) { out.sides[next[lo]++] = side; });
+    auto by_hi = [](const EdgeSide& a, const EdgeSide& b) { return a.hi < b.hi; };
+    for (std::size_t l = 0; l < weld_ids; ++l) {
+        EdgeSide* first = out.sides.data() + out.start[l];
+        EdgeSide* last = out.sides.data() + out.start[l + 1];
+        if (last - first <= 16) {
+            for (EdgeSide* i = first + 1; i < last; ++i)  // insertion sort: stable, and fast for a vertex's few sides
+                for (EdgeSide* j = i; j > first && by_hi(*j, j[-1]); --j) std::swap(*j, j[-1]);
+        } else {
+            std::stable_sort(first, last, by_hi);
+        }
+    }
+    return out;
+}
 
 // Faces on one edge are compared pairwise only with this many predecessors, so a non-manifold
 // edge shared by thousands of triangles stays linear; ordinary edges have two faces.
@@ -144,7 +208,8 @@ constexpr std::size_t k_max_edge_neighbours = 8;
 void compute_creased_normals(Mesh& mesh, float crease_angle_radians) {
     const std::size_t vertex_count = mesh.positions.size();
     const std::size_t triangles = mesh.indices.size() / 3;
-    const std::vector<std::uint32_t> weld = weld_by_position(mesh.positions);
+    const Weld welded = weld_by_position(mesh.positions);
+    const std::vector<std::uint32_t>& weld = welded.id;
     // Decided once: the last pass below rewrites indices to vertex copies beyond vertex_count.
     std::vector<bool> in_range(triangles);
     for (std::size_t t = 0; t < triangles; ++t)
@@ -161,8 +226,11 @@ void compute_creased_normals(Mesh& mesh, float crease_angle_radians) {
                            mesh.positions[mesh.indices[3 * t + 2]]};
         face[t] = normalize(cross(p[1] - p[0], p[2] - p[0]));
         if (!(dot(face[t], face[t]) > 0)) continue;  // degenerate: no weight anywhere (and no NaN angles)
+        // Each side normalized once: the corner at k sees sides k and k + 2 reversed, and
+        // normalize(-v) is exactly -normalize(v).
+        const Vec3 side[3] = {normalize(p[1] - p[0]), normalize(p[2] - p[1]), normalize(p[0] - p[2])};
         for (int k = 0; k < 3; ++k) {
-            const Vec3 e1 = normalize(p[(k + 1) % 3] - p[k]), e2 = normalize(p[(k + 2) % 3] - p[k]);
+            const Vec3 e1 = side[k], e2 = -side[(k + 2) % 3];
             corner_angle[3 * t + k] = std::acos(clamp(dot(e1, e2), -1.0f, 1.0f));
         }
     }
@@ -170,40 +238,42 @@ void compute_creased_normals(Mesh& mesh, float crease_angle_radians) {
 
     // Corners of two triangles that share an edge at less than the crease angle are smoothed
     // together, at both ends of the edge; the joins spread around each vertex's fan.
-    std::vector<WeldedEdge> edges;
-    edges.reserve(3 * triangles);
-    for (std::size_t t = 0; t < triangles; ++t) {
-        if (!valid(t) || degenerate(t)) continue;
-        for (std::uint32_t k = 0; k < 3; ++k) {
-            const std::uint32_t ca = static_cast<std::uint32_t>(3 * t + k), cb = static_cast<std::uint32_t>(3 * t + (k + 1) % 3);
-            const std::uint32_t a = weld[mesh.indices[ca]], b = weld[mesh.indices[cb]];
-            if (a == b) continue;
-            edges.push_back(a < b ? WeldedEdge{a, b, ca, cb} : WeldedEdge{b, a, cb, ca});
+    const EdgeSides edges = group_sides_by_edge(welded.key.size(), [&](auto&& emit) {
+        for (std::size_t t = 0; t < triangles; ++t) {
+            if (!valid(t) || degenerate(t)) continue;
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const auto ca = static_cast<std::uint32_t>(3 * t + k), cb = static_cast<std::uint32_t>(3 * t + (k + 1) % 3);
+                const std::uint32_t a = weld[mesh.indices[ca]], b = weld[mesh.indices[cb]];
+                if (a == b) continue;
+                if (a < b)
+                    emit(a, EdgeSide{b, ca, cb});
+                else
+                    emit(b, EdgeSide{a, cb, ca});
+            }
         }
-    }
-    std::sort(edges.begin(), edges.end(), [](const WeldedEdge& x, const WeldedEdge& y) {
-        return x.lo != y.lo ? x.lo < y.lo : (x.hi != y.hi ? x.hi < y.hi : x.corner_lo < y.corner_lo);
     });
     const float cos_crease = std::cos(crease_angle_radians);
     CornerSets sets(3 * triangles);
-    for (std::size_t begin = 0, end = 0; begin < edges.size(); begin = end) {
-        end = begin + 1;
-        while (end < edges.size() && edges[end].lo == edges[begin].lo && edges[end].hi == edges[begin].hi) ++end;
-        for (std::size_t i = begin + 1; i < end; ++i)
-            for (std::size_t j = i > begin + k_max_edge_neighbours ? i - k_max_edge_neighbours : begin; j < i; ++j) {
-                const Vec3 ni = face[edges[i].corner_lo / 3], nj = face[edges[j].corner_lo / 3];
-                if (!(dot(ni, nj) > cos_crease)) continue;  // a crease: keep the two sides apart
-                sets.join(edges[i].corner_lo, edges[j].corner_lo);
-                sets.join(edges[i].corner_hi, edges[j].corner_hi);
-            }
-    }
+    const std::vector<EdgeSide>& sides = edges.sides;
+    for (std::size_t lo = 0; lo + 1 < edges.start.size(); ++lo)
+        for (std::size_t begin = edges.start[lo], end = begin; begin < edges.start[lo + 1]; begin = end) {
+            end = begin + 1;  // the sides of one edge: same lo, same hi
+            while (end < edges.start[lo + 1] && sides[end].hi == sides[begin].hi) ++end;
+            for (std::size_t i = begin + 1; i < end; ++i)
+                for (std::size_t j = i > begin + k_max_edge_neighbours ? i - k_max_edge_neighbours : begin; j < i; ++j) {
+                    const Vec3 ni = face[sides[i].corner_lo / 3], nj = face[sides[j].corner_lo / 3];
+                    if (!(dot(ni, nj) > cos_crease)) continue;  // a crease: keep the two sides apart
+                    sets.join(sides[i].corner_lo, sides[j].corner_lo);
+                    sets.join(sides[i].corner_hi, sides[j].corner_hi);
+                }
+        }
 
     // One normal per set of corners: the angle-weighted sum of their faces, in corner order so the
     // result does not depend on anything but the mesh.
     std::vector<Vec3> set_normal(3 * triangles);
     for (std::uint32_t c = 0; c < 3 * triangles; ++c) set_normal[sets.find(c)] += face[c / 3] * corner_angle[c];
     // A fallback for corners whose set has no area (degenerate triangles): the average around the position.
-    std::unordered_map<std::uint32_t, Vec3> around;
+    std::vector<Vec3> around(welded.key.size());
     for (std::uint32_t c = 0; c < 3 * triangles; ++c)
         if (valid(c / 3)) around[weld[mesh.indices[c]]] += face[c / 3] * corner_angle[c];
 

@@ -1,0 +1,126 @@
+// compute_creased_normals must give exactly what the original sort-based version gives
+// (tests/support/reference_creased_normals.cpp): the same vertex copies, indices and normal bits,
+// for real meshes, the built-in shapes and random meshes with what breaks naive code: duplicated
+// positions (-0 and +0 among them), NaN, out-of-range indices, degenerate triangles, and
+// non-manifold edges shared by more triangles than are compared pairwise, in both orientations.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "facet/mesh.hpp"
+#include "facet/model.hpp"
+#include "support/reference_creased_normals.hpp"
+#include "support/test_data.hpp"
+
+namespace {
+
+using namespace facet;
+
+template <class T>
+std::vector<std::uint32_t> bits_of(const std::vector<T>& v) {
+    std::vector<std::uint32_t> out;
+    for (const T& x : v) {
+        const auto* f = reinterpret_cast<const float*>(&x);
+        for (std::size_t k = 0; k < sizeof(T) / sizeof(float); ++k) out.push_back(std::bit_cast<std::uint32_t>(f[k]));
+    }
+    return out;
+}
+
+void expect_same_as_reference(Mesh mesh, float crease_radians, const std::string& what) {
+    SCOPED_TRACE(what + ", crease " + std::to_string(crease_radians));
+    Mesh want = mesh;
+    facet_test::reference_creased_normals(want, crease_radians);
+    compute_creased_normals(mesh, crease_radians);
+    EXPECT_EQ(bits_of(mesh.positions), bits_of(want.positions));
+    EXPECT_EQ(bits_of(mesh.normals), bits_of(want.normals));
+    EXPECT_EQ(bits_of(mesh.colours), bits_of(want.colours));
+    EXPECT_EQ(bits_of(mesh.uvs), bits_of(want.uvs));
+    EXPECT_EQ(mesh.indices, want.indices);
+}
+
+TEST(CreasedNormals, BuiltInShapesMatchTheReference) {
+    for (float crease : {0.0f, radians(10), radians(40), radians(90), k_pi}) {
+        expect_same_as_reference(make_cube(1), crease, "cube");
+        expect_same_as_reference(make_uv_sphere(1, 24, 12), crease, "uv sphere");
+        expect_same_as_reference(make_icosphere(1, 3), crease, "icosphere");
+        expect_same_as_reference(make_torus(1, 0.3f, 32, 16), crease, "torus");
+        expect_same_as_reference(make_checker_plane(2, 6, {1, 0, 0, 1}, {0, 0, 1, 1}), crease, "checker plane");
+        expect_same_as_reference(split_faces_flat(make_icosphere(1, 2)), crease, "unindexed icosphere");
+    }
+}
+
+TEST(CreasedNormals, CgalMeshesMatchTheReference) {
+    const std::optional<std::filesystem::path> dir = facet_test::cgal_meshes();
+    if (!dir) GTEST_SKIP() << facet_test::cgal_meshes_missing();
+    for (const char* name : {"bunny00.off", "elephant.off"}) {
+        Result<LoadedModel> model = load_model((*dir / name).string());
+        ASSERT_TRUE(model.ok()) << model.error().message;
+        Mesh mesh = model->scene.objects.at(0).mesh;
+        mesh.normals.clear();
+        for (float crease : {radians(20), radians(40)}) expect_same_as_reference(mesh, crease, name);
+    }
+}
+
+// Random soups over a small set of positions, so that positions repeat, edges are shared by many
+// triangles in both directions, and some triangles are degenerate or invalid.
+Mesh random_mesh(std::mt19937& rng, int case_index) {
+    const int distinct = 4 + case_index % 9;
+    std::uniform_real_distribution<float> coordinate(-1, 1);
+    std::vector<Vec3> pool;
+    for (int i = 0; i < distinct; ++i) pool.push_back({coordinate(rng), coordinate(rng), coordinate(rng)});
+    pool.push_back({0.0f, 0.5f, 0.5f});
+    pool.push_back({-0.0f, 0.5f, 0.5f});  // the same position as the one before, welded
+    if (case_index % 5 == 0) pool.push_back({std::numeric_limits<float>::quiet_NaN(), 0, 0});
+    Mesh m;
+    const int vertices = 6 + static_cast<int>(rng() % 40);
+    for (int i = 0; i < vertices; ++i) m.positions.push_back(pool[rng() % pool.size()]);
+    if (case_index % 3 == 0)
+        for (int i = 0; i < vertices; ++i) m.uvs.push_back({coordinate(rng), coordinate(rng)});
+    if (case_index % 4 == 0)
+        for (int i = 0; i < vertices; ++i) m.colours.push_back({coordinate(rng), 0.5f, 0.25f, 1});
+    const int triangles = 1 + static_cast<int>(rng() % 80);
+    for (int t = 0; t < 3 * triangles; ++t) m.indices.push_back(static_cast<std::uint32_t>(rng() % vertices));
+    if (case_index % 7 == 0) m.indices[rng() % m.indices.size()] = static_cast<std::uint32_t>(vertices + 3);  // out of range
+    return m;
+}
+
+TEST(CreasedNormals, RandomMeshesMatchTheReference) {
+    std::mt19937 rng(2024);
+    const int cases = facet_test::sweep_size(600, 100);
+    for (int i = 0; i < cases; ++i) {
+        const float crease = radians(static_cast<float>(rng() % 181));
+        expect_same_as_reference(random_mesh(rng, i), crease, "random mesh " + std::to_string(i));
+        if (HasFailure()) return;
+    }
+}
+
+// One edge shared by many more triangles than k_max_edge_neighbours, with both orientations and
+// the apexes in varying order: which pairs are compared depends on the order of the sides.
+TEST(CreasedNormals, FanAroundOneEdgeMatchesTheReference) {
+    std::mt19937 rng(5);
+    for (int fan : {9, 10, 17, 40}) {
+        Mesh m;
+        m.positions = {{0, 0, 0}, {0, 0, 1}};
+        for (int i = 0; i < fan; ++i) {
+            const float a = 6.2831853f * static_cast<float>(rng() % 1000) / 1000;
+            m.positions.push_back({std::cos(a), std::sin(a), 0.5f});
+            const auto apex = static_cast<std::uint32_t>(m.positions.size() - 1);
+            if (rng() % 2)
+                m.indices.insert(m.indices.end(), {0, 1, apex});
+            else
+                m.indices.insert(m.indices.end(), {1, 0, apex});
+        }
+        for (float crease : {radians(30), radians(60), radians(120)})
+            expect_same_as_reference(m, crease, "fan of " + std::to_string(fan));
+    }
+}
+
+}  // namespace

@@ -1,0 +1,189 @@
+// The plain OFF fast path (src/io/plain_off.hpp): load_model must give exactly the Scene the
+// assimp path gives (io_detail::load_model_through_assimp), field by field and bit for bit, for
+// CGAL's meshes, assimp's OFF test models and small files written here, including files the fast
+// reader declines (it must decline them, and the result must still match) and damaged files
+// (the same error). The fast path must actually be taken for the files it is meant for.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "facet/model.hpp"
+#include "io/load_paths.hpp"
+#include "io/plain_off.hpp"
+#include "support/test_data.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace facet;
+
+std::string write_file(const fs::path& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return path.string();
+}
+
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+bool fast_reader_takes(const std::string& path) { return io_detail::read_plain_off(read_file(path)).has_value(); }
+
+// Bit patterns, so that -0 and +0 (and NaN payloads) count as different.
+template <class T>
+std::vector<std::uint32_t> bits_of(const std::vector<T>& v) {
+    std::vector<std::uint32_t> out;
+    for (const T& x : v) {
+        const auto* f = reinterpret_cast<const float*>(&x);
+        for (std::size_t k = 0; k < sizeof(T) / sizeof(float); ++k) out.push_back(std::bit_cast<std::uint32_t>(f[k]));
+    }
+    return out;
+}
+
+void expect_same_scene(const Result<LoadedModel>& fast, const Result<LoadedModel>& assimp) {
+    ASSERT_EQ(fast.ok(), assimp.ok()) << (fast.ok() ? assimp.error().message : fast.error().message);
+    if (!fast.ok()) {
+        EXPECT_EQ(fast.error().code, assimp.error().code);
+        EXPECT_EQ(fast.error().message, assimp.error().message);
+        return;
+    }
+    EXPECT_EQ(fast->warnings, assimp->warnings);
+    ASSERT_EQ(fast->scene.objects.size(), assimp->scene.objects.size());
+    for (std::size_t o = 0; o < fast->scene.objects.size(); ++o) {
+        SCOPED_TRACE("object " + std::to_string(o));
+        const SceneObject &a = fast->scene.objects[o], &b = assimp->scene.objects[o];
+        EXPECT_EQ(bits_of(a.mesh.positions), bits_of(b.mesh.positions));
+        EXPECT_EQ(bits_of(a.mesh.normals), bits_of(b.mesh.normals));
+        EXPECT_EQ(bits_of(a.mesh.colours), bits_of(b.mesh.colours));
+        EXPECT_EQ(bits_of(a.mesh.uvs), bits_of(b.mesh.uvs));
+        EXPECT_EQ(a.mesh.indices, b.mesh.indices);
+        EXPECT_EQ(bits_of(std::vector<Mat4>{a.model}), bits_of(std::vector<Mat4>{b.model}));
+        EXPECT_EQ(bits_of(std::vector<Vec4>{a.material.base_colour}), bits_of(std::vector<Vec4>{b.material.base_colour}));
+        EXPECT_EQ(a.material.base_colour_texture, b.material.base_colour_texture);
+        EXPECT_EQ(a.material.alpha_mode, b.material.alpha_mode);
+        EXPECT_EQ(a.material.alpha_cutoff, b.material.alpha_cutoff);
+        EXPECT_EQ(a.material.double_sided, b.material.double_sided);
+        EXPECT_EQ(a.material.sampler.wrap_u, b.material.sampler.wrap_u);
+        EXPECT_EQ(a.material.sampler.wrap_v, b.material.sampler.wrap_v);
+    }
+    const Aabb fa = fast->scene.bounds(), ab = assimp->scene.bounds();
+    EXPECT_EQ(bits_of(std::vector<Vec3>{fa.min, fa.max}), bits_of(std::vector<Vec3>{ab.min, ab.max}));
+}
+
+void expect_same_as_assimp(const std::string& path, const LoadOptions& options = {}) {
+    SCOPED_TRACE(path);
+    expect_same_scene(load_model(path, options), io_detail::load_model_through_assimp(path, options));
+}
+
+fs::path temp_dir() { return facet_test::test_temp_dir("facet_plain_off_test"); }
+
+TEST(PlainOff, CgalMeshesTakeTheFastPathAndMatchAssimp) {
+    const std::optional<fs::path> dir = facet_test::cgal_meshes();
+    if (!dir) GTEST_SKIP() << facet_test::cgal_meshes_missing();
+    for (const char* name : {"bunny00.off", "armadillo.off", "elephant.off"}) {
+        const std::string path = (*dir / name).string();
+        EXPECT_TRUE(fast_reader_takes(path)) << path;
+        expect_same_as_assimp(path);
+        LoadOptions z_up_sharp;
+        z_up_sharp.up_axis = UpAxis::z;
+        z_up_sharp.crease_angle_degrees = 10;
+        expect_same_as_assimp(path, z_up_sharp);
+    }
+}
+
+TEST(PlainOff, AssimpTestModelsMatchAssimp) {
+    FACET_REQUIRE_ASSIMP_MODELS();
+    std::size_t files = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(facet_test::k_assimp_models)) {
+        if (entry.path().extension() != ".off" && entry.path().extension() != ".OFF") continue;
+        ++files;
+        expect_same_as_assimp(entry.path().string());
+    }
+    EXPECT_GE(files, 3u);
+}
+
+// Small files in the accepted form, each with something the join or the numbering must get right.
+TEST(PlainOff, AcceptedFormsMatchAssimp) {
+    const fs::path dir = temp_dir();
+    const std::vector<std::pair<std::string, std::string>> files = {
+        // Duplicate positions joined; -0 and +0 joined, the first used one in file order kept.
+        {"dup.off", "OFF\n6 2 0\n-0 0 0\n0 0 0\n1 0 0\n0 1 0\n1 0 0\n0 1 1\n3 1 2 3\n3 0 4 5\n"},
+        // An unused -0 vertex first: the used +0 one represents the group.
+        {"unused.off", "OFF\n5 1 0\n-0 0 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 1 2 3\n"},
+        // Vertices used out of file order; blank lines, CRLF, tabs, trailing values on faces.
+        {"order.off", "OFF\r\n\r\n5 2 0\r\n0 1 0\r\n\r\n0 0 1\r\n0\t1 1\r\n0 0 0\r\n1 0 0\r\n3 4 0 1 0.5 0.5 0.5\r\n3  3 4 0\r\n"},
+        // Numbers as assimp's fast_atof reads them: exponents, signs, commas as decimal points,
+        // a trailing dot, many digits, values between floats.
+        {"numbers.off", "OFF\n4 2 0\n1e2 -2.5E-1 +3\n1,5 .25 7.\n0.123456789012345678 1.0000001 -0\n3 4 5\n3 0 1 2\n3 0 2 3\n"},
+        // A degenerate triangle among good ones; a vertex line with a fourth value.
+        {"degenerate.off", "OFF\n4 2 0\n0 0 0 9\n1 0 0\n0 1 0\n1 0 0\n3 0 1 2\n3 1 3 2\n"},
+        // Read, but nothing but degenerate triangles: load_model leaves the error to the assimp path.
+        {"all_degenerate.off", "OFF\n3 1 0\n0 0 0\n0 0 0\n0 1 0\n3 0 1 2\n"},
+    };
+    for (const auto& [name, text] : files) {
+        const std::string path = write_file(dir / name, text);
+        EXPECT_TRUE(fast_reader_takes(path)) << name;
+        expect_same_as_assimp(path);
+    }
+}
+
+// Files the fast reader must leave to assimp (because assimp reads them differently or reports
+// something), and load_model must still give assimp's answer for them.
+TEST(PlainOff, DeclinedFormsGoThroughAssimp) {
+    const fs::path dir = temp_dir();
+    const std::vector<std::pair<std::string, std::string>> files = {
+        {"comment.off", "OFF\n# made by hand\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"},
+        {"coff.off", "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n"},
+        {"counts_on_first_line.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"no_edge_count.off", "OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"index_out_of_range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"},
+        {"nan.off", "OFF\n4 2 0\nnan 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 1 2 3\n"},
+        {"tiny.off", "OFF\n6 2 0\n0 0 0\n1e-30 0 0\n0 1 0\n0 0 1\n0 1 1\n0 2 1\n3 0 2 3\n3 1 4 5\n"},
+        {"too_few_vertices.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n"},
+        {"too_few_faces.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"not_a_number.off", "OFF\n3 1 0\n0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n"},
+        {"zero_faces.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"},
+        {"spaces_line.off", "OFF\n3 1 0\n   \n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"nul.off", std::string("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\0junk", 39)},
+        {"long_line.off", "OFF\n3 1 0\n0 0 0" + std::string(5000, ' ') + "\n1 0 0\n0 1 0\n3 0 1 2\n"},
+    };
+    for (const auto& [name, text] : files) {
+        const std::string path = write_file(dir / name, text);
+        EXPECT_FALSE(fast_reader_takes(path)) << name;
+        expect_same_as_assimp(path);
+    }
+}
+
+// Cut and damaged copies of a valid file: whatever each path makes of them (a scene, or an error
+// naming the file), both make the same, and nothing crashes.
+TEST(PlainOff, DamagedFilesMatchAssimp) {
+    const fs::path dir = temp_dir();
+    std::string good = "OFF\n8 6 0\n";
+    for (int i = 0; i < 8; ++i) good += std::to_string(i & 1) + " " + std::to_string((i >> 1) & 1) + " " + std::to_string(i >> 2) + "\n";
+    for (const char* f : {"3 0 1 3", "3 0 3 2", "3 4 6 7", "3 4 7 5", "3 0 4 5", "3 0 5 1"}) good += std::string(f) + "\n";
+    std::mt19937 rng(7);
+    const std::string alphabet = "0123456789 .-e\n#,x";
+    for (int i = 0; i < facet_test::sweep_size(300, 60); ++i) {
+        std::string bad = good;
+        if (i % 3 == 0) {
+            bad.resize(rng() % good.size());
+        } else {
+            for (int k = 0; k < 1 + i % 4; ++k) bad[rng() % bad.size()] = alphabet[rng() % alphabet.size()];
+        }
+        const std::string path = write_file(dir / ("damaged_" + std::to_string(i) + ".off"), bad);
+        expect_same_as_assimp(path);
+    }
+}
+
+}  // namespace
