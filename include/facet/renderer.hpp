@@ -171,18 +171,21 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
         plan,
         [&](detail::PixelRect tile) -> detail::TileVisibility& {
             detail::TileVisibility& vis = detail::tile_visibility_scratch();
-            vis.begin(tile, S::k_varyings);
+            vis.begin(tile, S::k_varyings, view);
             return vis;
         },
         [&](detail::TileVisibility& vis, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
             const detail::TriangleSetup& t) {
             // A triangle that passes nowhere now never owns a pixel: it is not listed.
-            if (!detail::resolve_triangle({&t, tile, view, &vis, vis.next_id(), test, depth_write})) return;
+            if (!detail::resolve_triangle({&t, tile, &vis, vis.next_id(), test, depth_write})) return;
             const float* var[3];
             find_varyings(chunk, t, var);
             vis.add<S::k_varyings>(t, var);
         },
-        [&](detail::TileVisibility& vis, detail::PixelRect tile) { detail::shade_visible(shader, vis, tile, view); });
+        [&](detail::TileVisibility& vis, detail::PixelRect tile) {
+            vis.end(tile, view, depth_write);
+            detail::shade_visible(shader, vis, tile, view);
+        });
 }
 
 template <Shader S>

@@ -70,8 +70,8 @@ M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
 }
 
 // One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
-// (relative to start) are the rectangle's and not yet done, every row y0..y1. Requires the strip to
-// lie inside the tile, so whole-vector loads and stores touch only this tile's pixels.
+// (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
+// lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors.
 template <DepthTest D, bool DepthWrite, class DF>
 bool resolve_strip(DF df, const DepthJob& job, const EdgeRect& r, int start, int lo, int hi) {
     const hn::RebindToSigned<DF> di;
@@ -92,59 +92,51 @@ bool resolve_strip(DF df, const DepthJob& job, const EdgeRect& r, int start, int
     const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
     const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
     const auto id = hn::Set(du, job.id);
+    TileVisibility& vis = *job.vis;
     const int i = start - job.tile.x0;
     auto passed = hn::FirstN(df, 0);
     for (int y = r.y0; y <= r.y1; ++y) {
         // Covered where every edge function is >= 0: no sign bit in their OR.
         const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e[0], e[1]), e[2]), hn::Zero(di)), columns);
         for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], b[k]);
-        if (hn::AllFalse(di, inside)) continue;
         const int row = y - job.tile.y0;
         std::uint8_t bits[8] = {};
         hn::StoreMaskBits(di, inside, bits);
         std::uint64_t word;
         std::memcpy(&word, bits, sizeof(word));
-        job.vis->covered[row] |= word << i;
+        vis.covered[row] |= word << i;
 
         const float dy = (static_cast<float>(y) + 0.5f) - t.y0;
         auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
         z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
-        float* depth = job.target.depth + static_cast<std::size_t>(y) * job.target.stride + start;
-        const auto stored = hn::LoadU(df, depth);
+        float* depth = vis.depth + row * k_max_tile_size + i;
+        const auto stored = hn::Load(df, depth);
         const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
-        if constexpr (DepthWrite) hn::StoreU(hn::IfThenElse(pass, z, stored), df, depth);
-        std::uint32_t* owner = job.vis->owner + row * k_max_tile_size + i;
-        hn::StoreU(hn::IfThenElse(hn::RebindMask(du, pass), id, hn::LoadU(du, owner)), du, owner);
+        if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
+        std::uint32_t* owner = vis.owner + row * k_max_tile_size + i;
+        hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), id, hn::Load(du, owner)), du, owner);
         passed = hn::Or(passed, pass);
     }
     return !hn::AllFalse(df, passed);
 }
 
-// The rectangle in strips of one vector, the last one moved left to end at the tile's edge when it
-// would cross it (its lanes already done are masked off). Requires a tile at least one vector wide.
-template <DepthTest D, bool DepthWrite, class DF>
-bool resolve_rect(DF df, const DepthJob& job, const EdgeRect& r) {
+// The rectangle in strips of one vector aligned within the tile's arrays (whose rows are wider
+// than the tile when it is narrower than a vector: those lanes are never inside).
+template <DepthTest D, bool DepthWrite>
+bool ResolveTriangleFor(const DepthJob& job) {
+    EdgeRect r;
+    if (!edge_rect(*job.setup, job.tile, r)) return false;
+    const hn::ScalableTag<float> df;
     const int lanes = static_cast<int>(hn::Lanes(df));
+    static_assert(k_max_tile_size % (HWY_MAX_BYTES / sizeof(float)) == 0, "a row is whole vectors");
     bool any = false;
     for (int x = r.x0; x <= r.x1;) {
-        const int start = std::min(x, job.tile.x1 - lanes);
+        const int start = job.tile.x0 + (x - job.tile.x0) / lanes * lanes;
         const int end = std::min(r.x1, start + lanes - 1);
         any |= resolve_strip<D, DepthWrite>(df, job, r, start, x - start, end - start);
         x = end + 1;
     }
     return any;
-}
-
-template <DepthTest D, bool DepthWrite>
-bool ResolveTriangleFor(const DepthJob& job) {
-    const int width = job.tile.x1 - job.tile.x0;
-    const hn::ScalableTag<float> df;
-    const hn::CappedTag<float, 4> d4;
-    if (width < static_cast<int>(hn::Lanes(d4))) return resolve_triangle_reference<D, DepthWrite>(job);
-    EdgeRect r;
-    if (!edge_rect(*job.setup, job.tile, r)) return false;
-    if (width >= static_cast<int>(hn::Lanes(df))) return resolve_rect<D, DepthWrite>(df, job, r);
-    return resolve_rect<D, DepthWrite>(d4, job, r);  // a tile narrower than a full vector
 }
 
 bool ResolveTriangle(const DepthJob& job) {

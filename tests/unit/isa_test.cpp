@@ -167,7 +167,7 @@ TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
             for (float& d : depth) d = coin(rng) ? 1.0f : unit(rng);
             for (DepthPassState* s : {simd.get(), spec.get()}) {
                 s->depth = depth;
-                s->vis.begin(tile, 1);
+                s->vis.begin(tile, 1, {nullptr, s->depth.data(), width});
                 s->any.clear();
             }
             // Triangles near the tile, some drawn twice so equal depths meet.
@@ -183,11 +183,11 @@ TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
                 }
                 const auto id = static_cast<std::uint32_t>(k);
                 ASSERT_TRUE(select_isa(isa));
-                simd->any.push_back(
-                    resolve_triangle({&t, tile, {nullptr, simd->depth.data(), width}, &simd->vis, id, test, write}));
-                spec->any.push_back(reference({&t, tile, {nullptr, spec->depth.data(), width}, &spec->vis, id, test, write}));
+                simd->any.push_back(resolve_triangle({&t, tile, &simd->vis, id, test, write}));
+                spec->any.push_back(reference({&t, tile, &spec->vis, id, test, write}));
                 passes += spec->any.back();
             }
+            for (DepthPassState* s : {simd.get(), spec.get()}) s->vis.end(tile, {nullptr, s->depth.data(), width}, write);
             ASSERT_TRUE(same_state(*simd, *spec, tile))
                 << isa << ": tile " << n << " at " << x0 << "," << y0 << " size " << w << "x" << h;
             ++tiles;
