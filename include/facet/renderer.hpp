@@ -167,6 +167,7 @@ template <class S>
 void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test,
                                       bool depth_write) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
+    const detail::ResolveTriangleKernel resolve_triangle = detail::resolve_triangle_kernel(test, depth_write);
     walk_tiles(
         plan,
         [&](detail::PixelRect tile) -> detail::TileVisibility& {
@@ -177,7 +178,7 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
         [&](detail::TileVisibility& vis, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
             const detail::TriangleSetup& t) {
             // A triangle that passes nowhere now never owns a pixel: it is not listed.
-            if (!detail::resolve_triangle({&t, tile, &vis, vis.next_id(), test, depth_write})) return;
+            if (!resolve_triangle({&t, tile, &vis, vis.next_id(), test, depth_write})) return;
             const float* var[3];
             find_varyings(chunk, t, var);
             vis.add<S::k_varyings>(t, var);

@@ -139,13 +139,14 @@ bool ResolveTriangleFor(const DepthJob& job) {
     return any;
 }
 
-bool ResolveTriangle(const DepthJob& job) {
-    bool any = false;
+// This target's kernel for a depth test and write flag (never: one that draws nothing).
+ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
+    ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
     auto with_write = [&]<DepthTest D>() {
-        any = job.write ? ResolveTriangleFor<D, true>(job) : ResolveTriangleFor<D, false>(job);
+        kernel = write ? &ResolveTriangleFor<D, true> : &ResolveTriangleFor<D, false>;
     };
-    with_depth_test(job.test, with_write);
-    return any;
+    with_depth_test(test, with_write);
+    return kernel;
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE
@@ -155,24 +156,20 @@ HWY_AFTER_NAMESPACE();
 #include "simd/isa.hpp"
 
 namespace facet::detail {
-namespace {
 
-bool resolve_triangle_scalar(const DepthJob& job) {
-    bool any = false;
+HWY_EXPORT(ChooseResolveTriangle);
+
+ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write) {
+    ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ChooseResolveTriangle)(test, write);
     auto with_write = [&]<DepthTest D>() {
-        any = job.write ? resolve_triangle_reference<D, true>(job) : resolve_triangle_reference<D, false>(job);
+        kernel = write ? &resolve_triangle_reference<D, true> : &resolve_triangle_reference<D, false>;
     };
-    with_depth_test(job.test, with_write);
-    return any;
+    with_depth_test(test, with_write);
+    return kernel;
 }
 
-}  // namespace
+bool resolve_triangle(const DepthJob& job) { return resolve_triangle_kernel(job.test, job.write)(job); }
 
-HWY_EXPORT(ResolveTriangle);
-
-bool resolve_triangle(const DepthJob& job) {
-    if (use_scalar_kernels()) return resolve_triangle_scalar(job);
-    return HWY_DYNAMIC_DISPATCH(ResolveTriangle)(job);
-}
 }  // namespace facet::detail
 #endif

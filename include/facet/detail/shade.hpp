@@ -284,6 +284,10 @@ bool resolve_triangle_reference(const DepthJob& job) {
 // Same bytes either way. Returns true when the triangle passed the depth test at some pixel, i.e.
 // owns pixels now; one that does not can never own any in this tile. Compiled once, not per shader.
 bool resolve_triangle(const DepthJob& job);
+// The function resolve_triangle calls for this depth test and write flag with the ISA selected now:
+// chosen once per draw, it saves the dispatch per triangle.
+using ResolveTriangleKernel = bool (*)(const DepthJob&);
+ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write);
 
 // Pass two: the shader once per visible pixel, with the triangle that owns it. Flattened: GCC
 // otherwise keeps fragment() and to_rgba8 as calls here (measured: 10% of a bunny frame).
