@@ -217,10 +217,11 @@ struct TileVisibility {
             std::copy_n(depth + r * k_max_tile_size, width,
                         target.depth + static_cast<std::size_t>(tile.y0 + r) * target.stride + tile.x0);
     }
+    // Adds a triangle's coverage to `covered`.
     void cover(const TileCoverage& cov) {
         for (int r = cov.first_row; r <= cov.last_row; ++r) covered[r] |= cov.rows[r];
     }
-    // Lists triangle t, whose id was size(), with its varying planes.
+    // Lists triangle t, whose id was next_id(), with its varying planes.
     template <int N>
     void add(const TriangleSetup& t, const float* const (&var)[3]) {
         triangles.push_back(&t);
