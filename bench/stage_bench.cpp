@@ -5,6 +5,7 @@
 //   setup         detail::setup_triangle on projected, snapped vertices
 //   front end     detail::run_front_end: assemble + reject + setup + bin (bin = front end - setup)
 //   coverage      detail::rasterize_tile per (tile, triangle) pair
+//   depth pass    detail::resolve_triangle per (tile, triangle) pair (visible-only order, pass one)
 //   shading       detail::shade_tile with the Lambert shader over a fully covered tile, and the
 //                 visible-pixel pass (scalar specification and compiled SIMD kernel)
 //   clear         Framebuffer::clear
@@ -238,6 +239,40 @@ void BM_Coverage_SmallTriangles(benchmark::State& state) {
 }
 BENCHMARK(BM_Coverage_SmallTriangles);
 
+// Pass one of the visible-only order (coverage, depth test and write, owners) for every binned
+// (tile, triangle) pair of the sphere, front faces only as a renderer with culling would draw them.
+// lequal, so every frame after the first passes where it passed before.
+void BM_DepthPass_SmallTriangles(benchmark::State& state) {
+    const Workload& wl = sphere_workload();
+    const DrawInput input{static_cast<std::uint32_t>(wl.mesh.positions.size()), wl.mesh.indices};
+    d::FrontEndParams params = wl.params;
+    params.state.cull = CullMode::back;
+    d::FrontEndChunk chunk;
+    chunk.reset(static_cast<std::size_t>(params.tiles_x) * params.tiles_y, 7);
+    d::run_front_end(wl.vertices, input, 0, wl.mesh.indices.size() / 3, params, chunk);
+    Framebuffer fb(wl.width, wl.height);
+    fb.clear({0, 0, 0, 1});
+    const d::TargetView view{fb.colour_data(), fb.depth_data(), fb.width()};
+    d::TileVisibility& vis = d::tile_visibility_scratch();
+    std::int64_t pairs = 0, owning = 0;
+    for (auto _ : state) {
+        for (std::size_t tile = 0; tile < chunk.bins.size(); ++tile) {
+            const d::PixelRect r = tile_rect(params, tile);
+            vis.begin(r, 7, view);
+            for (std::uint32_t i : chunk.bins[tile]) {
+                owning += d::resolve_triangle({&chunk.triangles[i], r, &vis, 0, DepthTest::lequal, true});
+                ++pairs;
+            }
+            vis.end(r, view, true);
+        }
+        benchmark::ClobberMemory();
+    }
+    benchmark::DoNotOptimize(owning);
+    state.SetItemsProcessed(pairs);
+    state.SetLabel("tile-triangle pairs");
+}
+BENCHMARK(BM_DepthPass_SmallTriangles);
+
 // A triangle that covers a whole 64x64 tile, and the tile.
 struct FullTile {
     d::FrontEndParams params = params_for(64, 64);
@@ -298,8 +333,11 @@ BENCHMARK(BM_Shading_Lambert);
 // (shade_visible, fragment() per pixel), Arg 1 the compiled SIMD kernel of the built-in Lambert.
 void BM_ShadeVisible_Lambert(benchmark::State& state) {
     FullTile ft;
+    Framebuffer fb(64, 64);
+    fb.clear({0, 0, 0, 1});
+    const d::TargetView view{fb.colour_data(), fb.depth_data(), fb.width()};
     d::TileVisibility& vis = d::tile_visibility_scratch();
-    vis.begin(ft.rect, 7);
+    vis.begin(ft.rect, 7, view);
     const float* var[3];
     for (int k = 0; k < 3; ++k) var[k] = ft.vertices.varyings_of(ft.setup.vertex[k]);
     constexpr int k_owners = 16;
@@ -312,11 +350,8 @@ void BM_ShadeVisible_Lambert(benchmark::State& state) {
         vis.covered[y] = ~0ull;
         for (int x = 0; x < 64; ++x) vis.owner[y * d::k_max_tile_size + x] = static_cast<std::uint32_t>((x / 4 + y / 4 * 3) % k_owners);
     }
-    Framebuffer fb(64, 64);
-    fb.clear({0, 0, 0, 1});
     shaders::Lambert shader;
     shader.u.key.direction = {0, 0, 1};
-    const d::TargetView view{fb.colour_data(), fb.depth_data(), fb.width()};
     for (auto _ : state) {
         if (state.range(0))
             d::CompiledVisiblePass<shaders::Lambert>::run(shader, vis, ft.rect, view);

@@ -59,10 +59,12 @@ private:
     void add_stats(const Plan& plan, DrawStats& total) const;
 
     void prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin, std::size_t b) const;
-    // Every tile in parallel: context = begin(tile), each(context, tile, setup, coverage, varyings)
-    // per triangle that covers pixels of it, in submission order, then end(context, tile).
+    // Every tile in parallel: context = begin(tile), each(context, tile, chunk, setup) per triangle
+    // binned to it, in submission order, then end(context, tile).
     template <class Begin, class Each, class End>
     void walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end);
+    // The three vertices' varyings of triangle t of `chunk`.
+    void find_varyings(const detail::FrontEndChunk& chunk, const detail::TriangleSetup& t, const float* (&var)[3]) const;
     // The two drawing orders of detail/shade.hpp: one pass (blending, discard), or depth first and
     // the shader once per visible pixel, whose depth test is a run-time choice (one copy per shader).
     template <class S, DepthTest D, bool W, Blend B>
@@ -126,58 +128,64 @@ void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each
         for (std::size_t c = 0; c < plan.chunk_count && !any; ++c) any = !chunks_[c].bins[tile_index].empty();
         if (!any) return;
         auto&& context = begin(tile);
-        detail::TileCoverage coverage;
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
             const detail::FrontEndChunk& chunk = chunks_[c];
             const std::vector<std::uint32_t>& bin = chunk.bins[tile_index];
             for (std::size_t b = 0; b < bin.size(); ++b) {
                 prefetch_ahead(chunk, bin, b);
-                const detail::TriangleSetup& t = chunk.triangles[bin[b]];
-                if (!detail::rasterize_tile(t, tile, coverage)) continue;
-                const float* var[3];
-                for (int k = 0; k < 3; ++k) {
-                    const std::uint32_t ref = t.vertex[k];
-                    var[k] = (ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
-                                                           : vertices_.varyings_of(ref);
-                }
-                each(context, tile, t, coverage, var);
+                each(context, tile, chunk, chunk.triangles[bin[b]]);
             }
         }
         end(context, tile);
     });
 }
 
+inline void Renderer::find_varyings(const detail::FrontEndChunk& chunk, const detail::TriangleSetup& t,
+                                    const float* (&var)[3]) const {
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t ref = t.vertex[k];
+        var[k] = (ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
+                                               : vertices_.varyings_of(ref);
+    }
+}
+
 template <class S, DepthTest D, bool W, Blend B>
 void Renderer::run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
     walk_tiles(
-        plan, [](detail::PixelRect) { return 0; },
-        [&](int, detail::PixelRect tile, const detail::TriangleSetup& t, const detail::TileCoverage& coverage,
-            const float* const (&var)[3]) { detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view); },
-        [](int, detail::PixelRect) {});
+        plan, [](detail::PixelRect) { return detail::TileCoverage{}; },
+        [&](detail::TileCoverage& coverage, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
+            const detail::TriangleSetup& t) {
+            if (!detail::rasterize_tile(t, tile, coverage)) return;
+            const float* var[3];
+            find_varyings(chunk, t, var);
+            detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view);
+        },
+        [](detail::TileCoverage&, detail::PixelRect) {});
 }
 
 template <class S>
 void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test,
                                       bool depth_write) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
+    const detail::ResolveTriangleKernel resolve_triangle = detail::resolve_triangle_kernel(test, depth_write);
     walk_tiles(
         plan,
         [&](detail::PixelRect tile) -> detail::TileVisibility& {
             detail::TileVisibility& vis = detail::tile_visibility_scratch();
-            vis.begin(tile, S::k_varyings);
+            vis.begin(tile, S::k_varyings, view);
             return vis;
         },
-        [&](detail::TileVisibility& vis, detail::PixelRect tile, const detail::TriangleSetup& t,
-            const detail::TileCoverage& coverage, const float* const (&var)[3]) {
-            const auto id = static_cast<std::uint32_t>(vis.triangles.size());
-            vis.triangles.push_back(&t);
-            vis.planes.resize(vis.planes.size() + static_cast<std::size_t>(vis.stride));
-            detail::write_shading_record(t, var, S::k_varyings, vis.planes.data() + vis.planes.size() - vis.stride);
-            vis.cover(coverage);
-            detail::resolve_depth({&t, &coverage, tile, view, vis.owner, id, test, depth_write});
+        [&](detail::TileVisibility& vis, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
+            const detail::TriangleSetup& t) {
+            // A triangle that passes nowhere now never owns a pixel: it is not listed.
+            if (!resolve_triangle({&t, tile, &vis, vis.next_id(), test, depth_write})) return;
+            const float* var[3];
+            find_varyings(chunk, t, var);
+            vis.add<S::k_varyings>(t, var);
         },
         [&](detail::TileVisibility& vis, detail::PixelRect tile) {
+            vis.end(tile, view, depth_write);
             if constexpr (detail::CompiledVisiblePass<S>::available)
                 detail::CompiledVisiblePass<S>::run(shader, vis, tile, view);
             else

@@ -1,83 +1,152 @@
-// facet raster: the depth pass of the visible-only drawing order (detail/shade.hpp) as a SIMD kernel,
-// compiled per ISA by Highway and dispatched at run time. Lanes compute each pixel's depth with the
-// same operations in the same order as depth_at (no FMA: the project builds with -ffp-contract=off
-// and Highway's Mul and Add round separately), so every ISA writes the bytes of the scalar
-// specification, resolve_depth_reference in detail/shade.hpp. Columns past the last whole group of lanes
-// (tiles narrower than a vector, the target's right edge) go through depth_at one by one.
+// facet raster: pass one of the visible-only drawing order (detail/shade.hpp) as a SIMD kernel,
+// compiled per ISA by Highway and dispatched at run time. Coverage and depth are computed in one
+// sweep: the triangle's bounds within the tile are cut into column strips one vector wide, and each
+// row of a strip evaluates the three edge functions (exact 32-bit integers, as in coverage_simd.cpp),
+// the depth, the depth test and the owner write in lanes, with no coverage bitmask in between. For
+// the small triangles of scanned meshes a strip is one vector per row, and the per-tile coverage pass
+// with its separate setup disappears. Lanes compute each pixel's depth with the same operations in
+// the same order as depth_at (no FMA: the project builds with -ffp-contract=off and Highway's Mul
+// and Add round separately), so every ISA writes the bytes of the scalar specification,
+// resolve_triangle_reference in detail/shade.hpp.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "raster/depth_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "facet/detail/shade.hpp"
+
+#ifndef FACET_RASTER_DEPTH_SIMD_ONCE
+#define FACET_RASTER_DEPTH_SIMD_ONCE
+namespace facet::detail {
+
+// The triangle's pixel bounds within a tile (inclusive) and its edges in the 32-bit form the lanes
+// evaluate, as coverage.cpp's rasterize_tile prepares them: an edge that is >= 0 over the whole
+// rectangle becomes e = a = b = 0 (its values there may not fit in 32 bits; it decides nothing), and
+// the others vary by less than 2^31 over the rectangle, so they fit.
+struct EdgeRect {
+    int x0, y0, x1, y1;
+    std::uint32_t e[3], a[3], b[3];  // value at (x0, y0), step per column, per row; unsigned: lanes wrap
+};
+
+// False when the bounds miss the tile or some edge is negative over the whole rectangle.
+inline bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
+    r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
+    r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
+    if (r.x0 > r.x1 || r.y0 > r.y1) return false;
+    const std::int64_t w1 = r.x1 - r.x0, h1 = r.y1 - r.y0;
+    for (int k = 0; k < 3; ++k) {
+        const std::int64_t a = t.a[k], b = t.b[k];
+        const std::int64_t first = a * r.x0 + b * r.y0 + t.c[k];
+        const std::int64_t min = first + std::min<std::int64_t>(a, 0) * w1 + std::min<std::int64_t>(b, 0) * h1;
+        const std::int64_t max = first + std::max<std::int64_t>(a, 0) * w1 + std::max<std::int64_t>(b, 0) * h1;
+        if (max < 0) return false;
+        const bool crosses = min < 0;
+        r.e[k] = crosses ? static_cast<std::uint32_t>(first) : 0;
+        r.a[k] = crosses ? static_cast<std::uint32_t>(t.a[k]) : 0;
+        r.b[k] = crosses ? static_cast<std::uint32_t>(t.b[k]) : 0;
+    }
+    return true;
+}
+
+}  // namespace facet::detail
+#endif
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-template <class DF, class M>
-M depth_test(DF, DepthTest test, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
-    switch (test) {
-        case DepthTest::less: return hn::And(covered, hn::Lt(z, stored));
-        case DepthTest::lequal: return hn::And(covered, hn::Le(z, stored));
-        case DepthTest::equal: return hn::And(covered, hn::Eq(z, stored));
-        case DepthTest::greater: return hn::And(covered, hn::Gt(z, stored));
-        case DepthTest::always: return covered;
-        case DepthTest::never: break;
-    }
+template <DepthTest D, class DF, class M>
+M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
+    if constexpr (D == DepthTest::less) return hn::And(covered, hn::Lt(z, stored));
+    if constexpr (D == DepthTest::lequal) return hn::And(covered, hn::Le(z, stored));
+    if constexpr (D == DepthTest::equal) return hn::And(covered, hn::Eq(z, stored));
+    if constexpr (D == DepthTest::greater) return hn::And(covered, hn::Gt(z, stored));
+    if constexpr (D == DepthTest::always) return covered;
     return hn::And(covered, hn::Lt(z, hn::Zero(DF())));  // never: z >= 0 after clamping, so no lane
 }
 
-void ResolveDepth(const DepthJob& job) {
-    const hn::ScalableTag<float> df;
-    const hn::RebindToUnsigned<decltype(df)> du;
-    const int lanes = static_cast<int>(hn::Lanes(df));
+// One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
+// (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
+// lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors.
+template <DepthTest D, bool DepthWrite, class DF>
+bool resolve_strip(DF df, const DepthJob& job, const EdgeRect& r, int start, int lo, int hi) {
+    const hn::RebindToSigned<DF> di;
+    const hn::RebindToUnsigned<DF> du;
+    using VI = hn::Vec<decltype(di)>;
     const TriangleSetup& t = *job.setup;
-    const TileCoverage& cov = *job.coverage;
-    const PixelRect tile = job.tile;
-    const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
-    const auto z0 = hn::Set(df, t.z0), dzdx = hn::Set(df, t.dzdx), x0 = hn::Set(df, t.x0), half = hn::Set(df, 0.5f);
-    const auto id = hn::Set(du, job.id);
-    const std::uint64_t lane_bits = lanes >= 64 ? ~0ull : (1ull << lanes) - 1;
-    const int simd_end = tile.x0 + (tile.x1 - tile.x0) / lanes * lanes;  // whole groups inside the tile
-
-    for (int row = cov.first_row; row <= cov.last_row; ++row) {
-        const std::uint64_t mask = cov.rows[row];
-        if (!mask) continue;
-        const int y = tile.y0 + row;
-        const float dy = (static_cast<float>(y) + 0.5f) - t.y0;
-        const auto z_dy = hn::Set(df, t.dzdy * dy);
-        float* depth_row = job.target.depth + static_cast<std::size_t>(y) * job.target.stride;
-        std::uint32_t* owner_row = job.owner + row * k_max_tile_size;
-        for (int x = tile.x0; x < simd_end; x += lanes) {
-            const int i = x - tile.x0;
-            const std::uint64_t bits = (mask >> i) & lane_bits;
-            if (!bits) continue;
-            std::uint8_t bytes[8];
-            std::memcpy(bytes, &bits, sizeof(bytes));
-            const auto covered = hn::LoadMaskBits(df, bytes);
-            // z = (z0 + dzdx dx) + dzdy dy, clamped to [0, 1] (NaN stays NaN), as depth_at.
-            const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(x)), half), x0);
-            auto z = hn::Add(hn::Add(z0, hn::Mul(dzdx, dx)), z_dy);
-            z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
-            const auto stored = hn::LoadU(df, depth_row + x);
-            const auto pass = depth_test(df, job.test, z, stored, covered);
-            if (job.write) hn::StoreU(hn::IfThenElse(pass, z, stored), df, depth_row + x);
-            const auto owners = hn::LoadU(du, owner_row + i);
-            hn::StoreU(hn::IfThenElse(hn::RebindMask(du, pass), id, owners), du, owner_row + i);
-        }
-        for (int x = simd_end; x < tile.x1; ++x) {
-            const int i = x - tile.x0;
-            if (!((mask >> i) & 1)) continue;
-            const float z = depth_at(t, x, y);
-            if (!depth_passes(job.test, z, depth_row[x])) continue;
-            if (job.write) depth_row[x] = z;
-            owner_row[i] = job.id;
-        }
+    const VI iota = hn::Iota(di, 0);
+    const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
+    VI e[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.x0);
+        e[k] = hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
+                       hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), iota));
+        b[k] = hn::Set(di, static_cast<std::int32_t>(r.b[k]));
     }
+    // z = (z0 + dzdx dx) + dzdy dy as depth_at; the first sum is the same for every row.
+    const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
+    const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
+    const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+    const auto id = hn::Set(du, job.id);
+    TileVisibility& vis = *job.vis;
+    const int i = start - job.tile.x0;
+    auto passed = hn::FirstN(df, 0);
+    for (int y = r.y0; y <= r.y1; ++y) {
+        // Covered where every edge function is >= 0: no sign bit in their OR.
+        const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e[0], e[1]), e[2]), hn::Zero(di)), columns);
+        for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], b[k]);
+        const int row = y - job.tile.y0;
+        std::uint8_t bits[8] = {};
+        hn::StoreMaskBits(di, inside, bits);
+        std::uint64_t word;
+        std::memcpy(&word, bits, sizeof(word));
+        vis.covered[row] |= word << i;
+
+        const float dy = (static_cast<float>(y) + 0.5f) - t.y0;
+        auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
+        z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
+        float* depth = vis.depth + row * k_max_tile_size + i;
+        const auto stored = hn::Load(df, depth);
+        const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
+        if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
+        std::uint32_t* owner = vis.owner + row * k_max_tile_size + i;
+        hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), id, hn::Load(du, owner)), du, owner);
+        passed = hn::Or(passed, pass);
+    }
+    return !hn::AllFalse(df, passed);
+}
+
+// The rectangle in strips of one vector aligned within the tile's arrays (whose rows are wider
+// than the tile when it is narrower than a vector: those lanes are never inside).
+template <DepthTest D, bool DepthWrite>
+bool ResolveTriangleFor(const DepthJob& job) {
+    EdgeRect r;
+    if (!edge_rect(*job.setup, job.tile, r)) return false;
+    const hn::ScalableTag<float> df;
+    const int lanes = static_cast<int>(hn::Lanes(df));
+    static_assert(k_max_tile_size % (HWY_MAX_BYTES / sizeof(float)) == 0, "a row is whole vectors");
+    bool any = false;
+    for (int x = r.x0; x <= r.x1;) {
+        const int start = job.tile.x0 + (x - job.tile.x0) / lanes * lanes;
+        const int end = std::min(r.x1, start + lanes - 1);
+        any |= resolve_strip<D, DepthWrite>(df, job, r, start, x - start, end - start);
+        x = end + 1;
+    }
+    return any;
+}
+
+// This target's kernel for a depth test and write flag (never: one that draws nothing).
+ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
+    ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
+    auto with_write = [&]<DepthTest D>() {
+        kernel = write ? &ResolveTriangleFor<D, true> : &ResolveTriangleFor<D, false>;
+    };
+    with_depth_test(test, with_write);
+    return kernel;
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE
@@ -87,22 +156,20 @@ HWY_AFTER_NAMESPACE();
 #include "simd/isa.hpp"
 
 namespace facet::detail {
-namespace {
 
-void resolve_depth_scalar(const DepthJob& job) {
+HWY_EXPORT(ChooseResolveTriangle);
+
+ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write) {
+    ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ChooseResolveTriangle)(test, write);
     auto with_write = [&]<DepthTest D>() {
-        job.write ? resolve_depth_reference<D, true>(job) : resolve_depth_reference<D, false>(job);
+        kernel = write ? &resolve_triangle_reference<D, true> : &resolve_triangle_reference<D, false>;
     };
-    with_depth_test(job.test, with_write);
+    with_depth_test(test, with_write);
+    return kernel;
 }
 
-}  // namespace
+bool resolve_triangle(const DepthJob& job) { return resolve_triangle_kernel(job.test, job.write)(job); }
 
-HWY_EXPORT(ResolveDepth);
-
-void resolve_depth(const DepthJob& job) {
-    if (use_scalar_kernels()) return resolve_depth_scalar(job);
-    HWY_DYNAMIC_DISPATCH(ResolveDepth)(job);
-}
 }  // namespace facet::detail
 #endif

@@ -1,16 +1,19 @@
 // The SIMD kernels against their scalar specification, on every ISA this CPU runs: coverage of
 // random triangles of every size (from sub-pixel to the edge of the guard band, where the 32-bit
-// form of the edge functions is tightest) must be the reference's bit for bit, and the ISA switch
-// itself must do what it says.
+// form of the edge functions is tightest) must be the reference's bit for bit, so must the fused
+// coverage-and-depth pass (depth buffer, owners, covered pixels) on tiles of every width, and the
+// ISA switch itself must do what it says.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "facet/detail/front_end.hpp"
+#include "facet/detail/shade.hpp"
 #include "facet/isa.hpp"
 #include "setup/setup.hpp"
 
@@ -110,6 +113,88 @@ TEST(Isa, CoverageOfRandomTrianglesEqualsTheScalarSpecificationOnEveryIsa) {
     // The comparison saw many tiles with coverage and many without.
     EXPECT_GT(covered, 5000);
     EXPECT_GT(compared - covered, 1000);
+}
+
+// One tile's pass one run by resolve_triangle (whichever ISA is selected) or by the reference.
+struct DepthPassState {
+    std::vector<float> depth;
+    TileVisibility vis;
+    std::vector<bool> any;  // each triangle's return value
+};
+
+bool same_state(const DepthPassState& a, const DepthPassState& b, PixelRect tile) {
+    if (a.depth.size() != b.depth.size() || a.any != b.any) return false;
+    if (std::memcmp(a.depth.data(), b.depth.data(), a.depth.size() * sizeof(float)) != 0) return false;
+    for (int r = 0; r < tile.y1 - tile.y0; ++r) {
+        if (a.vis.covered[r] != b.vis.covered[r]) return false;
+        for (int i = 0; i < tile.x1 - tile.x0; ++i)
+            if (a.vis.owner[r * k_max_tile_size + i] != b.vis.owner[r * k_max_tile_size + i]) return false;
+    }
+    return true;
+}
+
+TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
+    IsaGuard guard;
+    const int width = 150, height = 140;
+    const FrontEndParams params = params_for(width, height);
+    const double extents[] = {0.7, 2, 5, 12, 40, 200, 3000};
+    const DepthTest tests[] = {DepthTest::less, DepthTest::lequal, DepthTest::equal, DepthTest::greater,
+                               DepthTest::always};
+    const std::uint32_t refs[3] = {0, 1, 2};
+    auto reference = [](const DepthJob& job) {
+        bool any = false;
+        auto with_write = [&]<DepthTest D>() {
+            any = job.write ? resolve_triangle_reference<D, true>(job) : resolve_triangle_reference<D, false>(job);
+        };
+        with_depth_test(job.test, with_write);
+        return any;
+    };
+    auto simd = std::make_unique<DepthPassState>(), spec = std::make_unique<DepthPassState>();
+    int tiles = 0, passes = 0;
+    for (const std::string& isa : available_isas()) {
+        std::mt19937 rng(20261122);
+        for (int n = 0; n < 800; ++n) {
+            // A tile of any width and height up to 64 anywhere in the target, touching its edges often.
+            std::uniform_int_distribution<int> size(1, 64), coin(0, 3);
+            const int w = coin(rng) ? size(rng) : 64, h = coin(rng) ? size(rng) : 64;
+            const int x0 = coin(rng) ? std::uniform_int_distribution<int>(0, width - w)(rng) : width - w;
+            const int y0 = coin(rng) ? std::uniform_int_distribution<int>(0, height - h)(rng) : height - h;
+            const PixelRect tile{x0, y0, x0 + w, y0 + h};
+            const DepthTest test = tests[rng() % std::size(tests)];
+            const bool write = coin(rng) != 0;
+            std::vector<float> depth(static_cast<std::size_t>(width) * height);
+            std::uniform_real_distribution<float> unit(0, 1);
+            for (float& d : depth) d = coin(rng) ? 1.0f : unit(rng);
+            for (DepthPassState* s : {simd.get(), spec.get()}) {
+                s->depth = depth;
+                s->vis.begin(tile, 1, {nullptr, s->depth.data(), width});
+                s->any.clear();
+            }
+            // Triangles near the tile, some drawn twice so equal depths meet.
+            TriangleSetup t{};
+            for (int k = 0; k < 12; ++k) {
+                if (k == 0 || coin(rng)) {
+                    const double extent = extents[rng() % std::size(extents)];
+                    std::uniform_real_distribution<double> near_x(x0 - 8.0, x0 + w + 8.0), near_y(y0 - 8.0, y0 + h + 8.0);
+                    ScreenVertex v[3];
+                    random_triangle(rng, near_x(rng), near_y(rng), extent, v);
+                    for (ScreenVertex& s : v) s.z = unit(rng) * 1.2f - 0.1f;
+                    if (setup_triangle(v, refs, params, t) != SetupResult::ok) continue;
+                }
+                const auto id = static_cast<std::uint32_t>(k);
+                ASSERT_TRUE(select_isa(isa));
+                simd->any.push_back(resolve_triangle({&t, tile, &simd->vis, id, test, write}));
+                spec->any.push_back(reference({&t, tile, &spec->vis, id, test, write}));
+                passes += spec->any.back();
+            }
+            for (DepthPassState* s : {simd.get(), spec.get()}) s->vis.end(tile, {nullptr, s->depth.data(), width}, write);
+            ASSERT_TRUE(same_state(*simd, *spec, tile))
+                << isa << ": tile " << n << " at " << x0 << "," << y0 << " size " << w << "x" << h;
+            ++tiles;
+        }
+    }
+    EXPECT_GT(passes, 1000);
+    EXPECT_EQ(tiles, 800 * static_cast<int>(available_isas().size()));
 }
 
 }  // namespace

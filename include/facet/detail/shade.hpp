@@ -96,7 +96,7 @@ inline float depth_at(const TriangleSetup& t, int x, int y) {
 
 // Varyings in barycentric form, v = v0 + b1 d1 + b2 d2, with b1 and b2 perspective-correct:
 // out[0, n) = v0, out[n, 2n) = d1, out[2n, 3n) = d2.
-inline void write_varying_planes(const float* const (&var)[3], int n, float* out) {
+[[gnu::always_inline]] inline void write_varying_planes(const float* const (&var)[3], int n, float* out) {
     for (int k = 0; k < n; ++k) {
         out[k] = var[0][k];
         out[n + k] = var[1][k] - var[0][k];
@@ -188,78 +188,120 @@ void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov
     }
 }
 
-// A tile's triangles, in submission order, and which of them is visible at each pixel.
+// A tile's triangles that are visible somewhere, in submission order, and which of them is visible
+// at each pixel.
 struct TileVisibility {
     static constexpr std::uint32_t k_none = ~0u;
+    // The triangles that passed the depth test at some pixel of the tile when they were drawn; the
+    // others cannot own a pixel, so they are not listed and their varyings are never copied.
     std::vector<const TriangleSetup*> triangles;
     // Each triangle's shading record (write_shading_record), `stride` floats apart: copied while the
     // vertices are in the cache, so the shading pass reads them from here, not from scattered vertices.
     std::vector<float> planes;
     int stride = 0;
-    std::uint32_t owner[k_max_tile_size * k_max_tile_size];  // triangles index per pixel, row-major
-    std::uint64_t covered[k_max_tile_size];  // pixels some triangle covers: where owner may be set
+    // triangles index per pixel, row-major, or k_none where no triangle passed the depth test (set
+    // for the whole tile by begin(), so the depth pass need not track which pixels it touched first).
+    alignas(64) std::uint32_t owner[k_max_tile_size * k_max_tile_size];
+    // The tile's depth buffer during the depth pass, laid out like owner: loaded by begin(), stored
+    // back by end(). Rows that start on a cache line and are 64 wide whatever the tile let the SIMD
+    // kernel load and store aligned whole vectors: no split cache lines, no tile-edge special case,
+    // and a load of a vector the previous triangle stored is forwarded from the store whole
+    // (unaligned vectors overlapping it partly wait for the store; measured: ~10% of the pass).
+    alignas(64) float depth[k_max_tile_size * k_max_tile_size];
+    std::uint64_t covered[k_max_tile_size];  // pixels some triangle covers: owner is k_none elsewhere
 
-    void begin(PixelRect tile, int varyings) {
+    void begin(PixelRect tile, int varyings, TargetView target) {
         triangles.clear();
         planes.clear();
         stride = k_shading_head + 3 * varyings;
-        std::fill(covered, covered + (tile.y1 - tile.y0), 0);
-    }
-    // Adds a triangle's coverage; owner entries become meaningful where `covered` is set.
-    void cover(const TileCoverage& cov) {
-        for (int r = cov.first_row; r <= cov.last_row; ++r) {
-            std::uint64_t fresh = cov.rows[r] & ~covered[r];
-            covered[r] |= cov.rows[r];
-            while (fresh) {  // first touch of these pixels in this batch
-                owner[r * k_max_tile_size + std::countr_zero(fresh)] = k_none;
-                fresh &= fresh - 1;
-            }
+        const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
+        std::fill(covered, covered + height, 0);
+        for (int r = 0; r < height; ++r) {
+            std::fill_n(owner + r * k_max_tile_size, width, k_none);
+            const float* row = target.depth + static_cast<std::size_t>(tile.y0 + r) * target.stride + tile.x0;
+            std::copy_n(row, width, depth + r * k_max_tile_size);
         }
     }
+    // Writes the tile's depth back to the target (when the depth pass wrote any).
+    void end(PixelRect tile, TargetView target, bool depth_write) const {
+        if (!depth_write) return;
+        const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
+        for (int r = 0; r < height; ++r)
+            std::copy_n(depth + r * k_max_tile_size, width,
+                        target.depth + static_cast<std::size_t>(tile.y0 + r) * target.stride + tile.x0);
+    }
+    // Adds a triangle's coverage to `covered`.
+    void cover(const TileCoverage& cov) {
+        for (int r = cov.first_row; r <= cov.last_row; ++r) covered[r] |= cov.rows[r];
+    }
+    // Lists triangle t, whose id was next_id(), with its shading record.
+    template <int N>
+    void add(const TriangleSetup& t, const float* const (&var)[3]) {
+        triangles.push_back(&t);
+        const std::size_t at = planes.size();
+        planes.resize(at + static_cast<std::size_t>(stride));
+        write_shading_record(t, var, N, planes.data() + at);
+    }
+    std::uint32_t next_id() const { return static_cast<std::uint32_t>(triangles.size()); }
 };
 
 // The calling thread's TileVisibility: one per thread, kept for the life of the thread, so drawing
 // a tile allocates nothing once its triangle list has grown to size.
 TileVisibility& tile_visibility_scratch();
 
-// Pass one: depth test (and write) every covered pixel of one triangle, which becomes the owner of
-// each pixel where it passes.
+// Pass one, for one triangle: coverage within the tile, then the depth test (and write) at every
+// covered pixel; the triangle becomes the owner (id) of each pixel where it passes.
 struct DepthJob {
     const TriangleSetup* setup;
-    const TileCoverage* coverage;
     PixelRect tile;
-    TargetView target;
-    std::uint32_t* owner;  // TileVisibility::owner
+    TileVisibility* vis;  // depth, owner and covered are updated; the triangle list is the caller's
     std::uint32_t id;
     DepthTest test;
     bool write;
 };
 
-// The scalar specification, one pixel at a time.
+// The depth test of the covered pixels, one pixel at a time. Returns true when some pixel passed.
 template <DepthTest D, bool DepthWrite>
-void resolve_depth_reference(const DepthJob& job) {
+bool resolve_depth_reference(const DepthJob& job, const TileCoverage& cov) {
     const TriangleSetup& t = *job.setup;
-    const TileCoverage& cov = *job.coverage;
+    bool any = false;
     for (int row = cov.first_row; row <= cov.last_row; ++row) {
         std::uint64_t mask = cov.rows[row];
         const int y = job.tile.y0 + row;
-        float* depth_row = job.target.depth + static_cast<std::size_t>(y) * job.target.stride;
-        std::uint32_t* owner_row = job.owner + row * k_max_tile_size;
+        float* depth_row = job.vis->depth + row * k_max_tile_size;
+        std::uint32_t* owner_row = job.vis->owner + row * k_max_tile_size;
         while (mask) {
             const int i = std::countr_zero(mask);
             mask &= mask - 1;
             const int x = job.tile.x0 + i;
             const float z = depth_at(t, x, y);
-            if (!depth_passes<D>(z, depth_row[x])) continue;
-            if constexpr (DepthWrite) depth_row[x] = z;
+            if (!depth_passes<D>(z, depth_row[i])) continue;
+            if constexpr (DepthWrite) depth_row[i] = z;
             owner_row[i] = job.id;
+            any = true;
         }
     }
+    return any;
 }
 
-// The pass for the ISA selected in facet/isa.hpp: a SIMD kernel (src/raster/depth_simd.cpp), or
-// resolve_depth_reference when "scalar" is selected. Compiled once, not per shader.
-void resolve_depth(const DepthJob& job);
+// The scalar specification of pass one: the reference coverage, then resolve_depth_reference.
+template <DepthTest D, bool DepthWrite>
+bool resolve_triangle_reference(const DepthJob& job) {
+    TileCoverage cov;
+    if (!rasterize_tile_reference(*job.setup, job.tile, cov)) return false;
+    job.vis->cover(cov);
+    return resolve_depth_reference<D, DepthWrite>(job, cov);
+}
+
+// Pass one for the ISA selected in facet/isa.hpp: a SIMD kernel that computes coverage and depth in
+// one sweep (src/raster/depth_simd.cpp), or resolve_triangle_reference when "scalar" is selected.
+// Same bytes either way. Returns true when the triangle passed the depth test at some pixel, i.e.
+// owns pixels now; one that does not can never own any in this tile. Compiled once, not per shader.
+bool resolve_triangle(const DepthJob& job);
+// The function resolve_triangle calls for this depth test and write flag with the ISA selected now:
+// chosen once per draw, it saves the dispatch per triangle.
+using ResolveTriangleKernel = bool (*)(const DepthJob&);
+ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write);
 
 // Pass two: the shader once per visible pixel, with the triangle that owns it. This is the scalar
 // specification; built-in shaders also have SIMD kernels with the same results (CompiledVisiblePass).
