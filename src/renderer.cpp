@@ -35,6 +35,7 @@ Renderer::Renderer(RendererConfig config)
     const int s = config.tile_size;
     require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
             [&] { return "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s); });
+    for (int w = 0; w < pool_.size(); ++w) tile_scratch_.push_back(std::make_unique<detail::TileVisibility>());
     require(config.batch_triangles >= 0, [&] {
         return "RendererConfig::batch_triangles must not be negative, got " + std::to_string(config.batch_triangles);
     });
@@ -65,6 +66,14 @@ Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& s
     plan.stride = stride;
     plan.batch_size = batch_per_thread_ * static_cast<std::size_t>(threads());
     plan.chunk_count = 0;
+    plan.max_tile_triangles = 0;
+    plan.target_width = target.width();
+    plan.target_height = target.height();
+    if (state.clear) {
+        plan.clear_tiles = true;
+        plan.clear_colour = to_rgba8(state.clear->colour);
+        plan.clear_depth = state.clear->depth;
+    }
     return plan;
 }
 
@@ -81,6 +90,12 @@ void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t fir
         chunks_[c].reset(tiles, plan.stride);
         detail::run_front_end(vertices_, input, chunk_first, chunk_end, plan.params, chunks_[c]);
     });
+    plan.max_tile_triangles = 0;
+    for (std::size_t tile = 0; tile < tiles; ++tile) {
+        std::size_t n = 0;
+        for (std::size_t c = 0; c < plan.chunk_count; ++c) n += chunks_[c].bins[tile].size();
+        plan.max_tile_triangles = std::max(plan.max_tile_triangles, n);
+    }
 }
 
 void Renderer::add_stats(const Plan& plan, DrawStats& total) const {
@@ -93,12 +108,5 @@ void Renderer::add_stats(const Plan& plan, DrawStats& total) const {
         total.triangles_rasterized += s.triangles_rasterized;
     }
 }
-
-namespace detail {
-TileVisibility& tile_visibility_scratch() {
-    thread_local TileVisibility scratch;
-    return scratch;
-}
-}  // namespace detail
 
 }  // namespace facet

@@ -24,12 +24,23 @@ struct Rect {
     int x = 0, y = 0, width = 0, height = 0;
 };
 
+// What DrawState::clear clears the target to.
+struct ClearValues {
+    Vec4 colour{0, 0, 0, 0};
+    float depth = 1.0f;
+};
+
 struct DrawState {
     CullMode cull = CullMode::back;
     FrontFace front_face = FrontFace::ccw;
     DepthTest depth_test = DepthTest::less;
     bool depth_write = true;
     Blend blend = Blend::none;
+    // When set, the whole target (not only the viewport) is cleared to these values first, like a
+    // render pass's clear load op: the same pixels as Framebuffer::clear followed by the draw, but
+    // each tile is cleared by the thread that draws it, just before it does, instead of in a
+    // separate pass over the whole framebuffer.
+    std::optional<ClearValues> clear = std::nullopt;
     Rect viewport;  // clip space maps onto this rectangle; pixels outside it are never written
 };
 

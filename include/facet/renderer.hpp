@@ -53,14 +53,22 @@ private:
         int stride;               // varyings per vertex
         std::size_t batch_size;   // triangles per batch
         std::size_t chunk_count;  // of the current batch
+        std::size_t max_tile_triangles;  // of the current batch: the most triangles binned to one tile
+        // DrawState::clear, still to be done by the tiles of the next batch.
+        bool clear_tiles = false;
+        detail::TargetView clear_target{};
+        int target_width = 0, target_height = 0;
+        Rgba8 clear_colour;
+        float clear_depth = 1.0f;
     };
     Plan plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input, int stride);
     void run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end);
     void add_stats(const Plan& plan, DrawStats& total) const;
 
     void prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin, std::size_t b) const;
-    // Every tile in parallel: context = begin(tile), each(context, tile, chunk, setup) per triangle
-    // binned to it, in submission order, then end(context, tile).
+    // Every tile in parallel: context = begin(tile, worker), each(context, tile, chunk, setup) per
+    // triangle binned to it, in submission order, then end(context, tile). `worker` is the pool
+    // worker running the tile (ThreadPool::parallel_for), for per-worker scratch memory.
     template <class Begin, class Each, class End>
     void walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end);
     // The three vertices' varyings of triangle t of `chunk`.
@@ -77,6 +85,7 @@ private:
     std::size_t batch_per_thread_;
     detail::ClipVertices vertices_;
     std::vector<detail::FrontEndChunk> chunks_;
+    std::vector<std::unique_ptr<detail::TileVisibility>> tile_scratch_;  // one per pool worker
 };
 
 // ---- implementation of the templated stages ----
@@ -115,11 +124,27 @@ inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const s
     }
 }
 
+namespace detail {
+inline void fill_rect(TargetView target, PixelRect r, Rgba8 colour, float depth) {
+    for (int y = r.y0; y < r.y1; ++y) {
+        const std::size_t row = static_cast<std::size_t>(y) * target.stride;
+        std::fill(target.colour + row + r.x0, target.colour + row + r.x1, colour);
+        std::fill(target.depth + row + r.x0, target.depth + row + r.x1, depth);
+    }
+}
+}  // namespace detail
+
 template <class Begin, class Each, class End>
 void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end) {
     const detail::FrontEndParams& p = plan.params;
-    pool_.parallel_for(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, [&](std::size_t tile_index) {
+    pool_.parallel_for(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, [&](std::size_t tile_index, int worker) {
         const int tx = static_cast<int>(tile_index % p.tiles_x), ty = static_cast<int>(tile_index / p.tiles_x);
+        if (plan.clear_tiles) {  // the whole tile, inside the viewport or not; in the caches for what follows
+            const detail::PixelRect whole{tx * p.tile_size, ty * p.tile_size,
+                                          std::min((tx + 1) * p.tile_size, plan.target_width),
+                                          std::min((ty + 1) * p.tile_size, plan.target_height)};
+            detail::fill_rect(plan.clear_target, whole, plan.clear_colour, plan.clear_depth);
+        }
         const detail::PixelRect tile{std::max(tx * p.tile_size, p.scissor.x0), std::max(ty * p.tile_size, p.scissor.y0),
                                      std::min((tx + 1) * p.tile_size, p.scissor.x1),
                                      std::min((ty + 1) * p.tile_size, p.scissor.y1)};
@@ -127,7 +152,7 @@ void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each
         bool any = false;
         for (std::size_t c = 0; c < plan.chunk_count && !any; ++c) any = !chunks_[c].bins[tile_index].empty();
         if (!any) return;
-        auto&& context = begin(tile);
+        auto&& context = begin(tile, worker);
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
             const detail::FrontEndChunk& chunk = chunks_[c];
             const std::vector<std::uint32_t>& bin = chunk.bins[tile_index];
@@ -153,7 +178,7 @@ template <class S, DepthTest D, bool W, Blend B>
 void Renderer::run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
     walk_tiles(
-        plan, [](detail::PixelRect) { return detail::TileCoverage{}; },
+        plan, [](detail::PixelRect, int) { return detail::TileCoverage{}; },
         [&](detail::TileCoverage& coverage, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
             const detail::TriangleSetup& t) {
             if (!detail::rasterize_tile(t, tile, coverage)) return;
@@ -169,10 +194,13 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
                                       bool depth_write) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
     const detail::ResolveTriangleKernel resolve_triangle = detail::resolve_triangle_kernel(test, depth_write);
+    // Every worker's lists sized for the fullest tile now: after the first draw of a scene they no
+    // longer grow, whichever tiles each worker is given.
+    for (const auto& vis : tile_scratch_) vis->reserve(plan.max_tile_triangles, S::k_varyings);
     walk_tiles(
         plan,
-        [&](detail::PixelRect tile) -> detail::TileVisibility& {
-            detail::TileVisibility& vis = detail::tile_visibility_scratch();
+        [&](detail::PixelRect tile, int worker) -> detail::TileVisibility& {
+            detail::TileVisibility& vis = *tile_scratch_[static_cast<std::size_t>(worker)];
             vis.begin(tile, S::k_varyings, view);
             return vis;
         },
@@ -197,6 +225,7 @@ template <Shader S>
 DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader) {
     constexpr int N = S::k_varyings;
     Plan plan = plan_draw(target, state, input, N);
+    plan.clear_target = {target.colour_data(), target.depth_data(), target.width()};
 
     // Vertex stage, then each vertex's outcode and projection.
     vertices_.resize(input.vertex_count, N);
@@ -231,19 +260,25 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
     // Front end and tiles run batch by batch: the set-up records of one batch are still in the caches
     // when the tiles read them, and memory stays bounded whatever the size of the draw. Batches
     // are drawn in submission order, so every pixel sees the same sequence of triangles.
+    // A clear that no tile pass will do (no triangles, or a depth test that draws nothing) is done now.
+    if (plan.clear_tiles && (plan.triangle_count == 0 || state.depth_test == DepthTest::never)) {
+        target.clear(state.clear->colour, state.clear->depth);
+        plan.clear_tiles = false;
+    }
     DrawStats stats;
     for (std::size_t first = 0; first < plan.triangle_count; first += plan.batch_size) {
         run_front_end(input, plan, first, std::min(plan.triangle_count, first + plan.batch_size));
+        bool drawn = false;
         if constexpr (can_skip_hidden) {
             if (visible_only) {
                 if (state.depth_test != DepthTest::never)
                     run_tiles_visible_only(target, plan, shader, state.depth_test, state.depth_write);
-                add_stats(plan, stats);
-                continue;
+                drawn = true;
             }
         }
-        detail::with_depth_test(state.depth_test, with_write);
+        if (!drawn) detail::with_depth_test(state.depth_test, with_write);
         add_stats(plan, stats);
+        plan.clear_tiles = false;  // done by the first batch's tiles
     }
     return stats;
 }

@@ -26,12 +26,12 @@ struct ThreadPool::State {
     std::atomic<bool> failed{false};
     std::exception_ptr error;
 
-    void run_tasks() {
+    void run_tasks(int worker) {
         for (;;) {
             std::size_t i = next.fetch_add(1, std::memory_order_relaxed);
             if (i >= count || failed.load(std::memory_order_relaxed)) return;
             try {
-                task(i);
+                task(i, worker);
             } catch (...) {
                 std::lock_guard lock(mutex);
                 if (!error) error = std::current_exception();
@@ -40,7 +40,7 @@ struct ThreadPool::State {
         }
     }
 
-    void worker_loop() {
+    void worker_loop(int worker) {
         std::uint64_t seen = 0;
         for (;;) {
             {
@@ -49,7 +49,7 @@ struct ThreadPool::State {
                 if (stopping) return;
                 seen = generation;
             }
-            run_tasks();
+            run_tasks(worker);
             std::lock_guard lock(mutex);
             if (--busy == 0) finished.notify_one();
         }
@@ -59,7 +59,7 @@ struct ThreadPool::State {
 ThreadPool::ThreadPool(int threads) : state_(std::make_unique<State>()) {
     if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     state_->size = threads;
-    for (int i = 1; i < threads; ++i) state_->threads.emplace_back([s = state_.get()] { s->worker_loop(); });
+    for (int i = 1; i < threads; ++i) state_->threads.emplace_back([s = state_.get(), i] { s->worker_loop(i); });
 }
 
 ThreadPool::~ThreadPool() {
@@ -77,7 +77,7 @@ void ThreadPool::run(std::size_t count, TaskRef task) {
     State& s = *state_;
     if (count == 0) return;
     if (s.threads.empty() || count == 1) {
-        for (std::size_t i = 0; i < count; ++i) task(i);
+        for (std::size_t i = 0; i < count; ++i) task(i, 0);
         return;
     }
     {
@@ -91,7 +91,7 @@ void ThreadPool::run(std::size_t count, TaskRef task) {
         ++s.generation;
     }
     s.wake.notify_all();
-    s.run_tasks();
+    s.run_tasks(0);
     std::exception_ptr error;
     {
         std::unique_lock lock(s.mutex);

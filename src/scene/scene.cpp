@@ -187,7 +187,8 @@ Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings) {
     require_aligned_arrays(scene);
-    target.clear(settings.background);
+    // The clear goes with the first draw, which does it tile by tile (DrawState::clear).
+    std::optional<ClearValues> clear = ClearValues{settings.background, 1.0f};
     const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
     const Mat4 clip_from_world = camera.projection(aspect) * camera.view();
     const bool lambert = settings.shading == Shading::lambert;
@@ -209,6 +210,7 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
             state.blend = Blend::alpha;
             state.depth_write = false;
         }
+        state.clear = std::exchange(clear, std::nullopt);
         return draw_object(renderer, target, state, o, u, arrays, settings.shading);
     };
     DrawStats total;
@@ -225,6 +227,7 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
     }
     std::stable_sort(blended.begin(), blended.end());
     for (const auto& b : blended) add(total, draw(scene.objects[b.second], true));
+    if (clear) target.clear(clear->colour, clear->depth);  // nothing was drawn
     return total;
 }
 

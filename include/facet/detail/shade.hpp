@@ -210,6 +210,12 @@ struct TileVisibility {
     alignas(64) float depth[k_max_tile_size * k_max_tile_size];
     std::uint64_t covered[k_max_tile_size];  // pixels some triangle covers: owner is k_none elsewhere
 
+    // Room for `count` triangles with `varyings` each, so that drawing a tile of that many allocates
+    // nothing.
+    void reserve(std::size_t count, int varyings) {
+        triangles.reserve(count);
+        planes.reserve(count * static_cast<std::size_t>(k_shading_head + 3 * varyings));
+    }
     void begin(PixelRect tile, int varyings, TargetView target) {
         triangles.clear();
         planes.clear();
@@ -245,9 +251,7 @@ struct TileVisibility {
     std::uint32_t next_id() const { return static_cast<std::uint32_t>(triangles.size()); }
 };
 
-// The calling thread's TileVisibility: one per thread, kept for the life of the thread, so drawing
-// a tile allocates nothing once its triangle list has grown to size.
-TileVisibility& tile_visibility_scratch();
+
 
 // Pass one, for one triangle: coverage within the tile, then the depth test (and write) at every
 // covered pixel; the triangle becomes the owner (id) of each pixel where it passes.

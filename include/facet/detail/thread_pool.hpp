@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <type_traits>
 
 namespace facet::detail {
 
@@ -20,15 +21,23 @@ public:
     // done. If tasks throw, the remaining ones are skipped and the first exception is rethrown here.
     // The task is referred to, not copied: no allocation per call, unlike a std::function of a lambda
     // with a few captures (drawing allocates nothing in steady state).
+    // A task may also take the index of the worker running it, task(i, worker), worker in
+    // [0, size()): 0 is the calling thread. No two tasks run on one worker at once, so per-worker
+    // scratch memory indexed by it needs no lock.
     template <class F>
     void parallel_for(std::size_t count, const F& task) {
-        run(count, TaskRef{&task, [](const void* f, std::size_t i) { (*static_cast<const F*>(f))(i); }});
+        run(count, TaskRef{&task, [](const void* f, std::size_t i, int worker) {
+                if constexpr (std::is_invocable_v<const F&, std::size_t, int>)
+                    (*static_cast<const F*>(f))(i, worker);
+                else
+                    (*static_cast<const F*>(f))(i);
+            }});
     }
 
     struct TaskRef {
         const void* callable;
-        void (*call)(const void* callable, std::size_t i);
-        void operator()(std::size_t i) const { call(callable, i); }
+        void (*call)(const void* callable, std::size_t i, int worker);
+        void operator()(std::size_t i, int worker) const { call(callable, i, worker); }
     };
 
 private:

@@ -1,0 +1,100 @@
+// Property: DrawState::clear draws exactly what Framebuffer::clear followed by the same draw draws,
+// colour and depth, byte for byte: over the whole target even when the viewport is smaller, with
+// several batches, for both drawing orders (visible-only and one pass with blending), for a draw
+// with no triangles and one whose depth test passes nothing, on 1 and 3 threads and several tiles.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "facet/renderer.hpp"
+
+namespace {
+
+using namespace facet;
+
+struct ColourShader {
+    static constexpr int k_varyings = 3;
+    const std::vector<Vec4>* pos;
+    const std::vector<Vec3>* colour;
+    Vec4 vertex(std::uint32_t i, Varyings<3>& out) const {
+        out.set(0, (*colour)[i]);
+        return (*pos)[i];
+    }
+    Vec4 fragment(const FragmentIn<3>& in) const { return Vec4(in.v.vec3(0), 0.6f); }
+};
+
+struct Triangles {
+    std::vector<Vec4> pos;
+    std::vector<Vec3> colour;
+};
+
+Triangles random_triangles(int count) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.2f, 1.2f), unit(0.0f, 1.0f);
+    Triangles t;
+    for (int i = 0; i < count * 3; ++i) {
+        t.pos.push_back(Vec4{u(rng), u(rng), unit(rng), 1.0f});
+        t.colour.push_back(Vec3{unit(rng), unit(rng), unit(rng)});
+    }
+    return t;
+}
+
+struct Output {
+    std::vector<Rgba8> colour;
+    std::vector<float> depth;
+};
+
+Output draw(const Triangles& tris, DrawState state, RendererConfig config, bool clear_in_draw) {
+    Framebuffer fb(150, 110);
+    fb.clear(Vec4{0.9f, 0.1f, 0.5f, 1.0f}, 0.25f);  // what a clear must replace everywhere
+    const ClearValues clear{Vec4{0.2f, 0.3f, 0.4f, 1.0f}, 0.8f};
+    if (clear_in_draw)
+        state.clear = clear;
+    else
+        fb.clear(clear.colour, clear.depth);
+    Renderer renderer(config);
+    renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(tris.pos.size()), {}},
+                  ColourShader{&tris.pos, &tris.colour});
+    return {{fb.colour_data(), fb.colour_data() + 150 * 110}, {fb.depth_data(), fb.depth_data() + 150 * 110}};
+}
+
+bool same(const Output& a, const Output& b) {
+    return a.colour == b.colour && std::memcmp(a.depth.data(), b.depth.data(), a.depth.size() * sizeof(float)) == 0;
+}
+
+TEST(DrawClear, EqualsFramebufferClearThenDraw) {
+    const Triangles tris = random_triangles(400);
+    const Triangles none;
+    for (Blend blend : {Blend::none, Blend::alpha})
+        for (DepthTest test : {DepthTest::less, DepthTest::never})
+            for (bool small_viewport : {false, true})
+                for (int threads : {1, 3})
+                    for (int tile : {8, 64}) {
+                        DrawState state;
+                        state.cull = CullMode::none;
+                        state.blend = blend;
+                        state.depth_test = test;
+                        if (small_viewport) state.viewport = Rect{20, 10, 90, 70};
+                        const RendererConfig config{.threads = threads, .tile_size = tile, .batch_triangles = 150};
+                        for (const Triangles* t : {&tris, &none}) {
+                            const Output expected = draw(*t, state, config, false);
+                            EXPECT_TRUE(same(draw(*t, state, config, true), expected))
+                                << "blend " << static_cast<int>(blend) << ", test " << static_cast<int>(test)
+                                << ", small viewport " << small_viewport << ", threads " << threads << ", tile "
+                                << tile << ", triangles " << t->pos.size() / 3;
+                        }
+                    }
+    // The comparison is not vacuous: the clear values (outside the viewport) and the triangles show.
+    DrawState state;
+    state.cull = CullMode::none;
+    state.viewport = Rect{20, 10, 90, 70};
+    const Output out = draw(tris, state, {.threads = 1}, true);
+    int cleared = 0, drawn = 0;
+    for (std::size_t i = 0; i < out.depth.size(); ++i) (out.depth[i] == 0.8f ? cleared : drawn)++;
+    EXPECT_GT(cleared, 100);
+    EXPECT_GT(drawn, 1000);
+}
+
+}  // namespace
