@@ -79,13 +79,19 @@ private:
 
     // Tile sizes are powers of two and the bounds are inside the scissor (non-negative), so a shift
     // finds the tile. A triangle inside one tile (most of them) goes to that tile's bin unexamined.
-    void bin(const TriangleSetup& t, std::uint32_t index) {
+    // Forced inline into the batch loop: as a call it cost as much again as its work.
+    [[gnu::always_inline]] void bin(const TriangleSetup& t, std::uint32_t index) {
         const int tx0 = t.min_x >> tile_shift_, tx1 = t.max_x >> tile_shift_;
         const int ty0 = t.min_y >> tile_shift_, ty1 = t.max_y >> tile_shift_;
         if (tx0 == tx1 && ty0 == ty1) {
             out_.bins[static_cast<std::size_t>(ty0) * p_.tiles_x + tx0].push_back(index);
             return;
         }
+        bin_across_tiles(t, index, tx0, tx1, ty0, ty1);
+    }
+
+    [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, std::uint32_t index, int tx0, int tx1, int ty0,
+                                            int ty1) {
         const int s = p_.tile_size;
         for (int ty = ty0; ty <= ty1; ++ty)
             for (int tx = tx0; tx <= tx1; ++tx) {
