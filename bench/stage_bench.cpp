@@ -2,7 +2,7 @@
 // internal entry points (include/facet/detail, and the clip and setup headers in src/):
 //   vertex stage  Renderer::draw of many vertices and one degenerate triangle (shader + projection)
 //   clip          detail::clip_triangle on triangles crossing the near plane
-//   setup         detail::setup_triangle on projected, snapped vertices
+//   setup         detail::setup_triangle on projected, snapped vertices; setup_triangles 16 at a time
 //   front end     detail::run_front_end: assemble + reject + setup + bin (bin = front end - setup)
 //   coverage      detail::rasterize_tile per (tile, triangle) pair
 //   depth pass    detail::resolve_triangle per (tile, triangle) pair (visible-only order, pass one)
@@ -15,6 +15,7 @@
 // pixels, like a scanned model), single-threaded. Run: build/release/bench/facet_bench_stages.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -165,6 +166,32 @@ void BM_Setup(benchmark::State& state) {
     state.SetLabel("triangles");
 }
 BENCHMARK(BM_Setup);
+
+// The same triangles through setup_triangles, 16 at a time (the SIMD kernel of the active ISA).
+void BM_SetupBatch(benchmark::State& state) {
+    const Workload& wl = sphere_workload();
+    const auto& idx = wl.mesh.indices;
+    const std::size_t count = idx.size() / 3;
+    d::SetupBatch batch{};
+    std::vector<d::TriangleSetup> out(d::SetupBatch::k_capacity);
+    std::int64_t ok = 0;
+    for (auto _ : state) {
+        for (std::size_t i = 0; i < count; i += d::SetupBatch::k_capacity) {
+            batch.count = static_cast<int>(std::min<std::size_t>(d::SetupBatch::k_capacity, count - i));
+            for (int j = 0; j < batch.count; ++j)
+                for (int k = 0; k < 3; ++k) {
+                    batch.ref[k][j] = idx[(i + j) * 3 + k];
+                    batch.v[k][j] = wl.vertices.screen[batch.ref[k][j]];
+                }
+            ok += d::setup_triangles(batch, wl.params, out.data()).written;
+        }
+        benchmark::DoNotOptimize(out.data());
+    }
+    benchmark::DoNotOptimize(ok);
+    state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(count));
+    state.SetLabel("triangles");
+}
+BENCHMARK(BM_SetupBatch);
 
 void BM_FrontEnd_SmallTriangles(benchmark::State& state) {
     const Workload& wl = sphere_workload();

@@ -3,8 +3,10 @@
 // keep q = 1/w), viewport, snap to 1/256 pixel, cull by the winding the viewer sees, orient
 // counter-clockwise in screen space, edge functions with the top-left rule, attribute planes.
 // Out: TriangleSetup, or nothing when the triangle is culled, has zero area or covers no pixel centre.
+// setup_triangles does the same for a batch of unclipped triangles at once (setup_simd.cpp, SIMD).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include "facet/detail/front_end.hpp"
@@ -21,5 +23,24 @@ ScreenVertex project(Vec4 pos_clip, const FrontEndParams& params);
 // `ref` names each vertex's varyings (a ClipVertices index, or k_clipped_bit | extras index).
 SetupResult setup_triangle(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], const FrontEndParams& params,
                            TriangleSetup& out);
+
+// Up to k_capacity triangles, in submission order, to be set up together. The vertices are stored per
+// corner (v[k][i] is corner k of triangle i) so that the kernel loads each corner of a group of
+// triangles with one deinterleaving load.
+struct SetupBatch {
+    static constexpr int k_capacity = 16;  // a multiple of every ISA's number of double lanes
+    ScreenVertex v[3][k_capacity];
+    std::uint32_t ref[3][k_capacity];
+    int count = 0;
+};
+
+struct BatchSetupCounts {
+    int written;  // records written
+    int culled;   // triangles culled (zero area or facing away), as SetupResult::culled
+};
+
+// Sets up triangles [0, batch.count) as setup_triangle does each, bit for bit, and writes the records of
+// those that survive to out[0, written) in batch order. `out` has room for batch.count records.
+BatchSetupCounts setup_triangles(const SetupBatch& batch, const FrontEndParams& params, TriangleSetup* out);
 
 }  // namespace facet::detail

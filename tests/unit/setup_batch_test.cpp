@@ -1,0 +1,256 @@
+// Batched setup (setup_triangles, the SIMD kernel) against its specification, setup_triangle one
+// triangle at a time, on every ISA this CPU runs: the same records byte for byte (zero-initialised on
+// both sides, so padding compares too), in the same order, and the same culled count. Random triangles
+// of every size and adversarial ones: zero area, every cull mode and winding, edges through pixel
+// centres (the top-left rule), the guard band's extremes, coordinates too large for the kernel's exact
+// doubles (its fallback), subnormal and huge q, scissors that leave nothing, partly filled batches.
+// Also the front end as a whole: the same chunk (records, bins, statistics) on every ISA.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "facet/detail/front_end.hpp"
+#include "facet/isa.hpp"
+#include "setup/setup.hpp"
+
+namespace {
+
+using namespace facet;
+using namespace facet::detail;
+
+struct IsaGuard {
+    ~IsaGuard() { select_isa("best"); }
+};
+
+constexpr int k_guard = 16384 * k_subpixel_one;  // the guard band's extreme coordinate, fixed point
+
+class Generator {
+public:
+    explicit Generator(std::uint32_t seed) : rng_(seed) {}
+
+    FrontEndParams params() {
+        FrontEndParams p{};
+        const CullMode culls[] = {CullMode::none, CullMode::back, CullMode::front};
+        p.state.cull = culls[pick(3)];
+        p.state.front_face = pick(2) ? FrontFace::ccw : FrontFace::cw;
+        switch (pick(4)) {
+            case 0: p.scissor = {0, 0, 1920, 1080}; break;
+            case 1: p.scissor = {0, 0, 8192, 8192}; break;
+            case 2: {
+                const int x0 = pick(600), y0 = pick(600);
+                p.scissor = {x0, y0, x0 + 1 + pick(600), y0 + 1 + pick(600)};
+                break;
+            }
+            default: p.scissor = {100, 100, 100 + pick(2), 100 + pick(2)}; break;  // empty or one pixel
+        }
+        p.vp_x = 0, p.vp_y = 0, p.vp_w = 1920, p.vp_h = 1080;
+        p.tile_size = 64, p.tiles_x = 30, p.tiles_y = 17;
+        return p;
+    }
+
+    void triangle(ScreenVertex (&v)[3]) {
+        switch (pick(8)) {
+            case 0: {  // anywhere in the guard band, any size
+                for (ScreenVertex& s : v) s = vertex(coordinate(k_guard), coordinate(k_guard));
+                break;
+            }
+            case 1: {  // small, near the scissor: pixel-sized or smaller
+                const std::int32_t cx = coordinate(700 * k_subpixel_one), cy = coordinate(700 * k_subpixel_one);
+                const std::int32_t r = 1 + pick(4 * k_subpixel_one);
+                for (ScreenVertex& s : v) s = vertex(cx + coordinate(r), cy + coordinate(r));
+                break;
+            }
+            case 2: {  // on pixel centres and half-pixel steps: edges through centres, axis-aligned edges
+                for (ScreenVertex& s : v)
+                    s = vertex(128 * (coordinate(40) + 8), 128 * (coordinate(40) + 8));
+                break;
+            }
+            case 3: {  // zero area: repeated or collinear vertices
+                v[0] = vertex(coordinate(k_guard), coordinate(k_guard));
+                v[1] = pick(2) ? v[0] : vertex(coordinate(k_guard), coordinate(k_guard));
+                const std::int32_t t = coordinate(4);
+                v[2] = vertex(v[0].x + t * (v[1].x - v[0].x) / 4, v[0].y + t * (v[1].y - v[0].y) / 4);
+                if (pick(2)) v[2] = v[1];
+                break;
+            }
+            case 4: {  // corners of the guard band
+                for (ScreenVertex& s : v) s = vertex(pick(2) ? k_guard : -k_guard, pick(3) ? k_guard : -k_guard);
+                v[pick(3)].x = coordinate(k_guard);
+                break;
+            }
+            case 5: {  // beyond the kernel's exact range (2^24): it must fall back to setup_triangle
+                for (ScreenVertex& s : v) s = vertex(coordinate(1 << 27), coordinate(1 << 27));
+                break;
+            }
+            case 6: {  // thin slivers
+                v[0] = vertex(coordinate(k_guard), coordinate(k_guard));
+                v[1] = vertex(v[0].x + coordinate(1 << 20), v[0].y + coordinate(2));
+                v[2] = vertex(v[0].x + coordinate(1 << 20), v[0].y + coordinate(2));
+                break;
+            }
+            default: {  // a mesh-like triangle of a few pixels on screen
+                const std::int32_t cx = coordinate(1000 * k_subpixel_one) + 960 * k_subpixel_one;
+                const std::int32_t cy = coordinate(600 * k_subpixel_one) + 540 * k_subpixel_one;
+                for (ScreenVertex& s : v) s = vertex(cx + coordinate(1500), cy + coordinate(1500));
+                break;
+            }
+        }
+    }
+
+    std::uint32_t ref() { return static_cast<std::uint32_t>(rng_()); }
+
+private:
+    int pick(int n) { return static_cast<int>(rng_() % static_cast<std::uint32_t>(n)); }
+    std::int32_t coordinate(std::int32_t r) {
+        return std::uniform_int_distribution<std::int32_t>(-r, r)(rng_);
+    }
+
+    ScreenVertex vertex(std::int32_t x, std::int32_t y) { return {x, y, depth(), q()}; }
+
+    float depth() {
+        switch (pick(6)) {
+            case 0: return 0.0f;
+            case 1: return 1.0f;
+            case 2: return -0.0f;  // std::clamp keeps a negative zero
+            default: return std::uniform_real_distribution<float>(0.0f, 1.0f)(rng_);
+        }
+    }
+
+    float q() {
+        switch (pick(8)) {
+            case 0: return std::numeric_limits<float>::denorm_min() * static_cast<float>(1 + pick(1000));
+            case 1: return std::numeric_limits<float>::min();
+            case 2: return std::numeric_limits<float>::max() / static_cast<float>(1 + pick(4));
+            case 3: return 1.0f;
+            default: return std::exp2(std::uniform_real_distribution<float>(-40.0f, 40.0f)(rng_));
+        }
+    }
+
+    std::mt19937 rng_;
+};
+
+struct Result {
+    std::vector<TriangleSetup> records;
+    int culled = 0;
+};
+
+Result set_up_one_by_one(const SetupBatch& batch, const FrontEndParams& p) {
+    Result r;
+    r.records.resize(static_cast<std::size_t>(batch.count));
+    std::memset(static_cast<void*>(r.records.data()), 0, r.records.size() * sizeof(TriangleSetup));
+    std::size_t written = 0;
+    for (int i = 0; i < batch.count; ++i) {
+        const ScreenVertex v[3] = {batch.v[0][i], batch.v[1][i], batch.v[2][i]};
+        const std::uint32_t ref[3] = {batch.ref[0][i], batch.ref[1][i], batch.ref[2][i]};
+        const SetupResult s = setup_triangle(v, ref, p, r.records[written]);
+        written += s == SetupResult::ok;
+        r.culled += s == SetupResult::culled;
+    }
+    r.records.resize(written);
+    return r;
+}
+
+Result set_up_batch(const SetupBatch& batch, const FrontEndParams& p) {
+    Result r;
+    r.records.resize(static_cast<std::size_t>(batch.count));
+    std::memset(static_cast<void*>(r.records.data()), 0, r.records.size() * sizeof(TriangleSetup));
+    const BatchSetupCounts counts = setup_triangles(batch, p, r.records.data());
+    r.records.resize(static_cast<std::size_t>(counts.written));
+    r.culled = counts.culled;
+    return r;
+}
+
+TEST(SetupBatch, EveryIsaWritesTheRecordsOfSetupTriangle) {
+    IsaGuard guard;
+    for (const std::string& isa : available_isas()) {
+        ASSERT_TRUE(select_isa(isa));
+        Generator gen(12345);
+        SetupBatch batch{};
+        std::size_t records = 0, mismatches = 0;
+        for (int round = 0; round < 50000; ++round) {
+            const FrontEndParams p = gen.params();
+            // Mostly full batches; some partly filled ones over stale lanes of earlier batches.
+            batch.count = round % 5 == 0 ? 1 + static_cast<int>(gen.ref() % SetupBatch::k_capacity)
+                                         : SetupBatch::k_capacity;
+            for (int i = 0; i < batch.count; ++i) {
+                ScreenVertex v[3];
+                gen.triangle(v);
+                for (int k = 0; k < 3; ++k) batch.v[k][i] = v[k], batch.ref[k][i] = gen.ref();
+            }
+            const Result want = set_up_one_by_one(batch, p);
+            const Result got = set_up_batch(batch, p);
+            ASSERT_EQ(got.culled, want.culled) << isa << " round " << round;
+            ASSERT_EQ(got.records.size(), want.records.size()) << isa << " round " << round;
+            for (std::size_t i = 0; i < want.records.size(); ++i)
+                mismatches += std::memcmp(&got.records[i], &want.records[i], sizeof(TriangleSetup)) != 0;
+            records += want.records.size();
+        }
+        EXPECT_EQ(mismatches, 0u) << isa;
+        EXPECT_GT(records, 100000u) << isa;  // the comparison saw many surviving triangles
+    }
+}
+
+// A whole front end over random geometry, some of it needing clipping (behind the eye, outside the
+// guard band), so clipped triangles interleave with batches: same chunk on every ISA.
+TEST(SetupBatch, TheFrontEndGivesTheSameChunkOnEveryIsa) {
+    IsaGuard guard;
+    FrontEndParams p{};
+    p.state.cull = CullMode::back;
+    p.scissor = {0, 0, 640, 480};
+    p.vp_x = 0, p.vp_y = 0, p.vp_w = 640, p.vp_h = 480;
+    p.tile_size = 32, p.tiles_x = 20, p.tiles_y = 15;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const std::size_t n = 30000;
+    ClipVertices vertices;
+    vertices.resize(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool far_out = rng() % 50 == 0;
+        const float w = rng() % 100 == 0 ? -0.5f : 1.0f + u(rng) * 0.5f;
+        const float s = far_out ? 4000.0f : 1.0f;
+        vertices.pos[i] = {u(rng) * w * s, u(rng) * w * s, (u(rng) * 0.5f + 0.5f) * w, w};
+    }
+    std::vector<std::uint32_t> indices;
+    for (std::size_t t = 0; t < 40000; ++t) {
+        const std::uint32_t a = static_cast<std::uint32_t>(rng() % n);
+        indices.insert(indices.end(), {a, static_cast<std::uint32_t>((a + 1 + rng() % 8) % n),
+                                       static_cast<std::uint32_t>((a + 1 + rng() % 8) % n)});
+    }
+    const DrawInput input{static_cast<std::uint32_t>(n), indices};
+
+    auto run = [&](const std::string& isa) {
+        EXPECT_TRUE(select_isa(isa));
+        ClipVertices v = vertices;
+        project_vertices(v, 0, n, p);
+        FrontEndChunk chunk;
+        chunk.reset(static_cast<std::size_t>(p.tiles_x * p.tiles_y), 0);
+        run_front_end(v, input, 0, indices.size() / 3, p, chunk);
+        return chunk;
+    };
+    const FrontEndChunk want = run("scalar");
+    EXPECT_GT(want.stats.triangles_clipped, 0u);
+    EXPECT_GT(want.stats.triangles_culled, 0u);
+    EXPECT_GT(want.triangles.size(), 1000u);
+    for (const std::string& isa : available_isas()) {
+        const FrontEndChunk got = run(isa);
+        ASSERT_EQ(got.triangles.size(), want.triangles.size()) << isa;
+        for (std::size_t i = 0; i < want.triangles.size(); ++i) {
+            // Records not zero-initialised here: compare the fields, not the padding.
+            const TriangleSetup &g = got.triangles[i], &w = want.triangles[i];
+            ASSERT_EQ(std::memcmp(&g, &w, offsetof(TriangleSetup, front_facing)), 0) << isa << " record " << i;
+            ASSERT_EQ(g.front_facing, w.front_facing) << isa << " record " << i;
+        }
+        EXPECT_EQ(got.bins, want.bins) << isa;
+        EXPECT_EQ(got.stats.triangles_culled, want.stats.triangles_culled) << isa;
+        EXPECT_EQ(got.stats.triangles_rasterized, want.stats.triangles_rasterized) << isa;
+        EXPECT_EQ(got.stats.triangles_clipped, want.stats.triangles_clipped) << isa;
+    }
+}
+
+}  // namespace
