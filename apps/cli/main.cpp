@@ -1,17 +1,17 @@
 // facet command line: subcommands `render` (one model to a PNG), `thumbs` (many models to
-// thumbnails) and `view` (an interactive window, apps/viewer). Errors go to stderr; exit codes:
-// 0 ok, 1 a file failed, 2 bad command line.
+// thumbnails) and `view` (an interactive window: the executable apps/viewer builds, which this one
+// becomes after checking the command line). Errors go to stderr; exit codes: 0 ok, 1 a file failed,
+// 2 bad command line.
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <optional>
 
 #include "options.hpp"
-#include "viewer.hpp"
 
 int main(int argc, char** argv) {
     using namespace facet::cli;
-    CLI::App app{"facet: a software 3D renderer. Renders model files to PNG on the CPU (no GPU, no display), or shows them in a window."};
+    CLI::App app{k_app_description};
     app.require_subcommand(1);
 
     RenderOptions render_options;
@@ -38,19 +38,8 @@ int main(int argc, char** argv) {
     thumbs->get_option("--size")->description("Thumbnail size N (square) or WxH");
     add_worker_options(*thumbs, thumbs_options, /*in_process_option=*/false);
 
-    RenderOptions view_options;
-    std::string view_model;
-    bool spin = false;
-    CLI::App* view = app.add_subcommand("view", "Open a model (or, with none, the default scene) in an interactive window");
-    view->add_option("model", view_model, "Model file (or drop one onto the window)");
-    view->add_flag("--spin", spin, "Start with the turntable spinning (Space toggles it)");
-    add_render_options(*view, view_options);
-    view->get_option("--size")->description("Initial window size WxH");
-    view->get_option("--ssaa")->description("Initial supersampling NxN (A toggles 1 and 2)");
-    view->footer(
-        "Mouse: left drag orbit, right or middle drag pan, wheel zoom. Keys: F fit, R reset, 1-7 front/right/top/iso/"
-        "back/left/bottom, U up axis y/z, P perspective/ortho, M shading, W wireframe, C back-face culling, Space spin, "
-        "A supersampling 1/2, S screenshot, H overlay, Q or Esc quit. Drop a model file onto the window to open it.");
+    ViewArgs view_args;
+    CLI::App* view = add_view_subcommand(app, view_args);
 
     try {
         app.parse(argc, argv);
@@ -68,7 +57,7 @@ int main(int argc, char** argv) {
             return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render));
         }
         if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options);
-        if (view->parsed()) return facet::viewer::run_view(view_model, spin, view_options, has_camera_options(*view));
+        if (view->parsed()) return run_viewer_executable(argv);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "facet: %s\n", e.what());
         return k_exit_failed;

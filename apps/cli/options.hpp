@@ -81,6 +81,28 @@ DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& 
 // The default scene, or the model at `path`; warnings go to stderr prefixed with `command`.
 Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command);
 
+// `facet view`'s arguments. The `facet` binary declares and parses them like the other subcommands
+// (so `facet --help`, `facet view --help` and usage errors are its own), then replaces itself with
+// the viewer executable (run_viewer_executable), which parses the same command line again. Only the
+// viewer links SDL2: `facet render` and `facet thumbs` do not load its dozens of libraries.
+struct ViewArgs {
+    std::string model;
+    bool spin = false;
+    RenderOptions options;
+};
+
+// facet's description in --help, the same in both executables.
+extern const char* const k_app_description;
+
+// Adds the `view` subcommand with its options to `app`.
+CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args);
+
+// Executes the viewer executable (k_viewer_executable next to the running `facet`, found through
+// /proc/self/exe) with facet's own command line `argv`; returns only if that fails, after saying why,
+// with k_exit_failed.
+constexpr const char* k_viewer_executable = "facet-view";
+int run_viewer_executable(char** argv);
+
 // `benchmark_frames`: --benchmark N if given.
 int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
                std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given);

@@ -34,8 +34,12 @@ std::string read_all(std::FILE* f) {
 }  // namespace
 
 CliRun run_facet(const std::vector<std::string>& args, bool stderr_tty) {
+    return run_program(facet_binary(), args, stderr_tty);
+}
+
+CliRun run_program(const fs::path& program, const std::vector<std::string>& args, bool stderr_tty) {
     CliRun r;
-    const std::string binary = facet_binary().string();
+    const std::string binary = program.string();
     std::vector<char*> argv{const_cast<char*>(binary.c_str())};
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);

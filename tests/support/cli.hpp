@@ -26,6 +26,9 @@ std::filesystem::path facet_binary();
 // Runs facet with these arguments. With `stderr_tty`, stderr is a pseudo-terminal.
 CliRun run_facet(const std::vector<std::string>& args, bool stderr_tty = false);
 
+// The same for another executable (a copy of facet, the viewer executable).
+CliRun run_program(const std::filesystem::path& program, const std::vector<std::string>& args, bool stderr_tty = false);
+
 struct DecodedPng {
     std::string error;            // empty: decoded
     std::uint32_t width = 0, height = 0;

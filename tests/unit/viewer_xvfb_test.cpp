@@ -645,6 +645,36 @@ TEST(ViewerCli, BadOptionsAndMissingFilesFailBeforeAnyWindow) {
     EXPECT_NE(missing.output.find("/nonexistent-facet-dir/model.obj"), std::string::npos);
 }
 
+// `facet view` executes the viewer executable next to `facet`; only that one links SDL2, so `facet
+// render` starts without SDL2's libraries (and the dozens they need). LD_DEBUG=libs has the dynamic
+// linker name every library it loads.
+TEST(ViewerCli, OnlyTheViewerLoadsSdl) {
+    const fs::path out = fs::temp_directory_path() / ("facet_viewer_libs_" + std::to_string(getpid()) + ".png");
+    const CommandResult render = run_facet("LD_DEBUG=libs", "render --size 16x16 -o " + out.string());
+    fs::remove(out);
+    EXPECT_EQ(render.exit_code, 0) << render.output;
+    EXPECT_NE(render.output.find("libhwy"), std::string::npos) << "LD_DEBUG named no libraries:\n" << render.output;
+    EXPECT_EQ(render.output.find("libSDL2"), std::string::npos) << render.output;
+
+    const CommandResult view = run_facet("-u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER LD_DEBUG=libs", "view --size 64x48");
+    EXPECT_EQ(view.exit_code, 1) << view.output;
+    EXPECT_NE(view.output.find("libSDL2"), std::string::npos) << view.output;
+    EXPECT_NE(view.output.find("facet view: cannot open a window: "), std::string::npos) << view.output;
+}
+
+TEST(ViewerCli, WithoutTheViewerExecutableSaysWhatIsMissing) {
+    const fs::path dir = fs::temp_directory_path() / ("facet_without_viewer_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    fs::copy_file(k_facet, dir / "facet");
+    const CommandResult r = run((dir / "facet").string() + " view --size 64x48 2>&1");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_EQ(r.output, "facet view: cannot run the viewer " + (dir / "facet-view").string() + ": No such file or directory\n");
+    // facet's own parsing still comes first: an unknown option is a usage error, viewer or not.
+    EXPECT_EQ(run((dir / "facet").string() + " view --no-such-option 2>&1").exit_code, 2);
+    fs::remove_all(dir);
+}
+
 TEST(ExamplesCli, WindowWithoutADisplayWritesThePngInstead) {
     const fs::path dir = fs::temp_directory_path() / ("facet_examples_no_display_" + std::to_string(getpid()));
     fs::remove_all(dir);
