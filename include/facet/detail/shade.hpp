@@ -208,6 +208,7 @@ struct TileVisibility {
     // and a load of a vector the previous triangle stored is forwarded from the store whole
     // (unaligned vectors overlapping it partly wait for the store; measured: ~10% of the pass).
     alignas(64) float depth[k_max_tile_size * k_max_tile_size];
+    bool depth_cleared = false;  // begin() set depth to a clear value: end() must store it
     std::uint64_t covered[k_max_tile_size];  // pixels some triangle covers: owner is k_none elsewhere
 
     // Room for `count` triangles with `varyings` each, so that drawing a tile of that many allocates
@@ -216,21 +217,27 @@ struct TileVisibility {
         triangles.reserve(count);
         planes.reserve(count * static_cast<std::size_t>(k_shading_head + 3 * varyings));
     }
-    void begin(PixelRect tile, int varyings, TargetView target) {
+    // Starts a tile: its depth copied from the target, or set to *clear_depth (DrawState::clear).
+    void begin(PixelRect tile, int varyings, TargetView target, const float* clear_depth = nullptr) {
         triangles.clear();
         planes.clear();
         stride = k_shading_head + 3 * varyings;
         const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
         std::fill(covered, covered + height, 0);
+        depth_cleared = clear_depth != nullptr;
         for (int r = 0; r < height; ++r) {
             std::fill_n(owner + r * k_max_tile_size, width, k_none);
             const float* row = target.depth + static_cast<std::size_t>(tile.y0 + r) * target.stride + tile.x0;
-            std::copy_n(row, width, depth + r * k_max_tile_size);
+            if (clear_depth)
+                std::fill_n(depth + r * k_max_tile_size, width, *clear_depth);
+            else
+                std::copy_n(row, width, depth + r * k_max_tile_size);
         }
     }
-    // Writes the tile's depth back to the target (when the depth pass wrote any).
+    // Writes the tile's depth back to the target when it changed: cleared by begin() or written by
+    // the depth pass (depth_write).
     void end(PixelRect tile, TargetView target, bool depth_write) const {
-        if (!depth_write) return;
+        if (!depth_write && !depth_cleared) return;
         const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
         for (int r = 0; r < height; ++r)
             std::copy_n(depth + r * k_max_tile_size, width,
