@@ -187,6 +187,7 @@ EdgeSides group_sides_by_edge(std::size_t weld_ids, ForEachSide&& for_each_side)
     for_each_side([&](std::uint32_t lo, const EdgeSide& side) { out.sides[next[lo]++] = side; });
     auto by_hi = [](const EdgeSide& a, const EdgeSide& b) { return a.hi < b.hi; };
     for (std::size_t l = 0; l < weld_ids; ++l) {
+        if (out.start[l + 1] - out.start[l] < 2) continue;  // nothing to order (and no first + 1 past the end)
         EdgeSide* first = out.sides.data() + out.start[l];
         EdgeSide* last = out.sides.data() + out.start[l + 1];
         if (last - first <= 16) {

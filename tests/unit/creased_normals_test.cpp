@@ -102,6 +102,18 @@ TEST(CreasedNormals, RandomMeshesMatchTheReference) {
     }
 }
 
+// Nothing but degenerate triangles: no triangle has an edge, so every vertex's list of edge sides is
+// empty (fuzzing found pointer arithmetic past an empty list there, which UBSan reports).
+TEST(CreasedNormals, MeshesWithoutAnyEdgeMatchTheReference) {
+    Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 2, 2}};
+    m.indices = {0, 0, 1, 2, 2, 2, 3, 3, 0};  // two corners or all three at one position
+    for (float crease : {radians(0), radians(60)}) expect_same_as_reference(m, crease, "no edges");
+    Mesh empty;
+    empty.positions = {{0, 0, 0}};
+    expect_same_as_reference(empty, radians(60), "no triangles");
+}
+
 // One edge shared by many more triangles than k_max_edge_neighbours, with both orientations and
 // the apexes in varying order: which pairs are compared depends on the order of the sides.
 TEST(CreasedNormals, FanAroundOneEdgeMatchesTheReference) {
