@@ -38,7 +38,7 @@ constexpr std::array<IsaName, 3> k_isas{{{"avx512", HWY_AVX3 | HWY_AVX3_DL
 #endif
                                           },
                                          {"avx2", HWY_AVX2},
-                                         {"sse4", HWY_SSE4 | HWY_SSSE3}}};
+                                         {"sse4", HWY_SSE4}}};
 constexpr int k_best = -1;
 
 std::atomic<bool> g_scalar{false};
