@@ -1,13 +1,18 @@
-// Test support: where the real test data lives, and per-test scratch directories.
+// Test support: where the real test data lives, per-test scratch directories, file and bit helpers.
 //  - assimp's test models (Debian's assimp-testmodels) under /usr/share/assimp/models;
 //  - three of CGAL's meshes (Debian's libcgal-demo ships them in a tarball), unpacked once into
 //    the build tree.
 // scripts/setup installs both; tests that need them skip, saying so, when they are absent.
 #pragma once
 
+#include <bit>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 namespace facet_test {
 
@@ -35,6 +40,31 @@ std::filesystem::path test_temp_dir(const std::string& prefix);
 int sweep_size(int n, int minimum = 100);
 // Standard base64 with padding, for data: URIs in generated glTF files.
 std::string base64(const std::string& bytes);
+
+// A file's whole contents, and writing them (returns the path, for load calls).
+inline std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+inline std::string write_file(const std::filesystem::path& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return path.string();
+}
+
+// The bit patterns of a vector of float aggregates (Vec3, Vec4, ...), so that comparisons tell -0
+// from +0 and NaN payloads apart.
+template <class T>
+std::vector<std::uint32_t> bits_of(const std::vector<T>& v) {
+    std::vector<std::uint32_t> out;
+    for (const T& x : v) {
+        const auto* f = reinterpret_cast<const float*>(&x);
+        for (std::size_t k = 0; k < sizeof(T) / sizeof(float); ++k) out.push_back(std::bit_cast<std::uint32_t>(f[k]));
+    }
+    return out;
+}
 
 }  // namespace facet_test
 

@@ -23,16 +23,7 @@
 namespace {
 
 using namespace facet;
-
-template <class T>
-std::vector<std::uint32_t> bits_of(const std::vector<T>& v) {
-    std::vector<std::uint32_t> out;
-    for (const T& x : v) {
-        const auto* f = reinterpret_cast<const float*>(&x);
-        for (std::size_t k = 0; k < sizeof(T) / sizeof(float); ++k) out.push_back(std::bit_cast<std::uint32_t>(f[k]));
-    }
-    return out;
-}
+using facet_test::bits_of;
 
 void expect_same_as_reference(Mesh mesh, float crease_radians, const std::string& what) {
     SCOPED_TRACE(what + ", crease " + std::to_string(crease_radians));

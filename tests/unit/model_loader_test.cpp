@@ -40,6 +40,8 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace facet;
+using facet_test::read_file;
+using facet_test::write_file;
 using facet_test::base64;
 
 constexpr float k_nan = std::numeric_limits<float>::quiet_NaN();
@@ -51,19 +53,6 @@ using facet_test::k_assimp_models;
 // Helpers: files
 
 fs::path temp_dir() { return facet_test::test_temp_dir("facet_model_test"); }
-
-std::string write_file(const fs::path& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return path.string();
-}
-
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
 
 template <class T>
 void put(std::string& out, T value) {

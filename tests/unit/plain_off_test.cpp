@@ -23,32 +23,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace facet;
-
-std::string write_file(const fs::path& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    return path.string();
-}
-
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using facet_test::bits_of;
+using facet_test::read_file;
+using facet_test::write_file;
 
 bool fast_reader_takes(const std::string& path) { return io_detail::read_plain_off(read_file(path)).has_value(); }
-
-// Bit patterns, so that -0 and +0 (and NaN payloads) count as different.
-template <class T>
-std::vector<std::uint32_t> bits_of(const std::vector<T>& v) {
-    std::vector<std::uint32_t> out;
-    for (const T& x : v) {
-        const auto* f = reinterpret_cast<const float*>(&x);
-        for (std::size_t k = 0; k < sizeof(T) / sizeof(float); ++k) out.push_back(std::bit_cast<std::uint32_t>(f[k]));
-    }
-    return out;
-}
 
 void expect_same_scene(const Result<LoadedModel>& fast, const Result<LoadedModel>& assimp) {
     ASSERT_EQ(fast.ok(), assimp.ok()) << (fast.ok() ? assimp.error().message : fast.error().message);
