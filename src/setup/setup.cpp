@@ -63,8 +63,8 @@ void set_planes(TriangleSetup& t, const ScreenVertex& v0, const ScreenVertex& v1
     t.y0 = static_cast<float>(v0.y * scale);
     t.z0 = v0.z, t.dzdx = dfdx[0], t.dzdy = dfdy[0];
     t.q0 = v0.q, t.dqdx = dfdx[1], t.dqdy = dfdy[1];
-    t.l1_0 = 0.0f, t.dl1dx = dfdx[2], t.dl1dy = dfdy[2];
-    t.l2_0 = 0.0f, t.dl2dx = dfdx[3], t.dl2dy = dfdy[3];
+    t.dl1dx = dfdx[2], t.dl1dy = dfdy[2];
+    t.dl2dx = dfdx[3], t.dl2dy = dfdy[3];
 }
 
 }  // namespace

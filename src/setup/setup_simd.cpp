@@ -228,8 +228,8 @@ void write_record(const SetupBatch& batch, const SetupLanes& lanes, int i, Trian
     t.x0 = lanes.x0[i], t.y0 = lanes.y0[i];
     t.z0 = batch.v[0][i].z, t.dzdx = lanes.dfdx[0][i], t.dzdy = lanes.dfdy[0][i];
     t.q0 = batch.v[0][i].q, t.dqdx = lanes.dfdx[1][i], t.dqdy = lanes.dfdy[1][i];
-    t.l1_0 = 0.0f, t.dl1dx = lanes.dfdx[2][i], t.dl1dy = lanes.dfdy[2][i];
-    t.l2_0 = 0.0f, t.dl2dx = lanes.dfdx[3][i], t.dl2dy = lanes.dfdy[3][i];
+    t.dl1dx = lanes.dfdx[2][i], t.dl1dy = lanes.dfdy[2][i];
+    t.dl2dx = lanes.dfdx[3][i], t.dl2dy = lanes.dfdy[3][i];
     const std::uint32_t bit = 1u << i;
     const bool flip = (lanes.flip & bit) != 0;
     t.vertex[0] = batch.ref[0][i];

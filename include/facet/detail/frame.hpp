@@ -59,18 +59,21 @@ struct ClipVertices {
 // (ix, iy) is a pixel index and its centre is (ix + 0.5, iy + 0.5); the pixel is covered when all
 // three are >= 0 (the top-left rule is folded into c). Attribute planes are evaluated relative to
 // (x0, y0), the first vertex, so precision does not depend on where the triangle is on screen.
-struct TriangleSetup {
+// Two cache lines, aligned: the tiles read a record as two whole lines, never three.
+struct alignas(64) TriangleSetup {
     std::int32_t a[3], b[3];         // |a|, |b| < 2^24: differences of snapped coordinates
     std::int64_t c[3];
     int min_x, min_y, max_x, max_y;  // inclusive pixel bounds, already clamped to the scissor
     float x0, y0;
     float z0, dzdx, dzdy;            // window depth, linear in screen space
     float q0, dqdx, dqdy;            // q = 1/w, linear in screen space
-    float l1_0, dl1dx, dl1dy;        // barycentric b1 times q
-    float l2_0, dl2dx, dl2dy;        // barycentric b2 times q
+    float dl1dx, dl1dy;              // barycentric b1 times q (0 at (x0, y0): b1 is 0 at vertex 0)
+    float dl2dx, dl2dy;              // barycentric b2 times q (likewise)
     std::uint32_t vertex[3];         // varyings: ClipVertices index, or k_clipped_bit | index into the clip extras
     bool front_facing;
 };
+
+static_assert(sizeof(TriangleSetup) == 128);
 
 constexpr std::uint32_t k_clipped_bit = 0x80000000u;
 

@@ -111,8 +111,8 @@ enum ShadingHead : int { sh_x0, sh_y0, sh_q0, sh_dqdx, sh_dqdy, sh_l1_0, sh_dl1d
                          sh_dl2dy, sh_front, k_shading_head };
 
 inline void write_shading_record(const TriangleSetup& t, const float* const (&var)[3], int n, float* out) {
-    const float head[k_shading_head] = {t.x0,    t.y0,    t.q0,     t.dqdx,   t.dqdy,   t.l1_0,
-                                        t.dl1dx, t.dl1dy, t.l2_0,   t.dl2dx,  t.dl2dy,  t.front_facing ? 1.0f : 0.0f};
+    const float head[k_shading_head] = {t.x0,    t.y0,    t.q0,  t.dqdx,  t.dqdy,  0.0f,
+                                        t.dl1dx, t.dl1dy, 0.0f,  t.dl2dx, t.dl2dy, t.front_facing ? 1.0f : 0.0f};
     std::copy(head, head + k_shading_head, out);
     write_varying_planes(var, n, out + k_shading_head);
 }
@@ -133,8 +133,9 @@ inline auto fragment_at(const S& shader, const TriangleSetup& t, const float* pl
     const float dx = (static_cast<float>(x) + 0.5f) - t.x0, dy = (static_cast<float>(y) + 0.5f) - t.y0;
     const float q = t.q0 + t.dqdx * dx + t.dqdy * dy;
     const float w = 1.0f / q;
-    const float b1 = (t.l1_0 + t.dl1dx * dx + t.dl1dy * dy) * w;
-    const float b2 = (t.l2_0 + t.dl2dx * dx + t.dl2dy * dy) * w;
+    // The planes' value at (x0, y0) is 0; it is still added, so a -0 product sums to +0 as it always has.
+    const float b1 = (0.0f + t.dl1dx * dx + t.dl1dy * dy) * w;
+    const float b2 = (0.0f + t.dl2dx * dx + t.dl2dy * dy) * w;
     const float *v0 = planes, *d1 = planes + N, *d2 = planes + 2 * N;
     for (int k = 0; k < N; ++k) in.v[k] = v0[k] + b1 * d1[k] + b2 * d2[k];
     if constexpr (derivative_varyings > 0) {
