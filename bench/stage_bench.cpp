@@ -202,7 +202,7 @@ void BM_FrontEnd_SmallTriangles(benchmark::State& state) {
     for (auto _ : state) {
         chunk.reset(tiles, 7);
         d::run_front_end(wl.vertices, input, 0, count, wl.params, chunk);
-        benchmark::DoNotOptimize(chunk.triangles.data());
+        benchmark::DoNotOptimize(chunk.bins.data());
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(count));
     state.SetLabel("triangles (assemble + setup + bin)");
@@ -227,7 +227,7 @@ void BM_FrontEnd_LargeTriangles(benchmark::State& state) {
     for (auto _ : state) {
         chunk.reset(static_cast<std::size_t>(params.tiles_x) * params.tiles_y, 0);
         d::run_front_end(vertices, input, 0, count, params, chunk);
-        benchmark::DoNotOptimize(chunk.triangles.data());
+        benchmark::DoNotOptimize(chunk.bins.data());
     }
     state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(count));
     state.SetLabel("triangles (assemble + setup + bin)");
@@ -253,8 +253,8 @@ void BM_Coverage_SmallTriangles(benchmark::State& state) {
     for (auto _ : state) {
         for (std::size_t tile = 0; tile < chunk.bins.size(); ++tile) {
             const d::PixelRect r = tile_rect(wl.params, tile);
-            for (std::uint32_t i : chunk.bins[tile]) {
-                covered += d::rasterize_tile(chunk.triangles[i], r, cov);
+            for (const d::TriangleSetup& t : chunk.bins[tile]) {
+                covered += d::rasterize_tile(t, r, cov);
                 ++pairs;
             }
         }
@@ -286,8 +286,8 @@ void BM_DepthPass_SmallTriangles(benchmark::State& state) {
         for (std::size_t tile = 0; tile < chunk.bins.size(); ++tile) {
             const d::PixelRect r = tile_rect(params, tile);
             vis.begin(r, 7, view);
-            for (std::uint32_t i : chunk.bins[tile]) {
-                owning += d::resolve_triangle({&chunk.triangles[i], r, &vis, 0, DepthTest::lequal, true});
+            for (const d::TriangleSetup& t : chunk.bins[tile]) {
+                owning += d::resolve_triangle({&t, r, &vis, 0, DepthTest::lequal, true});
                 ++pairs;
             }
             vis.end(r, view, true);

@@ -11,7 +11,7 @@ namespace {
 // output (bins keep submission order), only the balance between threads.
 constexpr std::size_t k_min_chunk_triangles = 2048;
 
-// Triangles per batch and thread: bounds the set-up records held at once (136 bytes each, so about
+// Triangles per batch and thread: bounds the set-up records held at once (128 bytes each, so about
 // 18 MB per thread) however large the draw. Not smaller: every batch revisits the tiles it touches,
 // re-reading their colour and depth from memory, which costs more than the set-up records' cache
 // misses saved by a batch that fits the caches (measured: 8192 per thread made the bunny at

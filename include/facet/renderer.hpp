@@ -29,7 +29,7 @@ struct RendererConfig {
     int threads = 0;     // 0: one per core
     int tile_size = 64;  // pixels, a power of two from 8 to 64
     // Triangles per batch and thread (0: 131072). A draw is set up and rasterized one batch at a
-    // time, so this bounds the renderer's memory (about 140 bytes per triangle of a batch); the
+    // time, so this bounds the renderer's memory (about 130 bytes per triangle of a batch); the
     // image does not depend on it.
     int batch_triangles = 0;
 };
@@ -66,7 +66,7 @@ private:
     void run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end);
     void add_stats(const Plan& plan, DrawStats& total) const;
 
-    void prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin, std::size_t b) const;
+    void prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin, std::size_t b) const;
     // Every tile in parallel: context = begin(tile, worker, clear_depth), each(context, tile, chunk,
     // setup) per triangle binned to it, in submission order, then end(context, tile). `worker` is
     // the pool worker running the tile (ThreadPool::parallel_for), for per-worker scratch memory.
@@ -109,17 +109,14 @@ inline void prefetch(const void* p) {
 }
 }  // namespace detail
 
-// A tile's triangles sit anywhere in the chunk's set-up array, so the hardware cannot guess the next
-// one: fetch a triangle's record a few triangles ahead, and its vertices' varyings once it has arrived.
-inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const std::vector<std::uint32_t>& bin,
+// A tile's triangles share vertices with triangles anywhere in the mesh, so the hardware cannot guess
+// where the next one's varyings are: fetch them a few triangles ahead. (The records themselves are
+// read front to back from the bin, which the hardware prefetcher follows.)
+inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin,
                                      std::size_t b) const {
-    constexpr std::size_t k_record_distance = 12, k_varyings_distance = 6;
-    if (b + k_record_distance < bin.size()) {
-        const char* record = reinterpret_cast<const char*>(&chunk.triangles[bin[b + k_record_distance]]);
-        for (std::size_t line = 0; line < sizeof(detail::TriangleSetup); line += 64) detail::prefetch(record + line);
-    }
+    constexpr std::size_t k_varyings_distance = 6;
     if (b + k_varyings_distance < bin.size()) {
-        const detail::TriangleSetup& t = chunk.triangles[bin[b + k_varyings_distance]];
+        const detail::TriangleSetup& t = bin[b + k_varyings_distance];
         for (std::uint32_t ref : t.vertex)
             detail::prefetch((ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
                                                              : vertices_.varyings_of(ref));
@@ -167,10 +164,10 @@ void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each
         auto&& context = begin(tile, worker, context_clears_depth);
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
             const detail::FrontEndChunk& chunk = chunks_[c];
-            const std::vector<std::uint32_t>& bin = chunk.bins[tile_index];
+            const detail::TileBin& bin = chunk.bins[tile_index];
             for (std::size_t b = 0; b < bin.size(); ++b) {
                 prefetch_ahead(chunk, bin, b);
-                each(context, tile, chunk, chunk.triangles[bin[b]]);
+                each(context, tile, chunk, bin[b]);
             }
         }
         end(context, tile);

@@ -20,16 +20,14 @@ bool edge_rejects(const TriangleSetup& t, int e, const PixelRect& r) {
     return t.a[e] * x + t.b[e] * y + t.c[e] < 0;
 }
 
-// Appends each triangle that survives setup to the chunk and bins it. Setup writes the record in
-// place, in room made ahead (no copy of the 136 bytes), and the records are counted here and the
-// vector trimmed to the count once the chunk is done. Unclipped triangles are collected into a batch
-// set up together by the SIMD kernel; the batch is flushed before any clipped triangle and at the
-// end, so records and bins keep submission order.
+// Sets up each triangle and stores its record in the bin of every tile it reaches. Unclipped
+// triangles are collected into a batch set up together by the SIMD kernel; the batch is flushed
+// before any clipped triangle and at the end, so every bin keeps submission order. Records are set
+// up in a small scratch array (it stays in L1) and copied into their bins.
 class Emitter {
 public:
     Emitter(const FrontEndParams& p, FrontEndChunk& out)
-        : p_(p), out_(out), first_(out.triangles.size()), count_(first_),
-          tile_shift_(std::countr_zero(static_cast<unsigned>(p.tile_size))) {}
+        : p_(p), out_(out), tile_shift_(std::countr_zero(static_cast<unsigned>(p.tile_size))) {}
 
     // A triangle with every vertex inside all clip planes (most of them): set up later with its batch.
     void add_unclipped(const ClipVertices& vertices, const std::uint32_t (&idx)[3]) {
@@ -44,71 +42,63 @@ public:
     // A triangle made by clipping: the pending batch goes first, so records keep submission order.
     void emit(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3]) {
         flush();
-        if (count_ == out_.triangles.size()) make_room();
-        TriangleSetup& t = out_.triangles[count_];
+        TriangleSetup& t = scratch_[0];
         switch (setup_triangle(v, ref, p_, t)) {
             case SetupResult::culled: ++culled_; return;
             case SetupResult::empty: return;
             case SetupResult::ok: break;
         }
-        bin(t, static_cast<std::uint32_t>(count_));
-        ++count_;
+        bin(t);
+        ++set_up_;
     }
 
     void finish() {
         flush();
-        out_.triangles.resize(count_);
-        out_.stats.triangles_rasterized += count_ - first_;
+        out_.stats.triangles_rasterized += set_up_;
         out_.stats.triangles_culled += culled_;
     }
 
 private:
-    // Uninitialised room: the allocator leaves resize() nothing to write. Doubling (from at least 1024)
-    // always leaves room for a whole batch.
-    void make_room() { out_.triangles.resize(std::max<std::size_t>(1024, 2 * out_.triangles.size())); }
-
     // Sets up the pending batch in one go (SIMD) and bins the survivors in batch order.
     void flush() {
         if (batch_.count == 0) return;
-        if (count_ + SetupBatch::k_capacity > out_.triangles.size()) make_room();
-        const BatchSetupCounts done = setup_triangles(batch_, p_, out_.triangles.data() + count_);
+        const BatchSetupCounts done = setup_triangles(batch_, p_, scratch_);
         culled_ += static_cast<std::uint64_t>(done.culled);
-        for (int j = 0; j < done.written; ++j, ++count_)
-            bin(out_.triangles[count_], static_cast<std::uint32_t>(count_));
+        for (int j = 0; j < done.written; ++j) bin(scratch_[j]);
+        set_up_ += static_cast<std::uint64_t>(done.written);
         batch_.count = 0;
     }
 
     // Tile sizes are powers of two and the bounds are inside the scissor (non-negative), so a shift
     // finds the tile. A triangle inside one tile (most of them) goes to that tile's bin unexamined.
     // Forced inline into the batch loop: as a call, its entry and exit were a third of its samples.
-    [[gnu::always_inline]] void bin(const TriangleSetup& t, std::uint32_t index) {
+    [[gnu::always_inline]] void bin(const TriangleSetup& t) {
         const int tx0 = t.min_x >> tile_shift_, tx1 = t.max_x >> tile_shift_;
         const int ty0 = t.min_y >> tile_shift_, ty1 = t.max_y >> tile_shift_;
         if (tx0 == tx1 && ty0 == ty1) {
-            out_.bins[static_cast<std::size_t>(ty0) * p_.tiles_x + tx0].push_back(index);
+            out_.bins[static_cast<std::size_t>(ty0) * p_.tiles_x + tx0].push_back(t);
             return;
         }
-        bin_across_tiles(t, index, tx0, tx1, ty0, ty1);
+        bin_across_tiles(t, tx0, tx1, ty0, ty1);
     }
 
     // Out of line: few triangles span tiles, and the batch loop stays small without this one.
-    [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, std::uint32_t index, int tx0, int tx1, int ty0,
-                                            int ty1) {
+    [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, int tx0, int tx1, int ty0, int ty1) {
         const int s = p_.tile_size;
         for (int ty = ty0; ty <= ty1; ++ty)
             for (int tx = tx0; tx <= tx1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
                 if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
-                out_.bins[static_cast<std::size_t>(ty) * p_.tiles_x + tx].push_back(index);
+                out_.bins[static_cast<std::size_t>(ty) * p_.tiles_x + tx].push_back(t);
             }
     }
 
     const FrontEndParams& p_;
     FrontEndChunk& out_;
-    std::size_t first_, count_;
-    std::uint64_t culled_ = 0;
+    std::uint64_t set_up_ = 0, culled_ = 0;
     int tile_shift_;
     SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
+    TriangleSetup scratch_[SetupBatch::k_capacity];
 };
 
 GuardBand guard_band(const FrontEndParams& p) {
@@ -120,7 +110,6 @@ bool finite(Vec4 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::is
 }  // namespace
 
 void FrontEndChunk::reset(std::size_t tile_count, int stride) {
-    triangles.clear();
     extras.pos.clear();
     extras.varyings.clear();
     extras.stride = stride;

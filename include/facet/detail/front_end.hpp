@@ -44,10 +44,14 @@ struct UninitialisedAllocator : std::allocator<T> {
     }
 };
 
+// A tile's set-up records in submission order. A record is stored in the bin of every tile it
+// reaches (most triangles reach one), so a tile reads its triangles from one array, front to back,
+// where the hardware prefetcher follows, rather than by index from anywhere in the chunk.
+using TileBin = std::vector<TriangleSetup, UninitialisedAllocator<TriangleSetup>>;
+
 struct FrontEndChunk {
-    std::vector<TriangleSetup, UninitialisedAllocator<TriangleSetup>> triangles;
-    ClipVertices extras;                        // vertices made by clipping
-    std::vector<std::vector<std::uint32_t>> bins;  // per tile (row-major), indices into triangles
+    std::vector<TileBin> bins;  // per tile, row-major
+    ClipVertices extras;        // vertices made by clipping
     DrawStats stats;
     void reset(std::size_t tile_count, int stride);
 };
