@@ -10,7 +10,8 @@
 //                 visible-pixel pass (scalar specification and compiled SIMD kernel)
 //   clear         Framebuffer::clear
 //   texture       Texture::sample, bilinear and trilinear
-//   draw          Renderer::draw end to end, Lambert and a trivial (Mask) shader
+//   draw          Renderer::draw end to end: Lambert (visible-only order), Lambert blended and
+//                 Textured (one-pass order), and a trivial (Mask) shader
 // The workload is a geodesic sphere of 81,920 triangles framed at 512x512 (triangles of a few
 // pixels, like a scanned model), single-threaded. Run: build/release/bench/facet_bench_stages.
 #include <benchmark/benchmark.h>
@@ -347,7 +348,8 @@ void BM_Shading_Lambert(benchmark::State& state) {
     const float* var[3];
     for (int k = 0; k < 3; ++k) var[k] = ft.vertices.varyings_of(ft.setup.vertex[k]);
     for (auto _ : state) {
-        d::shade_tile<shaders::Lambert, DepthTest::lequal, true, Blend::none>(shader, ft.setup, cov, ft.rect, var, view);
+        d::shade_tile<shaders::Lambert, true, Blend::none>(shader, DepthTest::lequal, ft.setup, cov, ft.rect, var,
+                                                            view);
         benchmark::ClobberMemory();
     }
     state.SetItemsProcessed(state.iterations() * 64 * 64);
@@ -416,12 +418,13 @@ BENCHMARK(BM_TextureSample)->Arg(0)->Arg(1);
 
 // Renderer::draw end to end (clear not included), one thread.
 template <class S>
-void draw_benchmark(benchmark::State& state, const S& shader) {
+void draw_benchmark(benchmark::State& state, const S& shader, Blend blend = Blend::none) {
     const Workload& wl = sphere_workload();
     Renderer renderer(RendererConfig{.threads = static_cast<int>(state.range(0))});
     Framebuffer fb(wl.width, wl.height);
     DrawState ds;
     ds.cull = CullMode::none;
+    ds.blend = blend;
     const DrawInput input{static_cast<std::uint32_t>(wl.mesh.positions.size()), wl.mesh.indices};
     for (auto _ : state) {
         state.PauseTiming();
@@ -435,6 +438,37 @@ void draw_benchmark(benchmark::State& state, const S& shader) {
 
 void BM_Draw_Lambert(benchmark::State& state) { draw_benchmark(state, sphere_workload().shader); }
 BENCHMARK(BM_Draw_Lambert)->Arg(1)->Arg(2)->UseRealTime();
+
+// The one-pass order (detail::shade_tile) end to end: blending, or a shader that can discard.
+void BM_Draw_LambertBlended(benchmark::State& state) { draw_benchmark(state, sphere_workload().shader, Blend::alpha); }
+BENCHMARK(BM_Draw_LambertBlended)->Arg(1)->UseRealTime();
+
+// shaders::Textured (Blinn-Phong, a 256x256 mipmapped texture, trilinear; it may discard, so
+// it is drawn in one pass), uv from the sphere's positions.
+void BM_Draw_Textured(benchmark::State& state) {
+    const Workload& wl = sphere_workload();
+    static const Texture tex = [] {
+        Image img{256, 256, std::vector<Rgba8>(256 * 256)};
+        for (int y = 0; y < 256; ++y)
+            for (int x = 0; x < 256; ++x)
+                img.at(x, y) = {static_cast<std::uint8_t>(x), static_cast<std::uint8_t>(y), static_cast<std::uint8_t>(x ^ y), 255};
+        return Texture(std::move(img));
+    }();
+    static const std::vector<Vec2> uvs = [&] {
+        std::vector<Vec2> out;
+        for (const Vec3& p : wl.mesh.positions) out.push_back({p.x * 2 + 2, p.y * 2 + 2});
+        return out;
+    }();
+    shaders::Textured shader;
+    shader.mesh = wl.shader.mesh;
+    shader.mesh.uvs = uvs.data();
+    shader.u = wl.shader.u;
+    shader.u.specular = 0.5f;
+    shader.tex.texture = &tex;
+    shader.tex.sampler.filter = Filter::trilinear;
+    draw_benchmark(state, shader);
+}
+BENCHMARK(BM_Draw_Textured)->Arg(1)->UseRealTime();
 
 void BM_Draw_Trivial(benchmark::State& state) {
     shaders::Mask mask;

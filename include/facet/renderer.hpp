@@ -77,8 +77,8 @@ private:
     void find_varyings(const detail::FrontEndChunk& chunk, const detail::TriangleSetup& t, const float* (&var)[3]) const;
     // The two drawing orders of detail/shade.hpp: one pass (blending, discard), or depth first and
     // the shader once per visible pixel, whose depth test is a run-time choice (one copy per shader).
-    template <class S, DepthTest D, bool W, Blend B>
-    void run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader);
+    template <class S, bool W, Blend B>
+    void run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test);
     template <class S>
     void run_tiles_visible_only(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test, bool depth_write);
 
@@ -183,8 +183,8 @@ inline void Renderer::find_varyings(const detail::FrontEndChunk& chunk, const de
     }
 }
 
-template <class S, DepthTest D, bool W, Blend B>
-void Renderer::run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader) {
+template <class S, bool W, Blend B>
+void Renderer::run_tiles_in_order(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
     walk_tiles<false>(
         plan, [](detail::PixelRect, int, bool) { return detail::TileCoverage{}; },
@@ -193,7 +193,7 @@ void Renderer::run_tiles_in_order(Framebuffer& target, const Plan& plan, const S
             if (!detail::rasterize_tile(t, tile, coverage)) return;
             const float* var[3];
             find_varyings(chunk, t, var);
-            detail::shade_tile<S, D, W, B>(shader, t, coverage, tile, var, view);
+            detail::shade_tile<S, W, B>(shader, test, t, coverage, tile, var, view);
         },
         [](detail::TileCoverage&, detail::PixelRect) {});
 }
@@ -250,21 +250,22 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
         detail::project_vertices(vertices_, block * detail::k_vertex_block, end, plan.params);
     });
 
-    // Tiles, drawn in order: the depth function, depth writes and blending become template
-    // parameters once here. Without blending a shader that cannot discard is drawn visible-only.
+    // Tiles, drawn in order: depth writes and blending become template parameters once here (the
+    // depth function stays a run-time argument, tested once per row by shade_tile). Without
+    // blending a shader that cannot discard is drawn visible-only.
     constexpr bool can_skip_hidden = detail::draws_visible_only<S, Blend::none>();
     const bool visible_only = can_skip_hidden && state.blend == Blend::none;
-    auto with_blend = [&]<DepthTest D, bool W>() {
+    auto with_blend = [&]<bool W>() {
         if (state.blend == Blend::alpha)
-            run_tiles_in_order<S, D, W, Blend::alpha>(target, plan, shader);
+            run_tiles_in_order<S, W, Blend::alpha>(target, plan, shader, state.depth_test);
         else if constexpr (!can_skip_hidden)
-            run_tiles_in_order<S, D, W, Blend::none>(target, plan, shader);
+            run_tiles_in_order<S, W, Blend::none>(target, plan, shader, state.depth_test);
     };
-    auto with_write = [&]<DepthTest D>() {
+    auto in_order = [&] {
         if (state.depth_write)
-            with_blend.template operator()<D, true>();
+            with_blend.template operator()<true>();
         else
-            with_blend.template operator()<D, false>();
+            with_blend.template operator()<false>();
     };
     // Front end and tiles run batch by batch: the set-up records of one batch are still in the caches
     // when the tiles read them, and memory stays bounded whatever the size of the draw. Batches
@@ -285,7 +286,7 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
                 drawn = true;
             }
         }
-        if (!drawn) detail::with_depth_test(state.depth_test, with_write);
+        if (!drawn && state.depth_test != DepthTest::never) in_order();
         add_stats(plan, stats);
         plan.clear_tiles = false;  // done by the first batch's tiles
     }

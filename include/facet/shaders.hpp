@@ -235,7 +235,7 @@ struct Mask {
 
 }  // namespace shaders
 
-// The built-in shaders whose visible pixels are shaded by SIMD kernels (src/shade/visible_simd.cpp):
+// The built-in shaders whose visible pixels are shaded by SIMD kernels (src/shade/visible_simd*):
 // the same bytes as fragment(), several pixels at a time. "scalar" (facet/isa.hpp) runs fragment().
 namespace detail {
 #define FACET_COMPILED_VISIBLE_PASS(S)                                                                  \

@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <vector>
@@ -49,7 +51,10 @@ bool passes(DepthTest d, float z, float stored) {  // the definitions, by name
 }
 
 // Draws A then B in one draw call, with the given depth test, writes, clear depth and depths.
-Framebuffer draw_pair(DepthTest test, bool write, float clear_depth, float za, float zb, int threads = 1) {
+// Blend::alpha draws in the one-pass order (shade_tile) instead of the visible-only order; the
+// colours are opaque, so the bytes are the same.
+Framebuffer draw_pair(DepthTest test, bool write, float clear_depth, float za, float zb, int threads = 1,
+                      Blend blend = Blend::none) {
     std::vector<Vec4> pos;
     for (const R::Fixed& p : k_a) pos.push_back(R::clip_from_fixed(p, k_vp, za));
     for (const R::Fixed& p : k_b) pos.push_back(R::clip_from_fixed(p, k_vp, zb));
@@ -65,6 +70,7 @@ Framebuffer draw_pair(DepthTest test, bool write, float clear_depth, float za, f
     state.cull = CullMode::none;
     state.depth_test = test;
     state.depth_write = write;
+    state.blend = blend;
     Renderer({.threads = threads, .tile_size = 16}).draw(fb, state, DrawInput{6, {}}, coloured);
     return fb;
 }
@@ -109,15 +115,32 @@ TEST(DepthTest, EveryModeAndWriteFlagFollowsTheDefinition) {
         for (bool write : {true, false})
             for (float clear : {0.25f, 0.5f, 1.0f})
                 for (float za : values)
-                    for (float zb : values) {
-                        const Framebuffer fb = draw_pair(test, write, clear, za, zb, za == zb ? 2 : 1);
-                        const Expected e = model(test, write, clear, za, zb);
-                        int wrong = 0;
-                        for (std::size_t i = 0; i < e.colour.size(); ++i)
-                            wrong += fb.colour_data()[i] != e.colour[i] || fb.depth_data()[i] != e.depth[i];
-                        EXPECT_EQ(wrong, 0) << name(test) << (write ? " write" : " no-write") << ", clear " << clear
-                                            << ", A at " << za << ", B at " << zb;
-                    }
+                    for (float zb : values)
+                        for (Blend blend : {Blend::none, Blend::alpha}) {
+                            const Framebuffer fb = draw_pair(test, write, clear, za, zb, za == zb ? 2 : 1, blend);
+                            const Expected e = model(test, write, clear, za, zb);
+                            int wrong = 0;
+                            for (std::size_t i = 0; i < e.colour.size(); ++i)
+                                wrong += fb.colour_data()[i] != e.colour[i] || fb.depth_data()[i] != e.depth[i];
+                            EXPECT_EQ(wrong, 0) << name(test) << (write ? " write" : " no-write") << ", clear " << clear
+                                                << ", A at " << za << ", B at " << zb
+                                                << (blend == Blend::alpha ? ", one-pass order" : ", visible-only order");
+                        }
+}
+
+// The one-pass order's run-time depth test (detail::depth_passes_in) against the definitions, on
+// the values where comparisons are tricky: signed zeros, infinities, NaN, subnormals, neighbours.
+TEST(DepthTest, RunTimeDepthTestFollowsTheDefinitionOnSpecialValues) {
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    const float values[] = {0.0f, -0.0f, 1e-45f, -1e-45f, 0.5f, std::nextafter(0.5f, 1.0f), 1.0f, -1.0f, inf, -inf, nan};
+    for (DepthTest test : {DepthTest::never, DepthTest::less, DepthTest::lequal, DepthTest::equal, DepthTest::greater,
+                           DepthTest::always}) {
+        const std::uint32_t set = detail::depth_pass_set(test);
+        for (float z : values)
+            for (float stored : values)
+                EXPECT_EQ(detail::depth_passes_in(set, z, stored), passes(test, z, stored))
+                    << name(test) << ": z " << z << ", stored " << stored;
+    }
 }
 
 // The same, spelled out by hand for the overlap region, so the model above is not the only witness.

@@ -1,4 +1,4 @@
-// Property: the built-in shaders' compiled visible-pixel pass (src/shade/visible_simd.cpp) draws the
+// Property: the built-in shaders' compiled visible-pixel pass (src/shade/visible_simd*) draws the
 // bytes of the scalar specification (detail::shade_visible: fragment() once per visible pixel, what
 // "scalar" runs) on every ISA the CPU runs.
 // The mesh is random and adversarial for the shaders' arithmetic: normals of every length including

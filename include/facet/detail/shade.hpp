@@ -106,7 +106,7 @@ inline float depth_at(const TriangleSetup& t, int x, int y) {
 
 // What the shading pass needs of one triangle in one tile, as one record of floats: the set-up
 // values fragment_at reads (k_shading_head of them), then the varying planes. Contiguous floats, so
-// that SIMD kernels can gather them by triangle index (src/shade/visible_simd.cpp).
+// that SIMD kernels can gather them by triangle index (src/shade/visible_simd-inl.h).
 enum ShadingHead : int { sh_x0, sh_y0, sh_q0, sh_dqdx, sh_dqdy, sh_l1_0, sh_dl1dx, sh_dl1dy, sh_l2_0, sh_dl2dx,
                          sh_dl2dy, sh_front, k_shading_head };
 
@@ -153,12 +153,35 @@ inline auto fragment_at(const S& shader, const TriangleSetup& t, const float* pl
     return shader.fragment(in);
 }
 
+// A depth test as the set of comparison outcomes it passes (bit 1: z < stored, bit 2: equal, bit 4:
+// greater, bit 0: unordered, i.e. a NaN), for depth_passes_in below.
+inline std::uint32_t depth_pass_set(DepthTest test) {
+    switch (test) {
+        case DepthTest::less: return 1u << 1;
+        case DepthTest::lequal: return 1u << 1 | 1u << 2;
+        case DepthTest::equal: return 1u << 2;
+        case DepthTest::greater: return 1u << 4;
+        case DepthTest::always: return 1u << 0 | 1u << 1 | 1u << 2 | 1u << 4;
+        case DepthTest::never: break;
+    }
+    return 0;
+}
+
+// depth_passes<D>(z, stored) for the D whose depth_pass_set is `pass_set`, without a branch: the
+// one-pass order takes the depth test as a run-time argument, so it is not instantiated once per
+// depth test (that multiplied every shader's fragment stage by five).
+[[gnu::always_inline]] inline bool depth_passes_in(std::uint32_t pass_set, float z, float stored) {
+    const unsigned outcome = unsigned{z < stored} | unsigned{z == stored} << 1 | unsigned{z > stored} << 2;
+    return (pass_set >> outcome) & 1u;
+}
+
 // One pass: test, shade, write each covered pixel of one triangle in turn.
-template <class S, DepthTest D, bool DepthWrite, Blend B>
-void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
+template <class S, bool DepthWrite, Blend B>
+void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
                 const float* const (&var)[3], TargetView target) {
     const VaryingPlanes<S::k_varyings> planes(var);
     FragmentIn<S::k_varyings> in;
+    const std::uint32_t pass_set = depth_pass_set(test);
     for (int row = cov.first_row; row <= cov.last_row; ++row) {
         std::uint64_t mask = cov.rows[row];
         const int y = tile.y0 + row;
@@ -168,7 +191,7 @@ void shade_tile(const S& shader, const TriangleSetup& t, const TileCoverage& cov
             const int x = tile.x0 + std::countr_zero(mask);
             mask &= mask - 1;
             const float z = depth_at(t, x, y);
-            if (!depth_passes<D>(z, depth_row[x])) continue;
+            if (!depth_passes_in(pass_set, z, depth_row[x])) continue;
             Vec4 c;
             if constexpr (shader_discards<S>()) {
                 const std::optional<Vec4> r = fragment_at(shader, t, planes.p, x, y, z, in);

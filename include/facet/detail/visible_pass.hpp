@@ -2,7 +2,7 @@
 // The renderer's visible-only order ends each tile with detail::shade_visible (shade.hpp), which calls
 // fragment() once per visible pixel. A shader type for which CompiledVisiblePass is specialized with
 // available = true is shaded by its run() instead: the built-in shaders (shaders.hpp) have SIMD
-// kernels compiled into the library for every ISA (src/shade/visible_simd.cpp), which compute the
+// kernels compiled into the library for every ISA (src/shade/visible_simd*), which compute the
 // same bytes as shade_visible over 4 to 16 pixels at a time.
 #pragma once
 

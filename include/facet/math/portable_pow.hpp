@@ -3,7 +3,7 @@
 // not) and differs between library versions; a shader that calls it can give different images on
 // different machines, and it has no vector form that matches it bit for bit. portable_pow is built
 // from float additions, multiplications, one division and exact bit manipulations only, in a fixed
-// order, so the SIMD shading kernels (src/shade/visible_simd.cpp) reproduce it exactly.
+// order, so the SIMD shading kernels (src/shade/visible_simd-inl.h) reproduce it exactly.
 // Accuracy (against std::pow in double): relative error below 2e-6 when |y log2 x| < 16, below 1e-5
 // up to 128 (the rounding of y log2 x to float alone costs that much there); results below 2^-126
 // are 0, above 2^128 infinite. For shading, where results are at most 1, that is far below 1/255.

@@ -1,5 +1,11 @@
 // facet shade: the visible-pixel pass (pass two of the visible-only order, detail/shade.hpp) of the
 // built-in shaders as SIMD kernels, compiled once per ISA by Highway and dispatched at run time.
+// This header holds what the shader families share (lane helpers, interpolation, the tile loop
+// ShadeVisibleTile); each family's fragment() in lanes and its exported kernels are in a file of
+// their own, so that the kernels compile in parallel:
+//   visible_simd_lambert.cpp      Lambert, LambertBaseColour
+//   visible_simd_blinn_phong.cpp  BlinnPhong, BlinnPhongBaseColour
+//   visible_simd_unlit.cpp        Normals, VertexColour
 // In: a tile's TileVisibility (which triangle owns each pixel, and each triangle's shading record).
 // Out: the colour of every visible pixel of the tile.
 //
@@ -12,9 +18,31 @@
 // shade_visible. What has no exact vector form goes through the specification pixel by pixel: the
 // rare cases of normalize (zero, non-finite or overflowing vectors) and the columns past the
 // last whole vector of a row.
-#undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "shade/visible_simd.cpp"
-#include <hwy/foreach_target.h>  // IWYU pragma: keep
+//
+// A Highway "-inl.h" header: included once per target by each kernel file's foreach_target.h
+// pass (the guard toggles with HWY_TARGET_TOGGLE), and the definitions live in that target's
+// namespace.
+
+// Not per target: the dispatching definition of CompiledVisiblePass<S>::run for a kernel exported
+// with HWY_EXPORT (used by the kernel files under #if HWY_ONCE). "scalar" (facet/isa.hpp) runs the
+// specification itself.
+#ifndef FACET_SHADE_VISIBLE_SIMD_DISPATCH_
+#define FACET_SHADE_VISIBLE_SIMD_DISPATCH_
+#define FACET_DEFINE_VISIBLE_PASS(S, KERNEL)                                                                   \
+    HWY_EXPORT(KERNEL);                                                                                      \
+    void CompiledVisiblePass<shaders::S>::run(const shaders::S& shader, const TileVisibility& vis, PixelRect tile, \
+                                              TargetView target) {                                           \
+        if (use_scalar_kernels()) return shade_visible(shader, vis, tile, target);                          \
+        HWY_DYNAMIC_DISPATCH(KERNEL)(shader, vis, tile, target);                                             \
+    }
+#endif
+
+#if defined(FACET_SHADE_VISIBLE_SIMD_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef FACET_SHADE_VISIBLE_SIMD_INL_H_
+#undef FACET_SHADE_VISIBLE_SIMD_INL_H_
+#else
+#define FACET_SHADE_VISIBLE_SIMD_INL_H_
+#endif
 
 #include <hwy/highway.h>
 
@@ -162,7 +190,6 @@ struct LanesIn {
     MF scalar;
 };
 
-// The lane-wide fragment() of each built-in shader with a compiled pass.
 // The albedo lanes of a LambertShader or BlinnPhongShader: its vertex-colour varyings from `first`
 // on, or its base colour.
 template <class S, int N>
@@ -173,63 +200,6 @@ HWY_INLINE void albedo_lanes(const S& s, const LanesIn<N>& in, int first, VF (&o
         else out[c] = hn::Set(df, s.u.base_colour[static_cast<std::size_t>(c)]);
     }
 }
-
-template <class S>
-struct LambertLanes {
-    static constexpr int N = S::k_varyings;
-    const S& s;
-    ColourLanes operator()(LanesIn<N>& in) const {
-        const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
-        VF albedo[4];
-        albedo_lanes(s, in, 3, albedo);
-        return shade(albedo, lambert_term(n, s.u));
-    }
-};
-
-template <class S>
-struct BlinnPhongLanes {
-    static constexpr int N = S::k_varyings;
-    const S& s;
-    ColourLanes operator()(LanesIn<N>& in) const {
-        const DF df;
-        const ShadingUniforms& u = s.u;
-        Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
-        n = select(in.front_facing, n, negate(n));
-        const Vec3Lanes eye = splat(u.eye);
-        const Vec3Lanes to_eye =
-            normalize({hn::Sub(eye.x, in.v[3]), hn::Sub(eye.y, in.v[4]), hn::Sub(eye.z, in.v[5])}, in.scalar);
-        // shaders::detail::blinn_phong
-        VF albedo[4];
-        albedo_lanes(s, in, 6, albedo);
-        const ColourLanes c = shade(albedo, lambert_term(n, u));
-        const Vec3Lanes key = splat(u.key.direction);
-        const Vec3Lanes h = normalize({hn::Add(key.x, to_eye.x), hn::Add(key.y, to_eye.y), hn::Add(key.z, to_eye.z)},
-                                      in.scalar);
-        const VF s_lanes = hn::Mul(hn::Set(df, u.specular), portable_pow(max_zero(dot(n, h)), u.shininess));
-        return {hn::Add(c.r, hn::Mul(s_lanes, hn::Set(df, u.key.colour.x))),
-                hn::Add(c.g, hn::Mul(s_lanes, hn::Set(df, u.key.colour.y))),
-                hn::Add(c.b, hn::Mul(s_lanes, hn::Set(df, u.key.colour.z))), c.a};
-    }
-};
-
-struct NormalsLanes {
-    static constexpr int N = 3;
-    const shaders::Normals& s;
-    ColourLanes operator()(LanesIn<N>& in) const {
-        const DF df;
-        const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
-        const VF half = hn::Set(df, 0.5f);
-        return {hn::Add(half, hn::Mul(half, n.x)), hn::Add(half, hn::Mul(half, n.y)), hn::Add(half, hn::Mul(half, n.z)),
-                hn::Set(df, 1.0f)};
-    }
-};
-
-struct VertexColourLanes {
-    static constexpr int N = 4;
-    const shaders::VertexColour& s;
-    ColourLanes operator()(LanesIn<N>& in) const { return {in.v[0], in.v[1], in.v[2], in.v[3]}; }
-};
-
 // to_rgba8 of one channel, as an integer in [0, 255]: clamp to [0, 1] (NaN to 0), scale, round.
 HWY_INLINE hn::Vec<DU> unorm8(VF v) {
     const DF df;
@@ -395,50 +365,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
         if (redo[r]) shade_visible_pixels(shader, vis, tile, target, tile.y0 + r, redo[r]);
 }
 
-void ShadeLambert(const shaders::Lambert& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, LambertLanes<shaders::Lambert>{s}, vis, tile, target);
-}
-void ShadeLambertBaseColour(const shaders::LambertBaseColour& s, const TileVisibility& vis, PixelRect tile,
-                            TargetView target) {
-    ShadeVisibleTile(s, LambertLanes<shaders::LambertBaseColour>{s}, vis, tile, target);
-}
-void ShadeBlinnPhong(const shaders::BlinnPhong& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhong>{s}, vis, tile, target);
-}
-void ShadeBlinnPhongBaseColour(const shaders::BlinnPhongBaseColour& s, const TileVisibility& vis, PixelRect tile,
-                               TargetView target) {
-    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhongBaseColour>{s}, vis, tile, target);
-}
-void ShadeNormals(const shaders::Normals& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, NormalsLanes{s}, vis, tile, target);
-}
-void ShadeVertexColour(const shaders::VertexColour& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, VertexColourLanes{s}, vis, tile, target);
-}
-
 }  // namespace facet::detail::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
-#if HWY_ONCE
-#include "simd/isa.hpp"
-
-namespace facet::detail {
-
-// "scalar" (facet/isa.hpp) runs the specification itself.
-#define FACET_DEFINE_VISIBLE_PASS(S, KERNEL)                                                                   \
-    HWY_EXPORT(KERNEL);                                                                                      \
-    void CompiledVisiblePass<shaders::S>::run(const shaders::S& shader, const TileVisibility& vis, PixelRect tile, \
-                                              TargetView target) {                                           \
-        if (use_scalar_kernels()) return shade_visible(shader, vis, tile, target);                          \
-        HWY_DYNAMIC_DISPATCH(KERNEL)(shader, vis, tile, target);                                             \
-    }
-FACET_DEFINE_VISIBLE_PASS(Lambert, ShadeLambert)
-FACET_DEFINE_VISIBLE_PASS(LambertBaseColour, ShadeLambertBaseColour)
-FACET_DEFINE_VISIBLE_PASS(BlinnPhong, ShadeBlinnPhong)
-FACET_DEFINE_VISIBLE_PASS(BlinnPhongBaseColour, ShadeBlinnPhongBaseColour)
-FACET_DEFINE_VISIBLE_PASS(Normals, ShadeNormals)
-FACET_DEFINE_VISIBLE_PASS(VertexColour, ShadeVertexColour)
-#undef FACET_DEFINE_VISIBLE_PASS
-
-}  // namespace facet::detail
-#endif
+#endif  // FACET_SHADE_VISIBLE_SIMD_INL_H_ toggle

@@ -1,0 +1,50 @@
+// facet shade: the SIMD visible-pixel pass of the Lambert shaders (shade/visible_simd-inl.h
+// has the shared tile loop and what the kernels compute), compiled once per ISA by Highway.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "shade/visible_simd_lambert.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include "facet/detail/shade.hpp"
+#include "facet/shaders.hpp"
+#include "shade/visible_simd-inl.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace facet::detail::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// The lane-wide fragment() of LambertShader (shaders::Lambert, shaders::LambertBaseColour).
+template <class S>
+struct LambertLanes {
+    static constexpr int N = S::k_varyings;
+    const S& s;
+    ColourLanes operator()(LanesIn<N>& in) const {
+        const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
+        VF albedo[4];
+        albedo_lanes(s, in, 3, albedo);
+        return shade(albedo, lambert_term(n, s.u));
+    }
+};
+
+void ShadeLambert(const shaders::Lambert& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
+    ShadeVisibleTile(s, LambertLanes<shaders::Lambert>{s}, vis, tile, target);
+}
+void ShadeLambertBaseColour(const shaders::LambertBaseColour& s, const TileVisibility& vis, PixelRect tile,
+                            TargetView target) {
+    ShadeVisibleTile(s, LambertLanes<shaders::LambertBaseColour>{s}, vis, tile, target);
+}
+
+}  // namespace facet::detail::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include "simd/isa.hpp"
+
+namespace facet::detail {
+
+FACET_DEFINE_VISIBLE_PASS(Lambert, ShadeLambert)
+FACET_DEFINE_VISIBLE_PASS(LambertBaseColour, ShadeLambertBaseColour)
+
+}  // namespace facet::detail
+#endif
