@@ -110,11 +110,17 @@ inline void prefetch(const void* p) {
 }  // namespace detail
 
 // A tile's triangles share vertices with triangles anywhere in the mesh, so the hardware cannot guess
-// where the next one's varyings are: fetch them a few triangles ahead. (The records themselves are
-// read front to back from the bin, which the hardware prefetcher follows.)
+// where the next one's varyings are: fetch them a few triangles ahead. The records are read front to
+// back from the bin, but each tile's bin is a new stream the hardware prefetcher has yet to learn:
+// fetch them ahead too.
 inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin,
                                      std::size_t b) const {
-    constexpr std::size_t k_varyings_distance = 6;
+    constexpr std::size_t k_record_distance = 4, k_varyings_distance = 6;
+    if (b + k_record_distance < bin.size()) {
+        const char* record = reinterpret_cast<const char*>(&bin[b + k_record_distance]);
+        detail::prefetch(record);
+        detail::prefetch(record + 64);
+    }
     if (b + k_varyings_distance < bin.size()) {
         const detail::TriangleSetup& t = bin[b + k_varyings_distance];
         for (std::uint32_t ref : t.vertex)

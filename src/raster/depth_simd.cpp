@@ -69,6 +69,18 @@ M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
     return hn::And(covered, hn::Lt(z, hn::Zero(DF())));  // never: z >= 0 after clamping, so no lane
 }
 
+// Stores `v` where `m` is set, keeping the other lanes of p. AVX-512 has masked stores; elsewhere
+// the old lanes are loaded and blended (an emulated masked store is slower there).
+template <class D>
+HWY_INLINE void store_where(D d, hn::Mask<D> m, hn::Vec<D> v, hn::Vec<D> old, hn::TFromD<D>* HWY_RESTRICT p) {
+#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
+    (void)old;
+    hn::BlendedStore(v, m, d, p);
+#else
+    hn::Store(hn::IfThenElse(m, v, old), d, p);
+#endif
+}
+
 // One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
 // (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
 // lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors.
@@ -100,21 +112,15 @@ bool resolve_strip(DF df, const DepthJob& job, const EdgeRect& r, int start, int
         const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e[0], e[1]), e[2]), hn::Zero(di)), columns);
         for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], b[k]);
         const int row = y - job.tile.y0;
-        std::uint8_t bits[8] = {};
-        hn::StoreMaskBits(di, inside, bits);
-        std::uint64_t word;
-        std::memcpy(&word, bits, sizeof(word));
-        vis.covered[row] |= word << i;
-
         const float dy = (static_cast<float>(y) + 0.5f) - t.y0;
         auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
         z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
         float* depth = vis.depth + row * k_max_tile_size + i;
         const auto stored = hn::Load(df, depth);
         const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
-        if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
+        if constexpr (DepthWrite) store_where(df, pass, z, stored, depth);
         std::uint32_t* owner = vis.owner + row * k_max_tile_size + i;
-        hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), id, hn::Load(du, owner)), du, owner);
+        store_where(du, hn::RebindMask(du, pass), id, hn::Load(du, owner), owner);
         passed = hn::Or(passed, pass);
     }
     return !hn::AllFalse(df, passed);
@@ -139,6 +145,26 @@ bool ResolveTriangleFor(const DepthJob& job) {
     return any;
 }
 
+// Marks the pixels some triangle owns in `covered` (see TileVisibility::end).
+void FindOwnedPixels(TileVisibility& vis, PixelRect tile) {
+    const hn::ScalableTag<std::uint32_t> du;
+    const int lanes = static_cast<int>(hn::Lanes(du));
+    const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
+    const auto none = hn::Set(du, TileVisibility::k_none);
+    for (int row = 0; row < height; ++row) {
+        std::uint64_t bits = 0;
+        for (int i = 0; i < width; i += lanes) {
+            std::uint8_t lane_bits[8] = {};
+            hn::StoreMaskBits(du, hn::Ne(hn::Load(du, vis.owner + row * k_max_tile_size + i), none), lane_bits);
+            std::uint64_t word;
+            std::memcpy(&word, lane_bits, sizeof(word));
+            bits |= word << i;
+        }
+        // Lanes past the tile's width may hold anything (begin() sets the tile's columns only).
+        vis.covered[row] = width >= 64 ? bits : bits & ((std::uint64_t{1} << width) - 1);
+    }
+}
+
 // This target's kernel for a depth test and write flag (never: one that draws nothing).
 ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
     ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
@@ -158,6 +184,12 @@ HWY_AFTER_NAMESPACE();
 namespace facet::detail {
 
 HWY_EXPORT(ChooseResolveTriangle);
+HWY_EXPORT(FindOwnedPixels);
+
+void find_owned_pixels(TileVisibility& vis, PixelRect tile) {
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(FindOwnedPixels)(vis, tile);
+    find_owned_pixels_reference(vis, tile);
+}
 
 ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write) {
     ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };

@@ -212,6 +212,11 @@ void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const T
     }
 }
 
+struct TileVisibility;
+// Sets TileVisibility::covered from the owners, with the ISA selected in facet/isa.hpp (a SIMD kernel
+// in src/raster/depth_simd.cpp, or find_owned_pixels_reference).
+void find_owned_pixels(TileVisibility& vis, PixelRect tile);
+
 // A tile's triangles that are visible somewhere, in submission order, and which of them is visible
 // at each pixel.
 struct TileVisibility {
@@ -233,7 +238,9 @@ struct TileVisibility {
     // (unaligned vectors overlapping it partly wait for the store; measured: ~10% of the pass).
     alignas(64) float depth[k_max_tile_size * k_max_tile_size];
     bool depth_cleared = false;  // begin() set depth to a clear value: end() must store it
-    std::uint64_t covered[k_max_tile_size];  // pixels some triangle covers: owner is k_none elsewhere
+    // Per row, the pixels some triangle owns: set by end() from `owner`, once per tile, rather than
+    // by the depth pass for every row of every triangle.
+    std::uint64_t covered[k_max_tile_size];
 
     // Room for `count` triangles with `varyings` each, so that drawing a tile of that many allocates
     // nothing.
@@ -247,7 +254,6 @@ struct TileVisibility {
         planes.clear();
         stride = k_shading_head + 3 * varyings;
         const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
-        std::fill(covered, covered + height, 0);
         depth_cleared = clear_depth != nullptr;
         for (int r = 0; r < height; ++r) {
             std::fill_n(owner + r * k_max_tile_size, width, k_none);
@@ -258,18 +264,15 @@ struct TileVisibility {
                 std::copy_n(row, width, depth + r * k_max_tile_size);
         }
     }
-    // Writes the tile's depth back to the target when it changed: cleared by begin() or written by
-    // the depth pass (depth_write).
-    void end(PixelRect tile, TargetView target, bool depth_write) const {
+    // Ends the depth pass: finds the covered pixels, and writes the tile's depth back to the target
+    // when it changed (cleared by begin() or written by the depth pass, depth_write).
+    void end(PixelRect tile, TargetView target, bool depth_write) {
+        find_owned_pixels(*this, tile);
         if (!depth_write && !depth_cleared) return;
         const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
         for (int r = 0; r < height; ++r)
             std::copy_n(depth + r * k_max_tile_size, width,
                         target.depth + static_cast<std::size_t>(tile.y0 + r) * target.stride + tile.x0);
-    }
-    // Adds a triangle's coverage to `covered`.
-    void cover(const TileCoverage& cov) {
-        for (int r = cov.first_row; r <= cov.last_row; ++r) covered[r] |= cov.rows[r];
     }
     // Lists triangle t, whose id was next_id(), with its shading record.
     template <int N>
@@ -289,7 +292,7 @@ struct TileVisibility {
 struct DepthJob {
     const TriangleSetup* setup;
     PixelRect tile;
-    TileVisibility* vis;  // depth, owner and covered are updated; the triangle list is the caller's
+    TileVisibility* vis;  // depth and owner are updated; the triangle list is the caller's
     std::uint32_t id;
     DepthTest test;
     bool write;
@@ -324,8 +327,17 @@ template <DepthTest D, bool DepthWrite>
 bool resolve_triangle_reference(const DepthJob& job) {
     TileCoverage cov;
     if (!rasterize_tile_reference(*job.setup, job.tile, cov)) return false;
-    job.vis->cover(cov);
     return resolve_depth_reference<D, DepthWrite>(job, cov);
+}
+
+// The scalar specification of find_owned_pixels.
+inline void find_owned_pixels_reference(TileVisibility& vis, PixelRect tile) {
+    for (int row = 0; row < tile.y1 - tile.y0; ++row) {
+        std::uint64_t bits = 0;
+        for (int i = 0; i < tile.x1 - tile.x0; ++i)
+            bits |= std::uint64_t{vis.owner[row * k_max_tile_size + i] != TileVisibility::k_none} << i;
+        vis.covered[row] = bits;
+    }
 }
 
 // Pass one for the ISA selected in facet/isa.hpp: a SIMD kernel that computes coverage and depth in
