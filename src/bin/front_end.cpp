@@ -17,7 +17,7 @@ bool edge_rejects(const TriangleSetup& t, int e, const PixelRect& r) {
     // The largest value of a*x + b*y + c over the rectangle is at the corner its gradient points to.
     const std::int64_t x = t.a[e] > 0 ? r.x1 - 1 : r.x0;
     const std::int64_t y = t.b[e] > 0 ? r.y1 - 1 : r.y0;
-    return t.a[e] * x + t.b[e] * y + t.c[e] < 0;
+    return edge_at(t, e, x, y) < 0;
 }
 
 // Sets up each triangle and stores its record in the bin of every tile it reaches. Unclipped

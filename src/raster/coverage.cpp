@@ -72,7 +72,7 @@ bool rasterize_tile_reference(const TriangleSetup& t, PixelRect tile, TileCovera
     if (!rect) return false;
     const int x0 = rect->x0, x1 = rect->x1, y0 = rect->y0, y1 = rect->y1;
 
-    // Edge e holds where a*x + r(y) >= 0 with r(y) = b*y + c:
+    // Edge e holds where a*x + r(y) >= 0 with r(y) = e(0, y), the edge at column 0:
     //   a > 0:  x >= ceil(-r / a) = -floor(r / a)     (a lower bound)
     //   a < 0:  x <= floor(r / -a)                    (an upper bound)
     //   a = 0:  every x when r >= 0, none otherwise
@@ -82,7 +82,7 @@ bool rasterize_tile_reference(const TriangleSetup& t, PixelRect tile, TileCovera
     std::int64_t flat_b[3];
     int flat_count = 0;
     for (int e = 0; e < 3; ++e) {
-        const std::int64_t a = t.a[e], b = t.b[e], r0 = b * y0 + t.c[e];
+        const std::int64_t a = t.a[e], b = t.b[e], r0 = edge_at(t, e, 0, y0);
         if (a > 0)
             lower[lower_count++] = FloorStepper(r0, b, a);
         else if (a < 0)
@@ -132,7 +132,7 @@ bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
         // |b| (h - 1) < 2 * 2^24 * 63 < 2^31, so an edge that changes sign inside (min < 0 <= max)
         // has every value in the rectangle within 32 bits.
         const std::int64_t a = t.a[k], b = t.b[k];
-        const std::int64_t first = a * x0 + b * y0 + t.c[k];
+        const std::int64_t first = edge_at(t, k, x0, y0);
         const std::int64_t min = first + std::min<std::int64_t>(a, 0) * (edges.width - 1) +
                                  std::min<std::int64_t>(b, 0) * (edges.height - 1);
         const std::int64_t max = first + std::max<std::int64_t>(a, 0) * (edges.width - 1) +

@@ -32,15 +32,38 @@ struct EdgeRect {
     std::uint32_t e[3], a[3], b[3];  // value at (x0, y0), step per column, per row; unsigned: lanes wrap
 };
 
+// True when every edge fits in 32 bits over the triangle's bounds if they are at most a tile wide:
+// |e0| < 2^30 plus at most 2 * 63 steps of at most 2^15. (Bounds clamped to the target can be small
+// while the triangle is not, so the size of the bounds alone does not say it.)
+inline bool small_edges(const TriangleSetup& t) {
+    bool small = true;
+    for (int k = 0; k < 3; ++k)
+        small &= (t.a[k] >= -(1 << 15)) & (t.a[k] <= (1 << 15)) & (t.b[k] >= -(1 << 15)) & (t.b[k] <= (1 << 15)) &
+                 (t.e0[k] > -(1 << 30)) & (t.e0[k] < (1 << 30));
+    return small;
+}
+
 // False when the bounds miss the tile or some edge is negative over the whole rectangle.
 inline bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
     r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
     r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
     if (r.x0 > r.x1 || r.y0 > r.y1) return false;
+    if (r.x0 == t.min_x && r.y0 == t.min_y && r.x1 == t.max_x && r.y1 == t.max_y && small_edges(t)) {
+        // The triangle's bounds are inside this tile (most are) and its edges are small: all three
+        // are evaluated from e0 as they are, with no 64-bit arithmetic. An edge >= 0 everywhere
+        // decides nothing, and one < 0 everywhere leaves no pixel inside: the result is the general
+        // case's.
+        for (int k = 0; k < 3; ++k) {
+            r.e[k] = static_cast<std::uint32_t>(t.e0[k]);
+            r.a[k] = static_cast<std::uint32_t>(t.a[k]);
+            r.b[k] = static_cast<std::uint32_t>(t.b[k]);
+        }
+        return true;
+    }
     const std::int64_t w1 = r.x1 - r.x0, h1 = r.y1 - r.y0;
     for (int k = 0; k < 3; ++k) {
         const std::int64_t a = t.a[k], b = t.b[k];
-        const std::int64_t first = a * r.x0 + b * r.y0 + t.c[k];
+        const std::int64_t first = edge_at(t, k, r.x0, r.y0);
         const std::int64_t min = first + std::min<std::int64_t>(a, 0) * w1 + std::min<std::int64_t>(b, 0) * h1;
         const std::int64_t max = first + std::max<std::int64_t>(a, 0) * w1 + std::max<std::int64_t>(b, 0) * h1;
         if (max < 0) return false;

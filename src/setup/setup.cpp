@@ -21,6 +21,7 @@ int last_centre(std::int32_t hi) { return (hi - k_subpixel_one / 2) >> k_subpixe
 // With p = 256 i + 128 per axis, E = 256 (A ix + B iy) + 128 (A + B) + C, and for integers
 // 256 k + c >= 0  <=>  k + floor(c / 256) >= 0, which turns E into pixel units exactly.
 // Snapped coordinates are below 2^22 in magnitude, so A and B fit in 32 bits and only C needs 64.
+// Needs t's bounds.
 void set_edge(TriangleSetup& t, int e, const ScreenVertex& a, const ScreenVertex& b) {
     const std::int32_t A = a.y - b.y, B = b.x - a.x;
     const std::int64_t C = -(std::int64_t{A} * a.x + std::int64_t{B} * a.y);
@@ -29,7 +30,8 @@ void set_edge(TriangleSetup& t, int e, const ScreenVertex& a, const ScreenVertex
     const std::int64_t c = C + (static_cast<std::int64_t>(top_left) - 1) + std::int64_t{k_subpixel_one / 2} * (A + B);
     t.a[e] = A;
     t.b[e] = B;
-    t.c[e] = c >> k_subpixel_bits;  // arithmetic shift: floor division by 256
+    // At pixel (0, 0) after the arithmetic shift (floor division by 256), then moved to the bounds' corner.
+    t.e0[e] = (c >> k_subpixel_bits) + std::int64_t{A} * t.min_x + std::int64_t{B} * t.min_y;
 }
 
 // The four attribute planes f(x, y) = f0 + dfdx (x - x0) + dfdy (y - y0) through the vertex values of

@@ -5,7 +5,8 @@
 //
 // Why the results are the same bits: the integer quantities (area, bounds, A, B, C) are computed in
 // double lanes, where they are exact: snapped coordinates below 2^24 in magnitude (the guard band keeps
-// them below 2^22) make every product below 2^50 and every sum below 2^52, inside the 53-bit mantissa,
+// them below 2^22) make every product below 2^50 and every sum below 2^52 (e0's added products A min_x
+// and B min_y, with bounds inside the target, are below 2^40), inside the 53-bit mantissa,
 // so each double operation gives the integer the scalar code computes, and floor(c / 256) is its
 // arithmetic right shift. A batch with a coordinate outside that range goes to setup_triangle instead.
 // The attribute planes are the same double operations in the same order as set_planes (no FMA: the
@@ -23,7 +24,7 @@ namespace facet::detail {
 struct SetupLanes {
     static constexpr int n = SetupBatch::k_capacity;
     std::int32_t a[3][n], b[3][n];
-    double c[3][n];  // integers, converted when written
+    double e0[3][n];  // integers, converted when written
     std::int32_t min_x[n], min_y[n], max_x[n], max_y[n];
     float x0[n], y0[n];
     float dfdx[4][n], dfdy[4][n];  // planes: z, q, b1·q, b2·q
@@ -88,8 +89,9 @@ std::uint32_t mask_bits(M m) {
 // first_centre and last_centre of setup.cpp: floor(v / 256) is the arithmetic shift by 8.
 V floor_div_256(V v) { return hn::Floor(hn::Mul(v, hn::Set(D(), 1.0 / k_subpixel_one))); }
 
-// Edge a->b as set_edge: A, B, and c = floor((C + bias + 128 (A + B)) / 256), all exact integers.
-void set_edges(const Corner& a, const Corner& b, int e, int i0, SetupLanes& out) {
+// Edge a->b as set_edge: A, B, c = floor((C + bias + 128 (A + B)) / 256) and e0 = c + A min_x + B min_y,
+// all exact integers.
+void set_edges(const Corner& a, const Corner& b, V min_x, V min_y, int e, int i0, SetupLanes& out) {
     const D d;
     const DI di;
     const V zero = hn::Zero(d);
@@ -100,7 +102,7 @@ void set_edges(const Corner& a, const Corner& b, int e, int i0, SetupLanes& out)
     const V c = hn::Add(hn::Add(C, bias), hn::Mul(hn::Set(d, k_subpixel_one / 2), hn::Add(A, B)));
     hn::StoreU(hn::DemoteTo(di, A), di, out.a[e] + i0);
     hn::StoreU(hn::DemoteTo(di, B), di, out.b[e] + i0);
-    hn::StoreU(floor_div_256(c), d, out.c[e] + i0);
+    hn::StoreU(hn::Add(hn::Add(floor_div_256(c), hn::Mul(A, min_x)), hn::Mul(B, min_y)), d, out.e0[e] + i0);
 }
 
 // One attribute plane as set_planes computes it, from the values f0, f1, f2 at the three vertices.
@@ -181,9 +183,9 @@ bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& 
 
         // Orient so that the inside of every edge is where its function is positive.
         const Corner v1 = select(flip, s2, s1), v2 = select(flip, s1, s2);
-        set_edges(s0, v1, 0, i0, out);
-        set_edges(v1, v2, 1, i0, out);
-        set_edges(v2, s0, 2, i0, out);
+        set_edges(s0, v1, min_x, min_y, 0, i0, out);
+        set_edges(v1, v2, min_x, min_y, 1, i0, out);
+        set_edges(v2, s0, min_x, min_y, 2, i0, out);
         set_planes(s0, v1, v2, hn::Abs(signed_area), i0, out);
     }
     return true;
@@ -221,7 +223,7 @@ void write_record(const SetupBatch& batch, const SetupLanes& lanes, int i, Trian
     for (int e = 0; e < 3; ++e) {
         t.a[e] = lanes.a[e][i];
         t.b[e] = lanes.b[e][i];
-        t.c[e] = static_cast<std::int64_t>(lanes.c[e][i]);
+        t.e0[e] = static_cast<std::int64_t>(lanes.e0[e][i]);
     }
     t.min_x = lanes.min_x[i], t.max_x = lanes.max_x[i];
     t.min_y = lanes.min_y[i], t.max_y = lanes.max_y[i];

@@ -55,14 +55,16 @@ struct ClipVertices {
     const float* varyings_of(std::uint32_t i) const { return varyings.data() + static_cast<std::size_t>(i) * stride; }
 };
 
-// A triangle ready for rasterization. Edge i is e(ix, iy) = a*ix + b*iy + c in pixel units, where
-// (ix, iy) is a pixel index and its centre is (ix + 0.5, iy + 0.5); the pixel is covered when all
-// three are >= 0 (the top-left rule is folded into c). Attribute planes are evaluated relative to
-// (x0, y0), the first vertex, so precision does not depend on where the triangle is on screen.
-// Two cache lines, aligned: the tiles read a record as two whole lines, never three.
+// A triangle ready for rasterization. Edge i is e(ix, iy) = e0 + a*(ix - min_x) + b*(iy - min_y) in
+// pixel units, where (ix, iy) is a pixel index and its centre is (ix + 0.5, iy + 0.5); the pixel is
+// covered when all three are >= 0 (the top-left rule is folded into e0). e0, the value at the
+// bounds' corner, is given rather than the value at pixel (0, 0): over bounds within one tile every
+// value then fits in 32 bits, and a tile's kernel can start from e0 as it is. Attribute planes are
+// evaluated relative to (x0, y0), the first vertex, so precision does not depend on where the
+// triangle is on screen. Two cache lines, aligned: the tiles read a record as two whole lines, never three.
 struct alignas(64) TriangleSetup {
     std::int32_t a[3], b[3];         // |a|, |b| < 2^24: differences of snapped coordinates
-    std::int64_t c[3];
+    std::int64_t e0[3];              // each edge at pixel (min_x, min_y)
     int min_x, min_y, max_x, max_y;  // inclusive pixel bounds, already clamped to the scissor
     float x0, y0;
     float z0, dzdx, dzdy;            // window depth, linear in screen space
@@ -74,6 +76,12 @@ struct alignas(64) TriangleSetup {
 };
 
 static_assert(sizeof(TriangleSetup) == 128);
+
+// Edge k of t at pixel (ix, iy): exact (|a|, |b| < 2^24 and pixel indices below 2^15 keep every
+// product and sum far inside 64 bits).
+inline std::int64_t edge_at(const TriangleSetup& t, int k, std::int64_t ix, std::int64_t iy) {
+    return t.e0[k] + t.a[k] * (ix - t.min_x) + t.b[k] * (iy - t.min_y);
+}
 
 constexpr std::uint32_t k_clipped_bit = 0x80000000u;
 
