@@ -115,7 +115,7 @@ inline void prefetch(const void* p) {
 // fetch them ahead too.
 inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin,
                                      std::size_t b) const {
-    constexpr std::size_t k_record_distance = 4, k_varyings_distance = 6;
+    constexpr std::size_t k_record_distance = 12, k_varyings_distance = 6;
     if (b + k_record_distance < bin.size()) {
         const char* record = reinterpret_cast<const char*>(&bin[b + k_record_distance]);
         detail::prefetch(record);
