@@ -2,7 +2,9 @@
 // RGBA8 colour plus a float depth buffer, row-major, first row at the top of the picture.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <new>
 #include <vector>
 
 #include "facet/math/vec.hpp"
@@ -39,6 +41,21 @@ struct Image {
 // fixed-point notes in docs/architecture.md.
 constexpr int k_max_target_size = 8192;
 
+namespace detail {
+// Allocates on 64-byte boundaries, so that a framebuffer's rows can be written in whole cache lines.
+template <class T>
+struct CacheLineAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t k_alignment{64};
+    CacheLineAllocator() = default;
+    template <class U>
+    CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), k_alignment)); }
+    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, k_alignment); }
+    friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) { return true; }
+};
+}  // namespace detail
+
 class Framebuffer {
 public:
     // Throws FacetError unless 1 <= width, height <= k_max_target_size.
@@ -59,13 +76,13 @@ public:
     Rgba8 colour(int x, int y) const { return colour_[index(x, y)]; }
     float depth(int x, int y) const { return depth_[index(x, y)]; }
 
-    Image to_image() const { return Image{width_, height_, colour_}; }
+    Image to_image() const { return Image{width_, height_, {colour_.begin(), colour_.end()}}; }
 
 private:
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
     int width_, height_;
-    std::vector<Rgba8> colour_;
-    std::vector<float> depth_;
+    std::vector<Rgba8, detail::CacheLineAllocator<Rgba8>> colour_;
+    std::vector<float, detail::CacheLineAllocator<float>> depth_;
 };
 
 }  // namespace facet

@@ -67,11 +67,12 @@ private:
     void add_stats(const Plan& plan, DrawStats& total) const;
 
     void prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin, std::size_t b) const;
-    // Every tile in parallel: context = begin(tile, worker, clear_depth), each(context, tile, chunk,
+    // Every tile in parallel: context = begin(tile, worker, clear), each(context, tile, chunk,
     // setup) per triangle binned to it, in submission order, then end(context, tile). `worker` is
     // the pool worker running the tile (ThreadPool::parallel_for), for per-worker scratch memory.
-    // With ContextClearsDepth, a context told clear_depth starts the tile's depth at the clear value.
-    template <bool ContextClearsDepth, class Begin, class Each, class End>
+    // With ContextClears, a context told `clear` starts the tile's colour and depth at the clear
+    // values and writes them to the target itself; the tile is not cleared first.
+    template <bool ContextClears, class Begin, class Each, class End>
     void walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end);
     // The three vertices' varyings of triangle t of `chunk`.
     void find_varyings(const detail::FrontEndChunk& chunk, const detail::TriangleSetup& t, const float* (&var)[3]) const;
@@ -130,23 +131,20 @@ inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const d
 }
 
 namespace detail {
-// Fills a rectangle of at most one tile. Rows are copied from a filled row: std::fill of the 4-byte
-// Rgba8 struct is not vectorized (measured: 2.5x slower than Framebuffer::clear per pixel).
-inline void fill_rect(TargetView target, PixelRect r, Rgba8 colour, float depth, bool fill_depth) {
-    Rgba8 colour_row[k_max_tile_size];
-    float depth_row[k_max_tile_size];
-    const auto width = static_cast<std::size_t>(r.x1 - r.x0);
-    std::fill_n(colour_row, width, colour);
+// Fills a rectangle of at most one tile with one colour and depth, streamed past the caches (see
+// store_tile_rows): the clear of a draw, which reads the rectangle no more.
+inline void fill_rect(TargetView target, PixelRect r, Rgba8 colour, float depth) {
+    alignas(64) Rgba8 colour_row[k_max_tile_size];
+    alignas(64) float depth_row[k_max_tile_size];
+    const int width = r.x1 - r.x0;
+    fill_row(colour_row, width, colour);
     std::fill_n(depth_row, width, depth);
-    for (int y = r.y0; y < r.y1; ++y) {
-        const std::size_t at = static_cast<std::size_t>(y) * target.stride + static_cast<std::size_t>(r.x0);
-        std::memcpy(target.colour + at, colour_row, width * sizeof(Rgba8));
-        if (fill_depth) std::memcpy(target.depth + at, depth_row, width * sizeof(float));
-    }
+    store_tile_rows(colour_row, 0, target.colour + target.at(r.x0, r.y0), r, target.stride, true);
+    store_tile_rows(depth_row, 0, target.depth + target.at(r.x0, r.y0), r, target.stride, true);
 }
 }  // namespace detail
 
-template <bool ContextClearsDepth, class Begin, class Each, class End>
+template <bool ContextClears, class Begin, class Each, class End>
 void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end) {
     const detail::FrontEndParams& p = plan.params;
     pool_.parallel_for(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, [&](std::size_t tile_index, int worker) {
@@ -160,14 +158,14 @@ void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each
             any = false;
             for (std::size_t c = 0; c < plan.chunk_count && !any; ++c) any = !chunks_[c].bins[tile_index].empty();
         }
-        // DrawState::clear: the whole tile, inside the viewport or not, by this thread. A context that
-        // keeps the tile's depth itself starts it at the clear value instead (no read of the target).
-        const bool context_clears_depth = ContextClearsDepth && plan.clear_tiles && any && whole.x0 == tile.x0 &&
-                                          whole.y0 == tile.y0 && whole.x1 == tile.x1 && whole.y1 == tile.y1;
-        if (plan.clear_tiles)
-            detail::fill_rect(plan.clear_target, whole, plan.clear_colour, plan.clear_depth, !context_clears_depth);
+        // DrawState::clear: the whole tile, inside the viewport or not, by this thread, or by a context
+        // that keeps the tile itself and starts it at the clear values (no read of the target).
+        const bool context_clears = ContextClears && plan.clear_tiles && any && whole.x0 == tile.x0 &&
+                                    whole.y0 == tile.y0 && whole.x1 == tile.x1 && whole.y1 == tile.y1;
+        if (plan.clear_tiles && !context_clears)
+            detail::fill_rect(plan.clear_target, whole, plan.clear_colour, plan.clear_depth);
         if (!any) return;
-        auto&& context = begin(tile, worker, context_clears_depth);
+        auto&& context = begin(tile, worker, context_clears);
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
             const detail::FrontEndChunk& chunk = chunks_[c];
             const detail::TileBin& bin = chunk.bins[tile_index];
@@ -209,14 +207,15 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
                                       bool depth_write) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
     const detail::ResolveTriangleKernel resolve_triangle = detail::resolve_triangle_kernel(test, depth_write);
+    const detail::TileVisibility::Clear clear{plan.clear_colour, plan.clear_depth};
     // Every worker's lists sized for the fullest tile now: after the first draw of a scene they no
     // longer grow, whichever tiles each worker is given.
     for (const auto& vis : tile_scratch_) vis->reserve(plan.max_tile_triangles, S::k_varyings);
     walk_tiles<true>(
         plan,
-        [&](detail::PixelRect tile, int worker, bool clear_depth) -> detail::TileVisibility& {
+        [&](detail::PixelRect tile, int worker, bool clear_tile) -> detail::TileVisibility& {
             detail::TileVisibility& vis = *tile_scratch_[static_cast<std::size_t>(worker)];
-            vis.begin(tile, S::k_varyings, view, clear_depth ? &plan.clear_depth : nullptr);
+            vis.begin(tile, S::k_varyings, view, clear_tile ? &clear : nullptr);
             return vis;
         },
         [&](detail::TileVisibility& vis, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
@@ -229,10 +228,12 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
         },
         [&](detail::TileVisibility& vis, detail::PixelRect tile) {
             vis.end(tile, view, depth_write);
+            const detail::TargetView colour = vis.colour_view(tile, view);
             if constexpr (detail::CompiledVisiblePass<S>::available)
-                detail::CompiledVisiblePass<S>::run(shader, vis, tile, view);
+                detail::CompiledVisiblePass<S>::run(shader, vis, tile, colour);
             else
-                detail::shade_visible(shader, vis, tile, view);
+                detail::shade_visible(shader, vis, tile, colour);
+            vis.store_colour(tile, view);
         });
 }
 

@@ -12,6 +12,7 @@
 #define HWY_TARGET_INCLUDE "raster/depth_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include <algorithm>
@@ -188,6 +189,27 @@ void FindOwnedPixels(TileVisibility& vis, PixelRect tile) {
     }
 }
 
+// store_tile_rows for this target: whole aligned cache lines streamed, the rest copied.
+void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, std::uint32_t* HWY_RESTRICT target,
+                   int width, int height, int target_stride) {
+    const hn::ScalableTag<std::uint32_t> du;
+    const int lanes = static_cast<int>(hn::Lanes(du));
+    constexpr int k_line = 64 / sizeof(std::uint32_t);
+    bool streamed = false;
+    for (int row = 0; row < height; ++row) {
+        const std::uint32_t* from = rows + row * rows_stride;
+        std::uint32_t* to = target + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride);
+        if (width % k_line != 0 || lanes > k_line || reinterpret_cast<std::uintptr_t>(to) % 64 != 0) {
+            std::memcpy(to, from, static_cast<std::size_t>(width) * sizeof(std::uint32_t));
+            continue;
+        }
+        for (int i = 0; i < width; i += lanes) hn::Stream(hn::LoadU(du, from + i), du, to + i);
+        streamed = true;
+    }
+    // Streaming stores are weakly ordered: make them visible before the tile is reported done.
+    if (streamed) hwy::FlushStream();
+}
+
 // This target's kernel for a depth test and write flag (never: one that draws nothing).
 ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
     ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
@@ -208,6 +230,19 @@ namespace facet::detail {
 
 HWY_EXPORT(ChooseResolveTriangle);
 HWY_EXPORT(FindOwnedPixels);
+HWY_EXPORT(StoreTileRows);
+
+void store_tile_rows(const void* rows, int rows_stride, void* target_origin, PixelRect tile, int target_stride,
+                     bool stream) {
+    const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
+    const auto* from = static_cast<const std::uint32_t*>(rows);
+    auto* to = static_cast<std::uint32_t*>(target_origin);
+    if (stream && !use_scalar_kernels())
+        return HWY_DYNAMIC_DISPATCH(StoreTileRows)(from, rows_stride, to, width, height, target_stride);
+    for (int row = 0; row < height; ++row)
+        std::memcpy(to + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride),
+                    from + row * rows_stride, static_cast<std::size_t>(width) * sizeof(std::uint32_t));
+}
 
 void find_owned_pixels(TileVisibility& vis, PixelRect tile) {
     if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(FindOwnedPixels)(vis, tile);

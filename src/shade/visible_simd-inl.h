@@ -351,7 +351,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
                 rgba = shade_lanes<N>(lanes, field, centre_x, centre_y, visible, scalar);
             }
             // Rgba8 is four bytes, r first: stored as 32-bit lanes (Highway stores may alias).
-            auto* colour = reinterpret_cast<std::uint32_t*>(target.colour + static_cast<std::size_t>(y) * colour_stride + x);
+            auto* colour = reinterpret_cast<std::uint32_t*>(target.colour + target.at(x, y));
             // Read the old colours only to keep the pixels of a partly visible block (reading them
             // for every block was measured at 8% of the pass: the framebuffer is not in the caches).
             if (!hn::AllTrue(df, visible))

@@ -17,6 +17,7 @@
 #include <bit>
 #include <concepts>
 #include <cstdint>
+#include <cstring>
 #include <optional>
 #include <vector>
 
@@ -62,10 +63,17 @@ inline bool depth_passes(DepthTest test, float z, float stored) {
     return false;
 }
 
+// Where a stage writes pixels: the framebuffer (origin 0, 0), or a tile's own buffer whose first
+// pixel is (x0, y0) of the target.
 struct TargetView {
     Rgba8* colour;
     float* depth;
     int stride;  // pixels per row
+    int x0 = 0, y0 = 0;
+    // Index of pixel (x, y), x >= x0 and y >= y0, in colour and depth.
+    std::size_t at(int x, int y) const {
+        return static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(x - x0);
+    }
 };
 
 template <class S>
@@ -212,6 +220,31 @@ void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const T
     }
 }
 
+// Fills a row of pixels with one colour. std::fill of the 4-byte Rgba8 struct is not vectorized
+// (measured: 2.5x slower than Framebuffer::clear per pixel); a fill of 32-bit words is.
+inline void fill_row(Rgba8* row, int width, Rgba8 colour) {
+    std::uint32_t word;
+    std::memcpy(&word, &colour, sizeof(word));
+    std::uint32_t words[k_max_tile_size];
+    std::fill_n(words, width, word);
+    std::memcpy(row, words, static_cast<std::size_t>(width) * sizeof(word));
+}
+
+// Writes the rows of `tile` in the target (4-byte values: colour or depth) from rows `rows_stride`
+// values apart starting at `rows` (0: the same row every time, for a fill), to `target_origin`, rows
+// `target_stride` values apart. With `stream`, rows that are whole cache lines at aligned addresses
+// are written with streaming stores (SIMD, in src/raster/depth_simd.cpp): the target's lines are not
+// read first, nor kept in the caches; for tiles the draw cleared, which nothing reads again in this
+// draw. The others are copied.
+void store_tile_rows(const void* rows, int rows_stride, void* target_origin, PixelRect tile, int target_stride,
+                     bool stream);
+template <class T>
+void store_tile_rows(const T* rows, int rows_stride, T* target_origin, PixelRect tile, int target_stride, bool stream) {
+    static_assert(sizeof(T) == 4);
+    store_tile_rows(static_cast<const void*>(rows), rows_stride, static_cast<void*>(target_origin), tile, target_stride,
+                    stream);
+}
+
 struct TileVisibility;
 // Sets TileVisibility::covered from the owners, with the ISA selected in facet/isa.hpp (a SIMD kernel
 // in src/raster/depth_simd.cpp, or find_owned_pixels_reference).
@@ -237,7 +270,13 @@ struct TileVisibility {
     // and a load of a vector the previous triangle stored is forwarded from the store whole
     // (unaligned vectors overlapping it partly wait for the store; measured: ~10% of the pass).
     alignas(64) float depth[k_max_tile_size * k_max_tile_size];
+    // The tile's colour while it is drawn, when the draw clears it (DrawState::clear): begin() fills
+    // it with the clear colour, the shading pass writes into it (colour_view) and store_colour()
+    // writes the finished tile to the target in whole cache lines, streamed past the caches: the
+    // target's old bytes are never read, and each of its lines is written once.
+    alignas(64) Rgba8 colour[k_max_tile_size * k_max_tile_size];
     bool depth_cleared = false;  // begin() set depth to a clear value: end() must store it
+    bool colour_cleared = false;  // begin() set colour to a clear value: store_colour() must store it
     // Per row, the pixels some triangle owns: set by end() from `owner`, once per tile, rather than
     // by the depth pass for every row of every triangle.
     std::uint64_t covered[k_max_tile_size];
@@ -248,31 +287,44 @@ struct TileVisibility {
         triangles.reserve(count);
         planes.reserve(count * static_cast<std::size_t>(k_shading_head + 3 * varyings));
     }
-    // Starts a tile: its depth copied from the target, or set to *clear_depth (DrawState::clear).
-    void begin(PixelRect tile, int varyings, TargetView target, const float* clear_depth = nullptr) {
+    struct Clear {
+        Rgba8 colour;
+        float depth;
+    };
+    // Starts a tile: its depth copied from the target, or, when the draw clears it, its depth and
+    // colour set to the clear values (then the target's tile is neither read nor cleared first).
+    void begin(PixelRect tile, int varyings, TargetView target, const Clear* clear = nullptr) {
         triangles.clear();
         planes.clear();
         stride = k_shading_head + 3 * varyings;
         const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
-        depth_cleared = clear_depth != nullptr;
+        depth_cleared = colour_cleared = clear != nullptr;
         for (int r = 0; r < height; ++r) {
             std::fill_n(owner + r * k_max_tile_size, width, k_none);
-            const float* row = target.depth + static_cast<std::size_t>(tile.y0 + r) * target.stride + tile.x0;
-            if (clear_depth)
-                std::fill_n(depth + r * k_max_tile_size, width, *clear_depth);
-            else
-                std::copy_n(row, width, depth + r * k_max_tile_size);
+            if (clear) {
+                std::fill_n(depth + r * k_max_tile_size, width, clear->depth);
+                fill_row(colour + r * k_max_tile_size, width, clear->colour);
+            } else {
+                std::copy_n(target.depth + target.at(tile.x0, tile.y0 + r), width, depth + r * k_max_tile_size);
+            }
         }
     }
     // Ends the depth pass: finds the covered pixels, and writes the tile's depth back to the target
     // when it changed (cleared by begin() or written by the depth pass, depth_write).
     void end(PixelRect tile, TargetView target, bool depth_write) {
         find_owned_pixels(*this, tile);
-        if (!depth_write && !depth_cleared) return;
-        const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
-        for (int r = 0; r < height; ++r)
-            std::copy_n(depth + r * k_max_tile_size, width,
-                        target.depth + static_cast<std::size_t>(tile.y0 + r) * target.stride + tile.x0);
+        if (depth_write || depth_cleared)
+            store_tile_rows(depth, k_max_tile_size, target.depth + target.at(tile.x0, tile.y0), tile, target.stride,
+                            depth_cleared);
+    }
+    // Where the shading pass writes: the tile's own colour when begin() cleared it, else the target.
+    TargetView colour_view(PixelRect tile, TargetView target) {
+        return colour_cleared ? TargetView{colour, nullptr, k_max_tile_size, tile.x0, tile.y0} : target;
+    }
+    // After the shading pass: the tile's own colour, if it has one, to the target.
+    void store_colour(PixelRect tile, TargetView target) const {
+        if (colour_cleared)
+            store_tile_rows(colour, k_max_tile_size, target.colour + target.at(tile.x0, tile.y0), tile, target.stride, true);
     }
     // Lists triangle t, whose id was next_id(), with its shading record.
     template <int N>
@@ -358,14 +410,14 @@ template <class S>
                                                         TargetView target, int y, std::uint64_t mask) {
     FragmentIn<S::k_varyings> in;
     const std::uint32_t* owner_row = vis.owner + (y - tile.y0) * k_max_tile_size;
-    Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
+    Rgba8* colour_row = target.colour + target.at(tile.x0, y);
     for (; mask; mask &= mask - 1) {
-        const int x = tile.x0 + std::countr_zero(mask);
-        const std::uint32_t owner = owner_row[x - tile.x0];
+        const int i = std::countr_zero(mask), x = tile.x0 + i;
+        const std::uint32_t owner = owner_row[i];
         if (owner == TileVisibility::k_none) continue;
         const TriangleSetup& t = *vis.triangles[owner];
         const float* planes = vis.planes.data() + static_cast<std::size_t>(owner) * vis.stride + k_shading_head;
-        colour_row[x] = to_rgba8(fragment_at(shader, t, planes, x, y, depth_at(t, x, y), in));
+        colour_row[i] = to_rgba8(fragment_at(shader, t, planes, x, y, depth_at(t, x, y), in));
     }
 }
 
