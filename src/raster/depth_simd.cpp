@@ -93,18 +93,6 @@ M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
     return hn::And(covered, hn::Lt(z, hn::Zero(DF())));  // never: z >= 0 after clamping, so no lane
 }
 
-// Stores `v` where `m` is set, keeping the other lanes of p. AVX-512 has masked stores; elsewhere
-// the old lanes are loaded and blended (an emulated masked store is slower there).
-template <class D>
-HWY_INLINE void store_where(D d, hn::Mask<D> m, hn::Vec<D> v, hn::Vec<D> old, hn::TFromD<D>* HWY_RESTRICT p) {
-#if HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL
-    (void)old;
-    hn::BlendedStore(v, m, d, p);
-#else
-    hn::Store(hn::IfThenElse(m, v, old), d, p);
-#endif
-}
-
 // One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
 // (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
 // lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors.
@@ -142,9 +130,11 @@ bool resolve_strip(DF df, const DepthJob& job, const EdgeRect& r, int start, int
         float* depth = vis.depth + row * k_max_tile_size + i;
         const auto stored = hn::Load(df, depth);
         const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
-        if constexpr (DepthWrite) store_where(df, pass, z, stored, depth);
+        if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
         std::uint32_t* owner = vis.owner + row * k_max_tile_size + i;
-        store_where(du, hn::RebindMask(du, pass), id, hn::Load(du, owner), owner);
+        // Whole stores, not masked ones: the next triangle's load of the same row is then forwarded
+        // from the store (a load after a masked store must wait for it to reach the cache).
+        hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), id, hn::Load(du, owner)), du, owner);
         passed = hn::Or(passed, pass);
     }
     return !hn::AllFalse(df, passed);
