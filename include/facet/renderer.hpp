@@ -131,16 +131,16 @@ inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const d
 }
 
 namespace detail {
-// Fills a rectangle of at most one tile with one colour and depth, streamed past the caches (see
-// store_tile_rows): the clear of a draw, which reads the rectangle no more.
-inline void fill_rect(TargetView target, PixelRect r, Rgba8 colour, float depth) {
+// Fills a rectangle of at most one tile with one colour and depth; with `stream`, past the caches (see
+// store_tile_rows), for a rectangle this draw reads no more.
+inline void fill_rect(TargetView target, PixelRect r, Rgba8 colour, float depth, bool stream) {
     alignas(64) Rgba8 colour_row[k_max_tile_size];
     alignas(64) float depth_row[k_max_tile_size];
     const int width = r.x1 - r.x0;
     fill_row(colour_row, width, colour);
     std::fill_n(depth_row, width, depth);
-    store_tile_rows(colour_row, 0, target.colour + target.at(r.x0, r.y0), r, target.stride, true);
-    store_tile_rows(depth_row, 0, target.depth + target.at(r.x0, r.y0), r, target.stride, true);
+    store_tile_rows(colour_row, 0, target.colour + target.at(r.x0, r.y0), r, target.stride, stream);
+    store_tile_rows(depth_row, 0, target.depth + target.at(r.x0, r.y0), r, target.stride, stream);
 }
 }  // namespace detail
 
@@ -162,8 +162,9 @@ void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each
         // that keeps the tile itself and starts it at the clear values (no read of the target).
         const bool context_clears = ContextClears && plan.clear_tiles && any && whole.x0 == tile.x0 &&
                                     whole.y0 == tile.y0 && whole.x1 == tile.x1 && whole.y1 == tile.y1;
+        // Streamed when no triangle of this draw reaches the tile; the others read it right after.
         if (plan.clear_tiles && !context_clears)
-            detail::fill_rect(plan.clear_target, whole, plan.clear_colour, plan.clear_depth);
+            detail::fill_rect(plan.clear_target, whole, plan.clear_colour, plan.clear_depth, !any);
         if (!any) return;
         auto&& context = begin(tile, worker, context_clears);
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
