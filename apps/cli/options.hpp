@@ -103,6 +103,12 @@ CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args);
 constexpr const char* k_viewer_executable = "facet-view";
 int run_viewer_executable(char** argv);
 
+// The viewer executable's parsing of that command line, `facet view [MODEL] [options]`, with the
+// declarations of add_view_subcommand: fills `args` and `camera_options_given` and returns nothing,
+// or returns the exit status when the process is done (--help: 0, a usage error: k_exit_usage,
+// reported on stderr). Here so that the viewer's main() does not compile CLI11 again.
+std::optional<int> parse_view_command_line(int argc, char** argv, ViewArgs& args, bool& camera_options_given);
+
 // `benchmark_frames`: --benchmark N if given.
 int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
                std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given);
