@@ -140,6 +140,8 @@ int run_render(const std::string& model, const std::string& output, const std::s
         std::fprintf(stderr, "facet render: %s\n", limits.error().message.c_str());
         return k_exit_usage;
     }
+    // One job: the load's normals may use the threads the render will (thumbs runs one per worker).
+    plan->load.threads = options.threads;
     const RenderRequest request{model, output, depth_out, benchmark_frames.value_or(0), *plan, options.threads};
     keep_freed_memory_for_reuse();  // this process, or its worker, renders one file and exits
     if (options.no_isolation) return render_job(request, WorkerReport{});

@@ -46,7 +46,8 @@ Mesh split_faces_flat(const Mesh& mesh);
 // first, so an unindexed mesh (STL) smooths like an indexed one; the vertex arrays are kept, and a
 // vertex whose corners end up with different normals is duplicated (colour and uv copied). Each
 // normal is the angle-weighted average of the faces smoothed together around the vertex.
-void compute_creased_normals(Mesh& mesh, float crease_angle_radians);
+// `threads` (0: one per core) share large meshes; the result is the same for any number.
+void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads = 1);
 
 // Shapes, centred at the origin, counter-clockwise outward faces, with normals and uvs.
 Mesh make_cube(float half_size = 1.0f);                      // 24 vertices, a colour per face

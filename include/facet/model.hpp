@@ -30,6 +30,9 @@ struct LoadOptions {
     // every instance: a mesh placed by many nodes is copied for each), estimated from assimp's
     // counts before converting. Stops a small file that instances a large mesh thousands of times.
     std::size_t max_scene_bytes = std::size_t{4} << 30;
+    // Threads for the work after reading (normals) of large meshes, 0: one per core. The default
+    // keeps loading on the calling thread, for callers that load several files at once.
+    int threads = 1;
 };
 
 struct LoadedModel {

@@ -456,7 +456,7 @@ Vec4 clamp_colour(const aiColor4D& c) {
 }
 
 // Keeps the triangles whose three vertices exist and are finite, then only the vertices they use.
-ConvertedMesh convert_mesh(const aiMesh& in, bool use_file_normals, float crease_angle_radians) {
+ConvertedMesh convert_mesh(const aiMesh& in, bool use_file_normals, float crease_angle_radians, int threads) {
     ConvertedMesh out;
     std::vector<std::uint32_t> used;  // file vertex of each kept vertex
     std::vector<std::uint32_t> remap(in.mNumVertices, ~0u);
@@ -502,7 +502,7 @@ ConvertedMesh convert_mesh(const aiMesh& in, bool use_file_normals, float crease
     if (normals_ok) {
         for (std::uint32_t i : used) m.normals.push_back(normalize(Vec3{in.mNormals[i].x, in.mNormals[i].y, in.mNormals[i].z}));
     } else if (!m.indices.empty()) {
-        compute_creased_normals(m, crease_angle_radians);
+        compute_creased_normals(m, crease_angle_radians, threads);
     }
     return out;
 }
@@ -566,7 +566,7 @@ public:
         auto it = meshes_.find(index);
         if (it == meshes_.end())
             it = meshes_.emplace(index, convert_mesh(*scene_.mMeshes[index], use_file_normals_,
-                                                     radians(options_.crease_angle_degrees))).first;
+                                                     radians(options_.crease_angle_degrees), options_.threads)).first;
         return it->second;
     }
 
@@ -788,7 +788,7 @@ std::optional<LoadedModel> load_plain_off(const std::string& path, std::uintmax_
     SceneObject object;
     object.mesh.positions = std::move(off->positions);
     object.mesh.indices = std::move(off->indices);
-    compute_creased_normals(object.mesh, radians(options.crease_angle_degrees));
+    compute_creased_normals(object.mesh, radians(options.crease_angle_degrees), options.threads);
     const Mat4 root = options.up_axis == UpAxis::z ? z_up_to_y_up() : Mat4::identity();
     object.model = root * to_mat4(aiMatrix4x4());  // the root node's transform, as walk_nodes applies it
     object.material = off_material();

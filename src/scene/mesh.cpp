@@ -1,12 +1,16 @@
 // facet scene: mesh validation, normals (smooth, flat, creased) and the built-in shape generators.
 #include "facet/mesh.hpp"
 
+#include "facet/detail/thread_pool.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -143,140 +147,214 @@ Weld weld_by_position(const std::vector<Vec3>& positions) {
     return w;
 }
 
-// Union-find over triangle corners (3 * triangle + k). A set's root is its smallest corner, so
-// the sets and their roots do not depend on the order of the joins.
-struct CornerSets {
-    std::vector<std::uint32_t> parent;
-    explicit CornerSets(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+// Work is handed out in blocks of this many triangles or welded positions: large enough that a
+// block costs far more than handing it out, small enough to share a mesh between the threads.
+constexpr std::size_t k_block = 4096;
+
+// Runs block(begin, end) over [0, count) in blocks, on the pool's threads when there is one.
+// Every block writes only its own items, so the result does not depend on the threads.
+template <class Block>
+void for_blocks(detail::ThreadPool* pool, std::size_t count, const Block& block) {
+    const std::size_t blocks = (count + k_block - 1) / k_block;
+    auto run = [&](std::size_t b, int worker) { block(b * k_block, std::min(count, (b + 1) * k_block), worker); };
+    if (pool)
+        pool->parallel_for(blocks, run);
+    else
+        for (std::size_t b = 0; b < blocks; ++b) run(b, 0);
+}
+
+// What the sets around a position need of one corner, gathered in triangle order and then moved
+// next to the other corners at the same position: triangles and positions are in unrelated orders
+// in most files, and reading each corner's triangle from the position's side missed the cache
+// for nearly every corner.
+struct FanCorner {
+    std::uint32_t corner;
+    std::uint32_t next_position, prev_position;  // welded positions of the triangle's other corners
+    Vec3 face;      // the triangle's normal, zero if degenerate
+    Vec3 weighted;  // face * the corner's angle
+};
+
+// The corners of the valid triangles grouped by welded position: the corners at position w are
+// corner[start[w] .. start[w + 1]), in increasing order (a counting sort).
+struct CornersByPosition {
+    std::vector<std::uint32_t> start;
+    std::vector<FanCorner> corner;
+};
+
+// Where each corner of a valid triangle goes in CornersByPosition::corner (~0: an invalid triangle),
+// with `start` filled in.
+std::vector<std::uint32_t> place_corners(const Mesh& mesh, const Weld& welded, const std::vector<bool>& in_range,
+                                         CornersByPosition& out) {
+    const std::vector<std::uint32_t>& weld = welded.id;
+    out.start.assign(welded.key.size() + 1, 0);
+    const std::size_t corners = 3 * in_range.size();
+    for (std::size_t c = 0; c < corners; ++c)
+        if (in_range[c / 3]) ++out.start[weld[mesh.indices[c]] + 1];
+    for (std::size_t w = 0; w + 1 < out.start.size(); ++w) out.start[w + 1] += out.start[w];
+    std::vector<std::uint32_t> slot(corners, ~0u);
+    std::vector<std::uint32_t> next(out.start.begin(), out.start.end() - 1);
+    for (std::size_t c = 0; c < corners; ++c)
+        if (in_range[c / 3]) slot[c] = next[weld[mesh.indices[c]]]++;
+    out.corner.resize(out.start.back());
+    return slot;
+}
+
+// Face normals and corner angles (zero for degenerate triangles): each valid triangle's corners
+// described into their places.
+void describe_corners(const Mesh& mesh, const std::vector<std::uint32_t>& weld, const std::vector<bool>& in_range,
+                      const std::vector<std::uint32_t>& slot, detail::ThreadPool* pool, CornersByPosition& out) {
+    for_blocks(pool, in_range.size(), [&](std::size_t first, std::size_t last, int) {
+        for (std::size_t t = first; t < last; ++t) {
+            if (!in_range[t]) continue;
+            const std::uint32_t* idx = mesh.indices.data() + 3 * t;
+            const Vec3 p[3] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
+            const Vec3 face = normalize(cross(p[1] - p[0], p[2] - p[0]));
+            float angle[3] = {0, 0, 0};
+            if (dot(face, face) > 0) {  // degenerate: no weight anywhere (and no NaN angles)
+                // Each side normalized once: the corner at k sees sides k and k + 2 reversed, and
+                // normalize(-v) is exactly -normalize(v).
+                const Vec3 side[3] = {normalize(p[1] - p[0]), normalize(p[2] - p[1]), normalize(p[0] - p[2])};
+                for (int k = 0; k < 3; ++k) angle[k] = std::acos(clamp(dot(side[k], -side[(k + 2) % 3]), -1.0f, 1.0f));
+            }
+            const std::uint32_t w[3] = {weld[idx[0]], weld[idx[1]], weld[idx[2]]};
+            for (std::uint32_t k = 0; k < 3; ++k) {
+                const auto c = static_cast<std::uint32_t>(3 * t + k);
+                out.corner[slot[c]] = {c, w[(k + 1) % 3], w[(k + 2) % 3], face, face * angle[k]};
+            }
+        }
+    });
+}
+
+// One triangle side that ends at the position being worked on: the position at its other end,
+// the side's number (3 * triangle + k for the side from corner k to corner k + 1, the order in
+// which the sides of an edge are compared) and which of the position's corners it ends at.
+struct SideAt {
+    std::uint32_t other, side, local_corner;
+    bool operator<(const SideAt& b) const { return other != b.other ? other < b.other : side < b.side; }
+};
+
+// A position's scratch memory, kept by each thread from one position to the next.
+struct FanScratch {
+    std::vector<SideAt> sides;
+    std::vector<std::uint32_t> parent;  // union-find over the position's corners, by local index
+    std::vector<Vec3> sum;
+
     std::uint32_t find(std::uint32_t c) {
         while (parent[c] != c) c = parent[c] = parent[parent[c]];
         return c;
     }
+    // The root of a set is its smallest local index, i.e. its smallest corner, whatever the
+    // order of the joins.
     void join(std::uint32_t a, std::uint32_t b) {
         a = find(a), b = find(b);
         if (a != b) parent[std::max(a, b)] = std::min(a, b);
     }
 };
 
-// One triangle's side, seen from the end with the smaller weld id ("lo"): the other end's weld id
-// and the triangle's corners at both ends. Which end is lo does not matter: the sides of an edge
-// come in triangle order either way, and the joins are the same at both ends.
-struct EdgeSide {
-    std::uint32_t hi, corner_lo, corner_hi;
-};
-
-// The sides of the triangles grouped by edge: the sides with lo == l are
-// sides[start[l] .. start[l + 1]), ordered by hi and then by corner_lo (file order), so that the
-// sides of one edge are adjacent and in the order of their triangles.
-struct EdgeSides {
-    std::vector<std::uint32_t> start;
-    std::vector<EdgeSide> sides;
-};
-
-template <class ForEachSide>
-EdgeSides group_sides_by_edge(std::size_t weld_ids, ForEachSide&& for_each_side) {
-    EdgeSides out;
-    out.start.assign(weld_ids + 1, 0);
-    std::size_t count = 0;
-    for_each_side([&](std::uint32_t lo, const EdgeSide&) { ++out.start[lo + 1], ++count; });
-    for (std::size_t l = 0; l < weld_ids; ++l) out.start[l + 1] += out.start[l];
-    out.sides.resize(count);
-    std::vector<std::uint32_t> next(out.start.begin(), out.start.end() - 1);
-    // Sides come in triangle order, so each lo's list is in corner_lo order; a stable sort by hi
-    // keeps that order within each edge.
-    for_each_side([&](std::uint32_t lo, const EdgeSide& side) { out.sides[next[lo]++] = side; });
-    auto by_hi = [](const EdgeSide& a, const EdgeSide& b) { return a.hi < b.hi; };
-    for (std::size_t l = 0; l < weld_ids; ++l) {
-        if (out.start[l + 1] - out.start[l] < 2) continue;  // nothing to order (and no first + 1 past the end)
-        EdgeSide* first = out.sides.data() + out.start[l];
-        EdgeSide* last = out.sides.data() + out.start[l + 1];
-        if (last - first <= 16) {
-            for (EdgeSide* i = first + 1; i < last; ++i)  // insertion sort: stable, and fast for a vertex's few sides
-                for (EdgeSide* j = i; j > first && by_hi(*j, j[-1]); --j) std::swap(*j, j[-1]);
-        } else {
-            std::stable_sort(first, last, by_hi);
-        }
-    }
-    return out;
-}
-
 // Faces on one edge are compared pairwise only with this many predecessors, so a non-manifold
 // edge shared by thousands of triangles stays linear; ordinary edges have two faces.
 constexpr std::size_t k_max_edge_neighbours = 8;
 
+// Whether no edge has more sides than one is compared with (k_max_edge_neighbours), i.e. whether
+// every pair of sides on an edge is compared: true for all but the few non-manifold edges.
+bool all_pairs_within_reach(const std::vector<SideAt>& sides) {
+    for (std::size_t i = 1; i < sides.size(); ++i) {
+        std::size_t same = 0;
+        for (std::size_t j = 0; j < i; ++j) same += sides[i].other == sides[j].other;
+        if (same > k_max_edge_neighbours) return false;
+    }
+    return true;
+}
+
+// What each corner ends with: the smallest corner of its set and the set's normalized normal.
+struct CornerSet {
+    std::uint32_t set;
+    Vec3 normal;
+};
+
+// The corners around one welded position w, split into sets: two corners are in one set when
+// their triangles share an edge from w at less than the crease angle (directly or through others).
+// A set's normal is the angle-weighted sum of its faces in corner order. Sets never reach beyond
+// one position, so positions are independent of each other. Returns the sum of all the corners.
+Vec3 split_fan(std::uint32_t w, std::span<const FanCorner> corners, float cos_crease, FanScratch& s,
+               std::vector<CornerSet>& result) {
+    s.sides.resize(2 * corners.size());
+    std::size_t n = 0;
+    for (std::uint32_t local = 0; local < corners.size(); ++local) {
+        const FanCorner& c = corners[local];
+        if (!(dot(c.face, c.face) > 0)) continue;  // degenerate: on no edge
+        const std::uint32_t prev = c.corner / 3 * 3 + (c.corner + 2) % 3;
+        if (c.next_position != w) s.sides[n++] = {c.next_position, c.corner, local};
+        if (c.prev_position != w) s.sides[n++] = {c.prev_position, prev, local};
+    }
+    s.sides.resize(n);
+    s.parent.resize(corners.size());
+    std::iota(s.parent.begin(), s.parent.end(), 0u);
+    auto compare = [&](const SideAt& a, const SideAt& b) {
+        if (dot(corners[a.local_corner].face, corners[b.local_corner].face) > cos_crease) s.join(a.local_corner, b.local_corner);
+    };
+    if (all_pairs_within_reach(s.sides)) {
+        // The order of the joins does not matter: every pair of sides on one edge is compared.
+        for (std::size_t i = 1; i < n; ++i)
+            for (std::size_t j = 0; j < i; ++j)
+                if (s.sides[i].other == s.sides[j].other) compare(s.sides[i], s.sides[j]);
+    } else {
+        // The sides of one edge adjacent, in the order of their numbers (the keys are unique: no
+        // order among equals to keep), each compared with its predecessors within reach.
+        std::sort(s.sides.begin(), s.sides.end());
+        for (std::size_t begin = 0, end = 0; begin < n; begin = end) {
+            end = begin + 1;
+            while (end < n && s.sides[end].other == s.sides[begin].other) ++end;
+            for (std::size_t i = begin + 1; i < end; ++i)
+                for (std::size_t j = i > begin + k_max_edge_neighbours ? i - k_max_edge_neighbours : begin; j < i; ++j)
+                    compare(s.sides[i], s.sides[j]);
+        }
+    }
+    s.sum.assign(corners.size(), Vec3{});
+    Vec3 around{};
+    for (std::uint32_t local = 0; local < corners.size(); ++local) {
+        s.sum[s.find(local)] += corners[local].weighted;
+        around += corners[local].weighted;
+    }
+    for (std::uint32_t local = 0; local < corners.size(); ++local) {
+        const std::uint32_t root = s.find(local);
+        result[corners[local].corner] = {corners[root].corner, normalize(s.sum[root])};
+    }
+    return around;
+}
+
 }  // namespace
 
-void compute_creased_normals(Mesh& mesh, float crease_angle_radians) {
+void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads) {
     const std::size_t vertex_count = mesh.positions.size();
     const std::size_t triangles = mesh.indices.size() / 3;
+    // Threads only for meshes that have a block for each; they end before this returns.
+    std::optional<detail::ThreadPool> pool;
+    if (threads != 1 && triangles >= 2 * k_block) pool.emplace(threads <= 0 ? 0 : threads);
+    detail::ThreadPool* workers = pool && pool->size() > 1 ? &*pool : nullptr;
+
     const Weld welded = weld_by_position(mesh.positions);
-    const std::vector<std::uint32_t>& weld = welded.id;
     // Decided once: the last pass below rewrites indices to vertex copies beyond vertex_count.
     std::vector<bool> in_range(triangles);
     for (std::size_t t = 0; t < triangles; ++t)
         in_range[t] = mesh.indices[3 * t] < vertex_count && mesh.indices[3 * t + 1] < vertex_count &&
                       mesh.indices[3 * t + 2] < vertex_count;
-    auto valid = [&](std::size_t t) { return in_range[t]; };
 
-    // Face normals (zero for degenerate or invalid triangles) and the corner angles used as weights.
-    std::vector<Vec3> face(triangles);
-    std::vector<float> corner_angle(3 * triangles, 0.0f);
-    for (std::size_t t = 0; t < triangles; ++t) {
-        if (!valid(t)) continue;
-        const Vec3 p[3] = {mesh.positions[mesh.indices[3 * t]], mesh.positions[mesh.indices[3 * t + 1]],
-                           mesh.positions[mesh.indices[3 * t + 2]]};
-        face[t] = normalize(cross(p[1] - p[0], p[2] - p[0]));
-        if (!(dot(face[t], face[t]) > 0)) continue;  // degenerate: no weight anywhere (and no NaN angles)
-        // Each side normalized once: the corner at k sees sides k and k + 2 reversed, and
-        // normalize(-v) is exactly -normalize(v).
-        const Vec3 side[3] = {normalize(p[1] - p[0]), normalize(p[2] - p[1]), normalize(p[0] - p[2])};
-        for (int k = 0; k < 3; ++k) {
-            const Vec3 e1 = side[k], e2 = -side[(k + 2) % 3];
-            corner_angle[3 * t + k] = std::acos(clamp(dot(e1, e2), -1.0f, 1.0f));
-        }
-    }
-    auto degenerate = [&](std::size_t t) { return !(dot(face[t], face[t]) > 0); };
-
-    // Corners of two triangles that share an edge at less than the crease angle are smoothed
-    // together, at both ends of the edge; the joins spread around each vertex's fan.
-    const EdgeSides edges = group_sides_by_edge(welded.key.size(), [&](auto&& emit) {
-        for (std::size_t t = 0; t < triangles; ++t) {
-            if (!valid(t) || degenerate(t)) continue;
-            for (std::uint32_t k = 0; k < 3; ++k) {
-                const auto ca = static_cast<std::uint32_t>(3 * t + k), cb = static_cast<std::uint32_t>(3 * t + (k + 1) % 3);
-                const std::uint32_t a = weld[mesh.indices[ca]], b = weld[mesh.indices[cb]];
-                if (a == b) continue;
-                if (a < b)
-                    emit(a, EdgeSide{b, ca, cb});
-                else
-                    emit(b, EdgeSide{a, cb, ca});
-            }
+    // Each welded position's corners split into sets (split_fan); corners of invalid triangles
+    // are in no set and left alone below.
+    CornersByPosition by_position;
+    describe_corners(mesh, welded.id, in_range, place_corners(mesh, welded, in_range, by_position), workers, by_position);
+    const float cos_crease = std::cos(crease_angle_radians);
+    std::vector<CornerSet> corner_set(3 * triangles);
+    std::vector<Vec3> around(welded.key.size());  // for corners without area: the average around the position
+    std::vector<FanScratch> scratch(workers ? workers->size() : 1);
+    for_blocks(workers, welded.key.size(), [&](std::size_t first, std::size_t last, int worker) {
+        for (std::size_t w = first; w < last; ++w) {
+            const std::span<const FanCorner> corners(by_position.corner.data() + by_position.start[w],
+                                                     by_position.start[w + 1] - by_position.start[w]);
+            around[w] = split_fan(static_cast<std::uint32_t>(w), corners, cos_crease, scratch[worker], corner_set);
         }
     });
-    const float cos_crease = std::cos(crease_angle_radians);
-    CornerSets sets(3 * triangles);
-    const std::vector<EdgeSide>& sides = edges.sides;
-    for (std::size_t lo = 0; lo + 1 < edges.start.size(); ++lo)
-        for (std::size_t begin = edges.start[lo], end = begin; begin < edges.start[lo + 1]; begin = end) {
-            end = begin + 1;  // the sides of one edge: same lo, same hi
-            while (end < edges.start[lo + 1] && sides[end].hi == sides[begin].hi) ++end;
-            for (std::size_t i = begin + 1; i < end; ++i)
-                for (std::size_t j = i > begin + k_max_edge_neighbours ? i - k_max_edge_neighbours : begin; j < i; ++j) {
-                    const Vec3 ni = face[sides[i].corner_lo / 3], nj = face[sides[j].corner_lo / 3];
-                    if (!(dot(ni, nj) > cos_crease)) continue;  // a crease: keep the two sides apart
-                    sets.join(sides[i].corner_lo, sides[j].corner_lo);
-                    sets.join(sides[i].corner_hi, sides[j].corner_hi);
-                }
-        }
-
-    // One normal per set of corners: the angle-weighted sum of their faces, in corner order so the
-    // result does not depend on anything but the mesh.
-    std::vector<Vec3> set_normal(3 * triangles);
-    for (std::uint32_t c = 0; c < 3 * triangles; ++c) set_normal[sets.find(c)] += face[c / 3] * corner_angle[c];
-    // A fallback for corners whose set has no area (degenerate triangles): the average around the position.
-    std::vector<Vec3> around(welded.key.size());
-    for (std::uint32_t c = 0; c < 3 * triangles; ++c)
-        if (valid(c / 3)) around[weld[mesh.indices[c]]] += face[c / 3] * corner_angle[c];
 
     // Each vertex takes the normal of the first set among its corners; corners from another set get
     // a copy of the vertex. Corners without area take whatever their vertex has.
@@ -293,9 +371,8 @@ void compute_creased_normals(Mesh& mesh, float crease_angle_radians) {
         return n;
     };
     for (std::uint32_t c = 0; c < 3 * triangles; ++c) {
-        if (!valid(c / 3)) continue;
-        const std::uint32_t set = sets.find(c);
-        const Vec3 n = normalize(set_normal[set]);
+        if (!in_range[c / 3]) continue;
+        const auto [set, n] = corner_set[c];
         if (!(dot(n, n) > 0)) continue;
         const std::uint32_t v = mesh.indices[c];
         if (vertex_set[v] == none) {
@@ -312,7 +389,7 @@ void compute_creased_normals(Mesh& mesh, float crease_angle_radians) {
     }
     for (std::uint32_t v = 0; v < vertex_count; ++v) {
         if (vertex_set[v] != none) continue;
-        const Vec3 n = normalize(around[weld[v]]);
+        const Vec3 n = normalize(around[welded.id[v]]);
         mesh.normals[v] = dot(n, n) > 0 ? n : Vec3{0, 0, 1};
     }
 }

@@ -25,11 +25,11 @@ namespace {
 using namespace facet;
 using facet_test::bits_of;
 
-void expect_same_as_reference(Mesh mesh, float crease_radians, const std::string& what) {
-    SCOPED_TRACE(what + ", crease " + std::to_string(crease_radians));
+void expect_same_as_reference(Mesh mesh, float crease_radians, const std::string& what, int threads = 1) {
+    SCOPED_TRACE(what + ", crease " + std::to_string(crease_radians) + ", threads " + std::to_string(threads));
     Mesh want = mesh;
     facet_test::reference_creased_normals(want, crease_radians);
-    compute_creased_normals(mesh, crease_radians);
+    compute_creased_normals(mesh, crease_radians, threads);
     EXPECT_EQ(bits_of(mesh.positions), bits_of(want.positions));
     EXPECT_EQ(bits_of(mesh.normals), bits_of(want.normals));
     EXPECT_EQ(bits_of(mesh.colours), bits_of(want.colours));
@@ -57,6 +57,7 @@ TEST(CreasedNormals, CgalMeshesMatchTheReference) {
         Mesh mesh = model->scene.objects.at(0).mesh;
         mesh.normals.clear();
         for (float crease : {radians(20), radians(40)}) expect_same_as_reference(mesh, crease, name);
+        expect_same_as_reference(mesh, radians(40), name, 2);
     }
 }
 
@@ -91,6 +92,24 @@ TEST(CreasedNormals, RandomMeshesMatchTheReference) {
         expect_same_as_reference(random_mesh(rng, i), crease, "random mesh " + std::to_string(i));
         if (HasFailure()) return;
     }
+}
+
+// Meshes large enough to be shared between threads give what one thread gives, whatever the number
+// of threads (the random soups above are too small to be shared).
+TEST(CreasedNormals, SharedBetweenThreadsMatchesTheReference) {
+    std::mt19937 rng(7);
+    for (int i = 0; i < 3; ++i) {
+        Mesh m = random_mesh(rng, i * 5);  // case 0 and 10: NaN positions; 0: uvs and colours too
+        const Mesh part = m;
+        while (m.indices.size() < 3 * 10'000) m.append(part);  // enough to be shared
+        for (int k = 0; k < 40; ++k) m.indices[rng() % m.indices.size()] = static_cast<std::uint32_t>(rng() % m.positions.size());
+        const float crease = radians(static_cast<float>(rng() % 181));
+        for (int threads : {0, 2, 3}) expect_same_as_reference(m, crease, "random mesh " + std::to_string(i), threads);
+        if (HasFailure()) return;
+    }
+    Mesh sphere = make_icosphere(1, 5);  // 20,480 triangles
+    sphere.normals.clear();
+    expect_same_as_reference(sphere, radians(40), "icosphere", 2);
 }
 
 // Nothing but degenerate triangles: no triangle has an edge, so every vertex's list of edge sides is
