@@ -226,8 +226,10 @@ HWY_INLINE hn::Vec<DU> shade_lanes(const Lanes& lanes, const Field& field, VF ce
     const VF dy = hn::Sub(centre_y, field(sh_y0));
     const VF q = hn::Add(hn::Add(field(sh_q0), hn::Mul(field(sh_dqdx), dx)), hn::Mul(field(sh_dqdy), dy));
     const VF w = hn::Div(hn::Set(df, 1.0f), q);
-    const VF b1 = hn::Mul(hn::Add(hn::Add(field(sh_l1_0), hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
-    const VF b2 = hn::Mul(hn::Add(hn::Add(field(sh_l2_0), hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
+    // 0 + ..., as fragment_at: the planes are 0 at (x0, y0), and the sum keeps fragment_at's bits.
+    const VF zero = hn::Zero(df);
+    const VF b1 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
+    const VF b2 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
     LanesIn<N> in;
     for (int k = 0; k < N; ++k)
         in.v[k] = hn::Add(hn::Add(field(k_shading_head + k), hn::Mul(b1, field(k_shading_head + N + k))),

@@ -115,16 +115,17 @@ inline float depth_at(const TriangleSetup& t, int x, int y) {
 // What the shading pass needs of one triangle in one tile, as one record of floats: the set-up
 // values fragment_at reads (k_shading_head of them), then the varying planes. Contiguous floats, so
 // that SIMD kernels can gather them by triangle index (src/shade/visible_simd-inl.h).
-enum ShadingHead : int { sh_x0, sh_y0, sh_q0, sh_dqdx, sh_dqdy, sh_l1_0, sh_dl1dx, sh_dl1dy, sh_l2_0, sh_dl2dx,
-                         sh_dl2dy, sh_front, k_shading_head };
+// (The barycentric planes are 0 at (x0, y0), as in TriangleSetup: no field holds that 0.)
+enum ShadingHead : int { sh_x0, sh_y0, sh_q0, sh_dqdx, sh_dqdy, sh_dl1dx, sh_dl1dy, sh_dl2dx, sh_dl2dy, sh_front,
+                         k_shading_head };
 
 // Field by field: a head assembled on the stack and copied was read back before its pieces were
 // stored, a store-forwarding stall (measured: 20% of the tile loop).
 inline void write_shading_record(const TriangleSetup& t, const float* const (&var)[3], int n, float* out) {
     out[sh_x0] = t.x0, out[sh_y0] = t.y0;
     out[sh_q0] = t.q0, out[sh_dqdx] = t.dqdx, out[sh_dqdy] = t.dqdy;
-    out[sh_l1_0] = 0.0f, out[sh_dl1dx] = t.dl1dx, out[sh_dl1dy] = t.dl1dy;
-    out[sh_l2_0] = 0.0f, out[sh_dl2dx] = t.dl2dx, out[sh_dl2dy] = t.dl2dy;
+    out[sh_dl1dx] = t.dl1dx, out[sh_dl1dy] = t.dl1dy;
+    out[sh_dl2dx] = t.dl2dx, out[sh_dl2dy] = t.dl2dy;
     out[sh_front] = t.front_facing ? 1.0f : 0.0f;
     write_varying_planes(var, n, out + k_shading_head);
 }
@@ -303,11 +304,12 @@ struct TileVisibility {
         stride = k_shading_head + 3 * varyings;
         const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
         depth_cleared = colour_cleared = clear != nullptr;
+        if (clear) fill_row(colour, width, clear->colour);  // the first row, copied to the others below
         for (int r = 0; r < height; ++r) {
             std::fill_n(owner + r * k_max_tile_size, width, k_none);
             if (clear) {
                 std::fill_n(depth + r * k_max_tile_size, width, clear->depth);
-                fill_row(colour + r * k_max_tile_size, width, clear->colour);
+                if (r > 0) std::memcpy(colour + r * k_max_tile_size, colour, static_cast<std::size_t>(width) * sizeof(Rgba8));
             } else {
                 std::copy_n(target.depth + target.at(tile.x0, tile.y0 + r), width, depth + r * k_max_tile_size);
             }
