@@ -67,8 +67,8 @@ private:
     void add_stats(const Plan& plan, DrawStats& total) const;
 
     void prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin, std::size_t b) const;
-    // Every tile in parallel: context = begin(tile, worker, clear), each(context, tile, chunk,
-    // setup) per triangle binned to it, in submission order, then end(context, tile). `worker` is
+    // Every tile in parallel: context = begin(tile, worker, clear), each(context, tile, chunk, bin)
+    // per chunk's non-empty bin of triangles binned to it, in submission order, then end(context, tile). `worker` is
     // the pool worker running the tile (ThreadPool::parallel_for), for per-worker scratch memory.
     // With ContextClears, a context told `clear` starts the tile's colour and depth at the clear
     // values and writes them to the target itself; the tile is not cleared first.
@@ -98,18 +98,6 @@ namespace detail {
 constexpr std::size_t k_vertex_block = 4096;
 }  // namespace detail
 
-namespace detail {
-// GCC 12 removes __builtin_prefetch whose address comes from loads it can see through (the function
-// holding it counts as side-effect free and its call disappears); an asm statement stays.
-inline void prefetch(const void* p) {
-#if defined(__x86_64__) || defined(__i386__)
-    asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
-#else
-    __builtin_prefetch(p);
-#endif
-}
-}  // namespace detail
-
 // A tile's triangles share vertices with triangles anywhere in the mesh, so the hardware cannot guess
 // where the next one's varyings are: fetch them a few triangles ahead. The records are read front to
 // back from the bin, but each tile's bin is a new stream the hardware prefetcher has yet to learn:
@@ -123,10 +111,9 @@ inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const d
         detail::prefetch(record + 64);
     }
     if (b + k_varyings_distance < bin.size()) {
-        const detail::TriangleSetup& t = bin[b + k_varyings_distance];
-        for (std::uint32_t ref : t.vertex)
-            detail::prefetch((ref & detail::k_clipped_bit) ? chunk.extras.varyings_of(ref & ~detail::k_clipped_bit)
-                                                             : vertices_.varyings_of(ref));
+        const float* var[3];
+        find_varyings(chunk, bin[b + k_varyings_distance], var);
+        for (const float* v : var) detail::prefetch(v);
     }
 }
 
@@ -170,10 +157,7 @@ void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
             const detail::FrontEndChunk& chunk = chunks_[c];
             const detail::TileBin& bin = chunk.bins[tile_index];
-            for (std::size_t b = 0; b < bin.size(); ++b) {
-                prefetch_ahead(chunk, bin, b);
-                each(context, tile, chunk, bin[b]);
-            }
+            if (!bin.empty()) each(context, tile, chunk, bin);
         }
         end(context, tile);
     });
@@ -194,11 +178,15 @@ void Renderer::run_tiles_in_order(Framebuffer& target, const Plan& plan, const S
     walk_tiles<false>(
         plan, [](detail::PixelRect, int, bool) { return detail::TileCoverage{}; },
         [&](detail::TileCoverage& coverage, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
-            const detail::TriangleSetup& t) {
-            if (!detail::rasterize_tile(t, tile, coverage)) return;
-            const float* var[3];
-            find_varyings(chunk, t, var);
-            detail::shade_tile<S, W, B>(shader, test, t, coverage, tile, var, view);
+            const detail::TileBin& bin) {
+            for (std::size_t b = 0; b < bin.size(); ++b) {
+                prefetch_ahead(chunk, bin, b);
+                const detail::TriangleSetup& t = bin[b];
+                if (!detail::rasterize_tile(t, tile, coverage)) continue;
+                const float* var[3];
+                find_varyings(chunk, t, var);
+                detail::shade_tile<S, W, B>(shader, test, t, coverage, tile, var, view);
+            }
         },
         [](detail::TileCoverage&, detail::PixelRect) {});
 }
@@ -207,7 +195,7 @@ template <class S>
 void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, const S& shader, DepthTest test,
                                       bool depth_write) {
     const detail::TargetView view{target.colour_data(), target.depth_data(), target.width()};
-    const detail::ResolveTriangleKernel resolve_triangle = detail::resolve_triangle_kernel(test, depth_write);
+    const detail::ResolveBinKernel resolve_bin = detail::resolve_bin_kernel(test, depth_write);
     const detail::TileVisibility::Clear clear{plan.clear_colour, plan.clear_depth};
     // Every worker's lists sized for the fullest tile now: after the first draw of a scene they no
     // longer grow, whichever tiles each worker is given.
@@ -220,12 +208,12 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
             return vis;
         },
         [&](detail::TileVisibility& vis, detail::PixelRect tile, const detail::FrontEndChunk& chunk,
-            const detail::TriangleSetup& t) {
+            const detail::TileBin& bin) {
             // A triangle that passes nowhere now never owns a pixel: it is not listed.
-            if (!resolve_triangle({&t, tile, &vis, vis.next_id(), test, depth_write})) return;
-            const float* var[3];
-            find_varyings(chunk, t, var);
-            vis.add<S::k_varyings>(t, var);
+            const std::size_t first = vis.triangles.size();
+            resolve_bin(bin.data(), bin.size(), tile, vis);
+            vis.write_shading_records<S::k_varyings>(
+                first, [&](const detail::TriangleSetup& t, const float* (&var)[3]) { find_varyings(chunk, t, var); });
         },
         [&](detail::TileVisibility& vis, detail::PixelRect tile) {
             vis.end(tile, view, depth_write);

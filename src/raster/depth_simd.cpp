@@ -33,10 +33,12 @@ struct EdgeRect {
     std::uint32_t e[3], a[3], b[3];  // value at (x0, y0), step per column, per row; unsigned: lanes wrap
 };
 
-// True when every edge fits in 32 bits over the triangle's bounds if they are at most a tile wide:
-// |e0| < 2^30 plus at most 2 * 63 steps of at most 2^15. (Bounds clamped to the target can be small
-// while the triangle is not, so the size of the bounds alone does not say it.)
+// True when every edge fits in 32 bits over the triangle's whole bounds: |e0| < 2^30 plus at most
+// (width + height) < 2^14 steps (k_max_target_size) of at most 2^15 is below 2^31. Most triangles
+// are small; the others reach far outside the target (their bounds are clamped to it, so the size of
+// the bounds alone does not say it).
 inline bool small_edges(const TriangleSetup& t) {
+    static_assert(2 * k_max_target_size <= (1 << 14));
     bool small = true;
     for (int k = 0; k < 3; ++k)
         small &= (t.a[k] >= -(1 << 15)) & (t.a[k] <= (1 << 15)) & (t.b[k] >= -(1 << 15)) & (t.b[k] <= (1 << 15)) &
@@ -45,19 +47,19 @@ inline bool small_edges(const TriangleSetup& t) {
 }
 
 // False when the bounds miss the tile or some edge is negative over the whole rectangle.
-inline bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
+HWY_INLINE bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
     r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
     r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
     if (r.x0 > r.x1 || r.y0 > r.y1) return false;
-    if (r.x0 == t.min_x && r.y0 == t.min_y && r.x1 == t.max_x && r.y1 == t.max_y && small_edges(t)) {
-        // The triangle's bounds are inside this tile (most are) and its edges are small: all three
-        // are evaluated from e0 as they are, with no 64-bit arithmetic. An edge >= 0 everywhere
-        // decides nothing, and one < 0 everywhere leaves no pixel inside: the result is the general
-        // case's.
+    if (small_edges(t)) {
+        // Every value fits, so 32-bit arithmetic that wraps gives each edge at the rectangle's corner
+        // exactly. An edge >= 0 everywhere decides nothing, and one < 0 everywhere leaves no pixel
+        // inside: the result is the general case's.
+        const auto dx = static_cast<std::uint32_t>(r.x0 - t.min_x), dy = static_cast<std::uint32_t>(r.y0 - t.min_y);
         for (int k = 0; k < 3; ++k) {
-            r.e[k] = static_cast<std::uint32_t>(t.e0[k]);
             r.a[k] = static_cast<std::uint32_t>(t.a[k]);
             r.b[k] = static_cast<std::uint32_t>(t.b[k]);
+            r.e[k] = static_cast<std::uint32_t>(t.e0[k]) + r.a[k] * dx + r.b[k] * dy;
         }
         return true;
     }
@@ -93,15 +95,23 @@ M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
     return hn::And(covered, hn::Lt(z, hn::Zero(DF())));  // never: z >= 0 after clamping, so no lane
 }
 
+// Rows are drawn in groups of this many, unrolled, the group's rows past the rectangle computed
+// with no pixel inside: most triangles of scanned meshes and dense tessellations are at most this
+// tall within a tile, and a row loop whose trip count changes from one triangle to the next
+// mispredicts its exit about once per triangle.
+constexpr int k_row_group = 4;
+
 // One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
 // (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
-// lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors.
+// lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors. A row
+// past the rectangle (in the last group) is loaded and stored unchanged, or, past the tile's arrays,
+// the arrays' last row is.
 template <DepthTest D, bool DepthWrite, class DF>
-bool resolve_strip(DF df, const DepthJob& job, const EdgeRect& r, int start, int lo, int hi) {
+HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileVisibility& vis,
+                              std::uint32_t id, const EdgeRect& r, int start, int lo, int hi) {
     const hn::RebindToSigned<DF> di;
     const hn::RebindToUnsigned<DF> du;
     using VI = hn::Vec<decltype(di)>;
-    const TriangleSetup& t = *job.setup;
     const VI iota = hn::Iota(di, 0);
     const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
     VI e[3], b[3];
@@ -115,48 +125,79 @@ bool resolve_strip(DF df, const DepthJob& job, const EdgeRect& r, int start, int
     const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
     const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
     const auto zero = hn::Zero(df), one = hn::Set(df, 1.0f);
-    const auto id = hn::Set(du, job.id);
-    TileVisibility& vis = *job.vis;
-    const int i = start - job.tile.x0;
+    const auto owner_id = hn::Set(du, id);
+    const int i = start - tile.x0;
     auto passed = hn::FirstN(df, 0);
-    for (int y = r.y0; y <= r.y1; ++y) {
-        // Covered where every edge function is >= 0: no sign bit in their OR.
-        const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e[0], e[1]), e[2]), hn::Zero(di)), columns);
-        for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], b[k]);
-        const int row = y - job.tile.y0;
-        const float dy = (static_cast<float>(y) + 0.5f) - t.y0;
-        auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
-        z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
-        float* depth = vis.depth + row * k_max_tile_size + i;
-        const auto stored = hn::Load(df, depth);
-        const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
-        if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
-        std::uint32_t* owner = vis.owner + row * k_max_tile_size + i;
-        // Whole stores, not masked ones: the next triangle's load of the same row is then forwarded
-        // from the store (a load after a masked store must wait for it to reach the cache).
-        hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), id, hn::Load(du, owner)), du, owner);
-        passed = hn::Or(passed, pass);
+    for (int y = r.y0; y <= r.y1; y += k_row_group) {
+        const VI rows_left = hn::Set(di, r.y1 - y + 1);
+        HWY_UNROLL(1)
+        for (int g = 0; g < k_row_group; ++g) {
+            // Covered where every edge function is >= 0: no sign bit in their OR.
+            const auto in_rect = hn::And(columns, hn::Lt(hn::Set(di, g), rows_left));
+            const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e[0], e[1]), e[2]), hn::Zero(di)), in_rect);
+            for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], b[k]);
+            const float dy = (static_cast<float>(y + g) + 0.5f) - t.y0;
+            auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
+            z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
+            const int row = std::min(y + g - tile.y0, k_max_tile_size - 1);
+            float* depth = vis.depth + row * k_max_tile_size + i;
+            const auto stored = hn::Load(df, depth);
+            const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
+            if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
+            std::uint32_t* owner = vis.owner + row * k_max_tile_size + i;
+            hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), owner_id, hn::Load(du, owner)), du, owner);
+            passed = hn::Or(passed, pass);
+        }
     }
     return !hn::AllFalse(df, passed);
 }
 
-// The rectangle in strips of one vector aligned within the tile's arrays (whose rows are wider
-// than the tile when it is narrower than a vector: those lanes are never inside).
+// Pass one for one triangle: its rectangle in the tile in strips of one vector aligned within the
+// tile's arrays (whose rows are wider than the tile when it is narrower than a vector: those lanes
+// are never inside).
 template <DepthTest D, bool DepthWrite>
-bool ResolveTriangleFor(const DepthJob& job) {
-    EdgeRect r;
-    if (!edge_rect(*job.setup, job.tile, r)) return false;
+HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileVisibility& vis, std::uint32_t id) {
     const hn::ScalableTag<float> df;
     const int lanes = static_cast<int>(hn::Lanes(df));
     static_assert(k_max_tile_size % (HWY_MAX_BYTES / sizeof(float)) == 0, "a row is whole vectors");
+    EdgeRect r;
+    if (!edge_rect(t, tile, r)) return false;
     bool any = false;
     for (int x = r.x0; x <= r.x1;) {
-        const int start = job.tile.x0 + (x - job.tile.x0) / lanes * lanes;
+        const int start = tile.x0 + (x - tile.x0) / lanes * lanes;
         const int end = std::min(r.x1, start + lanes - 1);
-        any |= resolve_strip<D, DepthWrite>(df, job, r, start, x - start, end - start);
+        any |= resolve_strip<D, DepthWrite>(df, t, tile, vis, id, r, start, x - start, end - start);
         x = end + 1;
     }
     return any;
+}
+
+template <DepthTest D, bool DepthWrite>
+bool ResolveTriangleFor(const DepthJob& job) {
+    return resolve_one<D, DepthWrite>(*job.setup, job.tile, *job.vis, job.id);
+}
+
+// A tile's bin in order: each triangle that passes somewhere is appended to vis.triangles, and its
+// index there is its owner id. The records are read front to back, but each bin is a new stream the
+// hardware prefetcher has yet to learn: they are fetched a few triangles ahead.
+template <DepthTest D, bool DepthWrite>
+void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect tile, TileVisibility& vis) {
+    constexpr std::size_t k_distance = 12;
+    const std::size_t first = vis.triangles.size();
+    vis.triangles.resize(first + count);
+    const TriangleSetup** listed = vis.triangles.data() + first;
+    std::uint32_t id = static_cast<std::uint32_t>(first);
+    for (std::size_t n = 0; n < count; ++n) {
+        if (n + k_distance < count) {
+            prefetch(records + n + k_distance);
+            prefetch(reinterpret_cast<const char*>(records + n + k_distance) + 64);
+        }
+        const TriangleSetup& t = records[n];
+        const bool any = resolve_one<D, DepthWrite>(t, tile, vis, id);
+        listed[id - first] = &t;
+        id += any;
+    }
+    vis.triangles.resize(id);
 }
 
 // Marks the pixels some triangle owns in `covered` (see TileVisibility::end).
@@ -200,12 +241,18 @@ void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, std:
     if (streamed) hwy::FlushStream();
 }
 
-// This target's kernel for a depth test and write flag (never: one that draws nothing).
+// This target's kernels for a depth test and write flag (never: ones that draw nothing).
 ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
     ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
     auto with_write = [&]<DepthTest D>() {
         kernel = write ? &ResolveTriangleFor<D, true> : &ResolveTriangleFor<D, false>;
     };
+    with_depth_test(test, with_write);
+    return kernel;
+}
+ResolveBinKernel ChooseResolveBin(DepthTest test, bool write) {
+    ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileVisibility&) {};
+    auto with_write = [&]<DepthTest D>() { kernel = write ? &ResolveBinFor<D, true> : &ResolveBinFor<D, false>; };
     with_depth_test(test, with_write);
     return kernel;
 }
@@ -219,6 +266,7 @@ HWY_AFTER_NAMESPACE();
 namespace facet::detail {
 
 HWY_EXPORT(ChooseResolveTriangle);
+HWY_EXPORT(ChooseResolveBin);
 HWY_EXPORT(FindOwnedPixels);
 HWY_EXPORT(StoreTileRows);
 
@@ -244,6 +292,26 @@ ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write) {
     if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ChooseResolveTriangle)(test, write);
     auto with_write = [&]<DepthTest D>() {
         kernel = write ? &resolve_triangle_reference<D, true> : &resolve_triangle_reference<D, false>;
+    };
+    with_depth_test(test, with_write);
+    return kernel;
+}
+
+// The scalar specification of a bin: resolve_triangle_reference per triangle, ids in listing order.
+template <DepthTest D, bool DepthWrite>
+void resolve_bin_reference(const TriangleSetup* records, std::size_t count, PixelRect tile, TileVisibility& vis) {
+    for (std::size_t n = 0; n < count; ++n) {
+        const auto id = static_cast<std::uint32_t>(vis.triangles.size());
+        if (resolve_triangle_reference<D, DepthWrite>({&records[n], tile, &vis, id, D, DepthWrite}))
+            vis.triangles.push_back(&records[n]);
+    }
+}
+
+ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write) {
+    ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileVisibility&) {};
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ChooseResolveBin)(test, write);
+    auto with_write = [&]<DepthTest D>() {
+        kernel = write ? &resolve_bin_reference<D, true> : &resolve_bin_reference<D, false>;
     };
     with_depth_test(test, with_write);
     return kernel;

@@ -197,4 +197,64 @@ TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     EXPECT_EQ(tiles, 800 * static_cast<int>(available_isas().size()));
 }
 
+// A whole bin at once: the kernel lists the triangles that pass somewhere, in order, each owning its
+// pixels under its index in the list, exactly as resolve_triangle_reference one triangle at a time.
+// Many small triangles over one tile (the kernel's rows in groups, the tile's last rows, tiles
+// narrower than a vector) and some large ones that reach far past it.
+TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
+    IsaGuard guard;
+    const int width = 200, height = 130;
+    const FrontEndParams params = params_for(width, height);
+    const double extents[] = {0.6, 1.5, 3, 6, 20, 5000};
+    const DepthTest tests[] = {DepthTest::less, DepthTest::lequal, DepthTest::greater, DepthTest::always};
+    const std::uint32_t refs[3] = {0, 1, 2};
+    auto simd = std::make_unique<DepthPassState>(), spec = std::make_unique<DepthPassState>();
+    int tiles = 0, listed = 0;
+    for (const std::string& isa : available_isas()) {
+        std::mt19937 rng(20261121);
+        for (int n = 0; n < 300; ++n) {
+            std::uniform_int_distribution<int> size(1, 64), coin(0, 3);
+            const int w = coin(rng) ? 64 : size(rng), h = coin(rng) ? 64 : size(rng);
+            const int x0 = std::uniform_int_distribution<int>(0, width - w)(rng);
+            const int y0 = coin(rng) ? std::uniform_int_distribution<int>(0, height - h)(rng) : height - h;
+            const PixelRect tile{x0, y0, x0 + w, y0 + h};
+            const DepthTest test = tests[rng() % std::size(tests)];
+            const bool write = coin(rng) != 0;
+            std::vector<TriangleSetup> bin;
+            std::uniform_real_distribution<float> unit(0, 1);
+            std::uniform_real_distribution<double> near_x(x0 - 4.0, x0 + w + 4.0), near_y(y0 - 4.0, y0 + h + 4.0);
+            while (bin.size() < 150) {
+                const double extent = extents[rng() % std::size(extents)];
+                ScreenVertex v[3];
+                random_triangle(rng, near_x(rng), near_y(rng), extent, v);
+                for (ScreenVertex& s : v) s.z = unit(rng);
+                TriangleSetup t{};
+                if (setup_triangle(v, refs, params, t) == SetupResult::ok) bin.push_back(t);
+                if (coin(rng) == 0) bin.push_back(bin.empty() ? t : bin.back());  // equal depths meet
+            }
+            std::vector<float> depth(static_cast<std::size_t>(width) * height, 1.0f);
+            std::vector<std::size_t> order[2];
+            for (DepthPassState* s : {simd.get(), spec.get()}) {
+                ASSERT_TRUE(select_isa(s == simd.get() ? isa : "scalar"));
+                s->depth = depth;
+                s->vis.begin(tile, 1, {nullptr, s->depth.data(), width});
+                // Two calls, as for two chunks' bins: the second's ids follow the first's.
+                const ResolveBinKernel kernel = resolve_bin_kernel(test, write);
+                kernel(bin.data(), 100, tile, s->vis);
+                kernel(bin.data() + 100, bin.size() - 100, tile, s->vis);
+                s->vis.end(tile, {nullptr, s->depth.data(), width}, write);
+                for (const TriangleSetup* t : s->vis.triangles)
+                    order[s == spec.get()].push_back(static_cast<std::size_t>(t - bin.data()));
+            }
+            ASSERT_EQ(order[0], order[1]) << isa << ": tile " << n;
+            ASSERT_TRUE(same_state(*simd, *spec, tile))
+                << isa << ": tile " << n << " at " << x0 << "," << y0 << " size " << w << "x" << h;
+            listed += static_cast<int>(order[1].size());
+            ++tiles;
+        }
+    }
+    EXPECT_GT(listed, 5000);
+    EXPECT_EQ(tiles, 300 * static_cast<int>(available_isas().size()));
+}
+
 }  // namespace

@@ -85,6 +85,16 @@ inline std::int64_t edge_at(const TriangleSetup& t, int k, std::int64_t ix, std:
 
 constexpr std::uint32_t k_clipped_bit = 0x80000000u;
 
+// GCC 12 removes __builtin_prefetch whose address comes from loads it can see through (the function
+// holding it counts as side-effect free and its call disappears); an asm statement stays.
+inline void prefetch(const void* p) {
+#if defined(__x86_64__) || defined(__i386__)
+    asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+#else
+    __builtin_prefetch(p);
+#endif
+}
+
 // One bit per pixel: rows[r] bit i is pixel (tile_x + i, tile_y + r).
 struct TileCoverage {
     std::uint64_t rows[k_max_tile_size];

@@ -332,15 +332,24 @@ struct TileVisibility {
         if (colour_cleared)
             store_tile_rows(colour, k_max_tile_size, target.colour + target.at(tile.x0, tile.y0), tile, target.stride, true);
     }
-    // Lists triangle t, whose id was next_id(), with its shading record.
-    template <int N>
-    void add(const TriangleSetup& t, const float* const (&var)[3]) {
-        triangles.push_back(&t);
-        const std::size_t at = planes.size();
-        planes.resize(at + static_cast<std::size_t>(stride));
-        write_shading_record(t, var, N, planes.data() + at);
+    // The shading records of the triangles listed from `first` on (resolve_bin lists them), with
+    // each triangle's varyings from varyings_of(t, var); those of a later triangle are fetched a few
+    // triangles ahead, since a tile's triangles share vertices with triangles anywhere in the mesh.
+    template <int N, class VaryingsOf>
+    void write_shading_records(std::size_t first, const VaryingsOf& varyings_of) {
+        constexpr std::size_t k_distance = 6;
+        const std::size_t count = triangles.size();
+        planes.resize(count * static_cast<std::size_t>(stride));
+        for (std::size_t i = first; i < count; ++i) {
+            const float* var[3];
+            if (i + k_distance < count) {
+                varyings_of(*triangles[i + k_distance], var);
+                for (const float* v : var) prefetch(v);
+            }
+            varyings_of(*triangles[i], var);
+            write_shading_record(*triangles[i], var, N, planes.data() + i * static_cast<std::size_t>(stride));
+        }
     }
-    std::uint32_t next_id() const { return static_cast<std::uint32_t>(triangles.size()); }
 };
 
 
@@ -407,6 +416,12 @@ bool resolve_triangle(const DepthJob& job);
 // chosen once per draw, it saves the dispatch per triangle.
 using ResolveTriangleKernel = bool (*)(const DepthJob&);
 ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write);
+// Pass one over a tile's bin, `count` records in submission order: each triangle is resolved as by
+// resolve_triangle with the id vis.triangles.size(), and appended to vis.triangles when it passed
+// somewhere. One call per bin, not per triangle: the kernel keeps the tile's constants in registers
+// and fetches the records ahead itself.
+using ResolveBinKernel = void (*)(const TriangleSetup* records, std::size_t count, PixelRect tile, TileVisibility& vis);
+ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write);
 
 // Pass two: the shader once per visible pixel, with the triangle that owns it. This is the scalar
 // specification; built-in shaders also have SIMD kernels with the same results (CompiledVisiblePass).
