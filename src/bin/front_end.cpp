@@ -22,8 +22,9 @@ bool edge_rejects(const TriangleSetup& t, int e, const PixelRect& r) {
 
 // Sets up each triangle and stores its record in the bin of every tile it reaches. Unclipped
 // triangles are collected into a batch set up together by the SIMD kernel; the batch is flushed
-// before any clipped triangle and at the end, so every bin keeps submission order. Records are set
-// up in a small scratch array (it stays in L1) and copied into their bins.
+// before any clipped triangle and at the end, so every bin keeps submission order. A record that
+// goes to one tile (most) is written straight into its bin; the others are set up in a small
+// scratch array (it stays in L1) and copied into each bin.
 class Emitter {
 public:
     Emitter(const FrontEndParams& p, FrontEndChunk& out)
@@ -62,10 +63,27 @@ private:
     // Sets up the pending batch in one go (SIMD) and bins the survivors in batch order.
     void flush() {
         if (batch_.count == 0) return;
-        const BatchSetupCounts done = setup_triangles(batch_, p_, scratch_);
-        culled_ += static_cast<std::uint64_t>(done.culled);
-        for (int j = 0; j < done.written; ++j) bin(scratch_[j]);
-        set_up_ += static_cast<std::uint64_t>(done.written);
+        if (!setup_lanes(batch_, p_, lanes_)) {
+            const BatchSetupCounts done = setup_one_by_one(batch_, p_, scratch_);
+            culled_ += static_cast<std::uint64_t>(done.culled);
+            for (int j = 0; j < done.written; ++j) bin(scratch_[j]);
+            set_up_ += static_cast<std::uint64_t>(done.written);
+            batch_.count = 0;
+            return;
+        }
+        culled_ += static_cast<std::uint64_t>(std::popcount(lanes_.culled));
+        set_up_ += static_cast<std::uint64_t>(std::popcount(lanes_.keep));
+        for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
+            const int i = std::countr_zero(keep);
+            const int tx0 = lanes_.min_x[i] >> tile_shift_, tx1 = lanes_.max_x[i] >> tile_shift_;
+            const int ty0 = lanes_.min_y[i] >> tile_shift_, ty1 = lanes_.max_y[i] >> tile_shift_;
+            if (tx0 == tx1 && ty0 == ty1) {
+                write_record(batch_, lanes_, i, out_.bins[static_cast<std::size_t>(ty0) * p_.tiles_x + tx0].emplace_back());
+                continue;
+            }
+            write_record(batch_, lanes_, i, scratch_[0]);
+            bin_across_tiles(scratch_[0], tx0, tx1, ty0, ty1);
+        }
         batch_.count = 0;
     }
 
@@ -98,6 +116,7 @@ private:
     std::uint64_t set_up_ = 0, culled_ = 0;
     int tile_shift_;
     SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
+    SetupLanes lanes_;
     TriangleSetup scratch_[SetupBatch::k_capacity];
 };
 

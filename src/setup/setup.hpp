@@ -43,4 +43,24 @@ struct BatchSetupCounts {
 // those that survive to out[0, written) in batch order. `out` has room for batch.count records.
 BatchSetupCounts setup_triangles(const SetupBatch& batch, const FrontEndParams& params, TriangleSetup* out);
 
+// The two halves of setup_triangles, for a caller that writes each record straight to where it goes
+// (the front end: into its tile's bin) rather than to an array it then copies from.
+// The SIMD kernel's results, one entry per batch triangle (setup_simd.cpp), read by write_record.
+struct SetupLanes {
+    static constexpr int n = SetupBatch::k_capacity;
+    std::int32_t a[3][n], b[3][n];
+    double e0[3][n];  // integers, converted when written
+    std::int32_t min_x[n], min_y[n], max_x[n], max_y[n];
+    float x0[n], y0[n];
+    float dfdx[4][n], dfdy[4][n];  // planes: z, q, b1·q, b2·q
+    std::uint32_t keep = 0, culled = 0, flip = 0, front = 0;  // bit i: triangle i
+};
+// Runs the kernel of the selected ISA on the batch. False when the batch must be set up one by one
+// instead (setup_one_by_one): the scalar ISA is selected, or a coordinate is too large to be exact.
+bool setup_lanes(const SetupBatch& batch, const FrontEndParams& params, SetupLanes& lanes);
+// The record of batch triangle i (a bit of lanes.keep), as setup_triangle writes it.
+void write_record(const SetupBatch& batch, const SetupLanes& lanes, int i, TriangleSetup& t);
+// setup_triangle on each triangle of the batch, the survivors written to out[0, written).
+BatchSetupCounts setup_one_by_one(const SetupBatch& batch, const FrontEndParams& params, TriangleSetup* out);
+
 }  // namespace facet::detail

@@ -16,23 +16,6 @@
 
 #include "setup/setup.hpp"
 
-#ifndef FACET_SETUP_SIMD_LANES
-#define FACET_SETUP_SIMD_LANES
-namespace facet::detail {
-
-// The kernel's results, one entry per batch triangle, read back by the scalar record writer.
-struct SetupLanes {
-    static constexpr int n = SetupBatch::k_capacity;
-    std::int32_t a[3][n], b[3][n];
-    double e0[3][n];  // integers, converted when written
-    std::int32_t min_x[n], min_y[n], max_x[n], max_y[n];
-    float x0[n], y0[n];
-    float dfdx[4][n], dfdy[4][n];  // planes: z, q, b1·q, b2·q
-    std::uint32_t keep = 0, culled = 0, flip = 0, front = 0;  // bit i: triangle i
-};
-
-}  // namespace facet::detail
-#endif
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "setup/setup_simd.cpp"
@@ -152,6 +135,7 @@ bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& 
     const V scissor_x1 = hn::Set(d, p.scissor.x1 - 1), scissor_y1 = hn::Set(d, p.scissor.y1 - 1);
     const V half = hn::Set(d, k_subpixel_one / 2);
     const bool ccw_front = p.state.front_face == FrontFace::ccw;
+    out.keep = out.culled = out.flip = out.front = 0;  // the caller may reuse `out` batch after batch
     for (int i0 = 0; i0 < batch.count; i0 += lanes) {
         const Corner s0 = load_corner(batch.v[0] + i0), s1 = load_corner(batch.v[1] + i0),
                      s2 = load_corner(batch.v[2] + i0);
@@ -200,7 +184,6 @@ HWY_AFTER_NAMESPACE();
 #include "simd/isa.hpp"
 
 namespace facet::detail {
-namespace {
 
 BatchSetupCounts setup_one_by_one(const SetupBatch& batch, const FrontEndParams& params, TriangleSetup* out) {
     BatchSetupCounts counts{0, 0};
@@ -242,14 +225,15 @@ void write_record(const SetupBatch& batch, const SetupLanes& lanes, int i, Trian
     t.front_facing = (lanes.front & bit) != 0;
 }
 
-}  // namespace
-
 HWY_EXPORT(SetupLanesOf);
 
+bool setup_lanes(const SetupBatch& batch, const FrontEndParams& params, SetupLanes& lanes) {
+    return !use_scalar_kernels() && HWY_DYNAMIC_DISPATCH(SetupLanesOf)(batch, params, lanes);
+}
+
 BatchSetupCounts setup_triangles(const SetupBatch& batch, const FrontEndParams& params, TriangleSetup* out) {
-    if (use_scalar_kernels()) return setup_one_by_one(batch, params, out);
     SetupLanes lanes;
-    if (!HWY_DYNAMIC_DISPATCH(SetupLanesOf)(batch, params, lanes)) return setup_one_by_one(batch, params, out);
+    if (!setup_lanes(batch, params, lanes)) return setup_one_by_one(batch, params, out);
     int written = 0;
     for (std::uint32_t keep = lanes.keep; keep != 0; keep &= keep - 1)
         write_record(batch, lanes, std::countr_zero(keep), out[written++]);
