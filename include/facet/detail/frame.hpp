@@ -94,6 +94,17 @@ inline void prefetch(const void* p) {
     __builtin_prefetch(p);
 #endif
 }
+// Both cache lines of the record at p, fetched to be written.
+inline void prefetch_for_write(const TriangleSetup* p) {
+#if defined(__x86_64__) || defined(__i386__)
+    const char* line = reinterpret_cast<const char*>(p);
+    asm volatile("prefetchw %0" : : "m"(*line));
+    asm volatile("prefetchw %0" : : "m"(*(line + 64)));
+#else
+    __builtin_prefetch(p, 1);
+    __builtin_prefetch(reinterpret_cast<const char*>(p) + 64, 1);
+#endif
+}
 
 // One bit per pixel: rows[r] bit i is pixel (tile_x + i, tile_y + r).
 struct TileCoverage {
