@@ -127,10 +127,6 @@ private:
     TriangleSetup scratch_[SetupBatch::k_capacity];
 };
 
-GuardBand guard_band(const FrontEndParams& p) {
-    return {k_guard_band_pixels / (p.vp_w * 0.5f), k_guard_band_pixels / (p.vp_h * 0.5f)};
-}
-
 bool finite(Vec4 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w); }
 
 }  // namespace
@@ -144,18 +140,19 @@ void FrontEndChunk::reset(std::size_t tile_count, int stride) {
     stats = {};
 }
 
-void project_vertices(ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& p) {
-    const GuardBand guard = guard_band(p);
-    for (std::size_t i = first; i < end; ++i) {
-        const Vec4 pos = vertices.pos[i];
-        if (!finite(pos)) {
-            vertices.outcode[i] = k_outcode_invalid;
-            continue;
-        }
-        const auto code = static_cast<std::uint8_t>(outcode(pos, guard));
-        vertices.outcode[i] = code;
-        if (code == 0) vertices.screen[i] = project(pos, p);
+GuardBand guard_band(const FrontEndParams& p) {
+    return {k_guard_band_pixels / (p.vp_w * 0.5f), k_guard_band_pixels / (p.vp_h * 0.5f)};
+}
+
+void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p) {
+    const Vec4 pos = vertices.pos[i];
+    if (!finite(pos)) {
+        vertices.outcode[i] = k_outcode_invalid;
+        return;
     }
+    const auto code = static_cast<std::uint8_t>(outcode(pos, guard));
+    vertices.outcode[i] = code;
+    vertices.screen[i] = code == 0 ? project(pos, p) : ScreenVertex{0, 0, 0.0f, 0.0f};
 }
 
 void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,

@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "facet/detail/frame.hpp"
+#include "facet/detail/front_end.hpp"
 
 namespace facet::detail {
 
@@ -22,6 +22,13 @@ struct GuardBand {
 
 // Bit p set when pos is outside plane p. Non-finite positions must be rejected before this.
 std::uint32_t outcode(Vec4 pos, GuardBand g);
+
+// The guard band of the draw's viewport (k_guard_band_pixels around its centre).
+GuardBand guard_band(const FrontEndParams& p);
+
+// The specification of project_vertices for vertex i: outcode[i] (k_outcode_invalid for a
+// non-finite position) and, inside every plane, screen[i] = project(pos); zeros elsewhere (never read).
+void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p);
 
 struct ClipVertex {
     Vec4 pos;
