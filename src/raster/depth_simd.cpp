@@ -33,25 +33,12 @@ struct EdgeRect {
     std::uint32_t e[3], a[3], b[3];  // value at (x0, y0), step per column, per row; unsigned: lanes wrap
 };
 
-// True when every edge fits in 32 bits over the triangle's whole bounds: |e0| < 2^30 plus at most
-// (width + height) < 2^14 steps (k_max_target_size) of at most 2^15 is below 2^31. Most triangles
-// are small; the others reach far outside the target (their bounds are clamped to it, so the size of
-// the bounds alone does not say it).
-inline bool small_edges(const TriangleSetup& t) {
-    static_assert(2 * k_max_target_size <= (1 << 14));
-    bool small = true;
-    for (int k = 0; k < 3; ++k)
-        small &= (t.a[k] >= -(1 << 15)) & (t.a[k] <= (1 << 15)) & (t.b[k] >= -(1 << 15)) & (t.b[k] <= (1 << 15)) &
-                 (t.e0[k] > -(1 << 30)) & (t.e0[k] < (1 << 30));
-    return small;
-}
-
 // False when the bounds miss the tile or some edge is negative over the whole rectangle.
 HWY_INLINE bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
     r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
     r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
     if (r.x0 > r.x1 || r.y0 > r.y1) return false;
-    if (small_edges(t)) {
+    if (t.small_edges) {
         // Every value fits, so 32-bit arithmetic that wraps gives each edge at the rectangle's corner
         // exactly. An edge >= 0 everywhere decides nothing, and one < 0 everywhere leaves no pixel
         // inside: the result is the general case's.

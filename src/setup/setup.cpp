@@ -111,6 +111,7 @@ SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&ve
     set_edge(t, 0, v0, v1);
     set_edge(t, 1, v1, v2);
     set_edge(t, 2, v2, v0);
+    t.small_edges = edges_fit_32_bits(t);
     set_planes(t, v0, v1, v2, area);
     t.vertex[0] = vertex_ref[0];
     t.vertex[1] = vertex_ref[flip ? 2 : 1];

@@ -53,7 +53,7 @@ struct SetupLanes {
     std::int32_t min_x[n], min_y[n], max_x[n], max_y[n];
     float x0[n], y0[n];
     float dfdx[4][n], dfdy[4][n];  // planes: z, q, b1·q, b2·q
-    std::uint32_t keep = 0, culled = 0, flip = 0, front = 0;  // bit i: triangle i
+    std::uint32_t keep = 0, culled = 0, flip = 0, front = 0, small_edges = 0;  // bit i: triangle i
 };
 // Runs the kernel of the selected ISA on the batch. False when the batch must be set up one by one
 // instead (setup_one_by_one): the scalar ISA is selected, or a coordinate is too large to be exact.

@@ -73,8 +73,8 @@ std::uint32_t mask_bits(M m) {
 V floor_div_256(V v) { return hn::Floor(hn::Mul(v, hn::Set(D(), 1.0 / k_subpixel_one))); }
 
 // Edge a->b as set_edge: A, B, c = floor((C + bias + 128 (A + B)) / 256) and e0 = c + A min_x + B min_y,
-// all exact integers.
-void set_edges(const Corner& a, const Corner& b, V min_x, V min_y, int e, int i0, SetupLanes& out) {
+// all exact integers. Returns the lanes where the edge is small, as edges_fit_32_bits tests each.
+M set_edges(const Corner& a, const Corner& b, V min_x, V min_y, int e, int i0, SetupLanes& out) {
     const D d;
     const DI di;
     const V zero = hn::Zero(d);
@@ -85,7 +85,11 @@ void set_edges(const Corner& a, const Corner& b, V min_x, V min_y, int e, int i0
     const V c = hn::Add(hn::Add(C, bias), hn::Mul(hn::Set(d, k_subpixel_one / 2), hn::Add(A, B)));
     hn::StoreU(hn::DemoteTo(di, A), di, out.a[e] + i0);
     hn::StoreU(hn::DemoteTo(di, B), di, out.b[e] + i0);
-    hn::StoreU(hn::Add(hn::Add(floor_div_256(c), hn::Mul(A, min_x)), hn::Mul(B, min_y)), d, out.e0[e] + i0);
+    const V e0 = hn::Add(hn::Add(floor_div_256(c), hn::Mul(A, min_x)), hn::Mul(B, min_y));
+    hn::StoreU(e0, d, out.e0[e] + i0);
+    const V step_limit = hn::Set(d, 1 << 15);
+    return hn::And(hn::And(hn::Le(hn::Abs(A), step_limit), hn::Le(hn::Abs(B), step_limit)),
+                   hn::Lt(hn::Abs(e0), hn::Set(d, 1 << 30)));
 }
 
 // One attribute plane as set_planes computes it, from the values f0, f1, f2 at the three vertices.
@@ -135,7 +139,7 @@ bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& 
     const V scissor_x1 = hn::Set(d, p.scissor.x1 - 1), scissor_y1 = hn::Set(d, p.scissor.y1 - 1);
     const V half = hn::Set(d, k_subpixel_one / 2);
     const bool ccw_front = p.state.front_face == FrontFace::ccw;
-    out.keep = out.culled = out.flip = out.front = 0;  // the caller may reuse `out` batch after batch
+    out.keep = out.culled = out.flip = out.front = out.small_edges = 0;  // the caller may reuse `out` batch after batch
     for (int i0 = 0; i0 < batch.count; i0 += lanes) {
         const Corner s0 = load_corner(batch.v[0] + i0), s1 = load_corner(batch.v[1] + i0),
                      s2 = load_corner(batch.v[2] + i0);
@@ -167,9 +171,9 @@ bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& 
 
         // Orient so that the inside of every edge is where its function is positive.
         const Corner v1 = select(flip, s2, s1), v2 = select(flip, s1, s2);
-        set_edges(s0, v1, min_x, min_y, 0, i0, out);
-        set_edges(v1, v2, min_x, min_y, 1, i0, out);
-        set_edges(v2, s0, min_x, min_y, 2, i0, out);
+        const M small = hn::And(hn::And(set_edges(s0, v1, min_x, min_y, 0, i0, out), set_edges(v1, v2, min_x, min_y, 1, i0, out)),
+                                set_edges(v2, s0, min_x, min_y, 2, i0, out));
+        out.small_edges |= mask_bits(small) << i0;
         set_planes(s0, v1, v2, hn::Abs(signed_area), i0, out);
     }
     return true;
@@ -223,6 +227,7 @@ void write_record(const SetupBatch& batch, const SetupLanes& lanes, int i, Trian
     // Tested in a register: a bit extracted into the record's byte made the compiler mask it in
     // memory, a read of a record line not yet in the cache (40% of this function's time).
     t.front_facing = (lanes.front & bit) != 0;
+    t.small_edges = (lanes.small_edges & bit) != 0;
 }
 
 HWY_EXPORT(SetupLanesOf);

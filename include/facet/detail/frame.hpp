@@ -73,6 +73,7 @@ struct alignas(64) TriangleSetup {
     float dl2dx, dl2dy;              // barycentric b2 times q (likewise)
     std::uint32_t vertex[3];         // varyings: ClipVertices index, or k_clipped_bit | index into the clip extras
     bool front_facing;
+    bool small_edges;                // edges_fit_32_bits: set by setup, so pass one need not test it per tile
 };
 
 static_assert(sizeof(TriangleSetup) == 128);
@@ -81,6 +82,19 @@ static_assert(sizeof(TriangleSetup) == 128);
 // product and sum far inside 64 bits).
 inline std::int64_t edge_at(const TriangleSetup& t, int k, std::int64_t ix, std::int64_t iy) {
     return t.e0[k] + t.a[k] * (ix - t.min_x) + t.b[k] * (iy - t.min_y);
+}
+
+// True when every edge of t fits in 32 bits over its whole bounds: |e0| < 2^30 plus at most
+// (width + height) < 2^14 steps (k_max_target_size) of at most 2^15 is below 2^31. Most triangles
+// are small; the others reach far outside the target (their bounds are clamped to it, so the size of
+// the bounds alone does not say it). Needs t's edges.
+inline bool edges_fit_32_bits(const TriangleSetup& t) {
+    static_assert(2 * 8192 <= (1 << 14), "k_max_target_size (facet/image.hpp)");
+    bool small = true;
+    for (int k = 0; k < 3; ++k)
+        small &= (t.a[k] >= -(1 << 15)) & (t.a[k] <= (1 << 15)) & (t.b[k] >= -(1 << 15)) & (t.b[k] <= (1 << 15)) &
+                 (t.e0[k] > -(1 << 30)) & (t.e0[k] < (1 << 30));
+    return small;
 }
 
 constexpr std::uint32_t k_clipped_bit = 0x80000000u;
