@@ -237,6 +237,7 @@ TEST(SetupBatch, TheFrontEndGivesTheSameChunkOnEveryIsa) {
     EXPECT_GT(want.stats.triangles_clipped, 0u);
     EXPECT_GT(want.stats.triangles_culled, 0u);
     EXPECT_GT(want.stats.triangles_rasterized, 1000u);
+    std::size_t small = 0, large = 0;  // records of each kind compared
     for (const std::string& isa : available_isas()) {
         const FrontEndChunk got = run(isa);
         ASSERT_EQ(got.bins.size(), want.bins.size()) << isa;
@@ -248,12 +249,17 @@ TEST(SetupBatch, TheFrontEndGivesTheSameChunkOnEveryIsa) {
                 ASSERT_EQ(std::memcmp(&g, &w, offsetof(TriangleSetup, front_facing)), 0)
                     << isa << " tile " << tile << " record " << i;
                 ASSERT_EQ(g.front_facing, w.front_facing) << isa << " tile " << tile << " record " << i;
+                ASSERT_EQ(g.small_edges, w.small_edges) << isa << " tile " << tile << " record " << i;
+                small += g.small_edges;
+                large += !g.small_edges;
             }
         }
         EXPECT_EQ(got.stats.triangles_culled, want.stats.triangles_culled) << isa;
         EXPECT_EQ(got.stats.triangles_rasterized, want.stats.triangles_rasterized) << isa;
         EXPECT_EQ(got.stats.triangles_clipped, want.stats.triangles_clipped) << isa;
     }
+    EXPECT_GT(small, 1000u);
+    EXPECT_GT(large, 10u);
 }
 
 }  // namespace
