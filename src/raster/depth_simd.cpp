@@ -207,21 +207,33 @@ void FindOwnedPixels(TileVisibility& vis, PixelRect tile) {
     }
 }
 
-// store_tile_rows for this target: whole aligned cache lines streamed, the rest copied.
-void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, std::uint32_t* HWY_RESTRICT target,
-                   int width, int height, int target_stride) {
+// store_tile_rows for this target: whole aligned cache lines streamed, the rest copied (the
+// specification, store_tile_rows_reference, for rows that cannot be streamed). With `covered`, a
+// pixel whose bit is clear gets `fill` instead.
+void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, const std::uint64_t* covered,
+                   std::uint32_t fill, std::uint32_t* HWY_RESTRICT target, int width, int height, int target_stride) {
     const hn::ScalableTag<std::uint32_t> du;
     const int lanes = static_cast<int>(hn::Lanes(du));
     constexpr int k_line = 64 / sizeof(std::uint32_t);
+    const auto fill_lanes = hn::Set(du, fill);
     bool streamed = false;
     for (int row = 0; row < height; ++row) {
         const std::uint32_t* from = rows + row * rows_stride;
         std::uint32_t* to = target + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride);
         if (width % k_line != 0 || lanes > k_line || reinterpret_cast<std::uintptr_t>(to) % 64 != 0) {
-            std::memcpy(to, from, static_cast<std::size_t>(width) * sizeof(std::uint32_t));
+            store_tile_row_reference(from, covered ? covered + row : nullptr, fill, to, width);
             continue;
         }
-        for (int i = 0; i < width; i += lanes) hn::Stream(hn::LoadU(du, from + i), du, to + i);
+        for (int i = 0; i < width; i += lanes) {
+            auto v = hn::LoadU(du, from + i);
+            if (covered) {
+                const std::uint64_t bits = covered[row] >> i;
+                std::uint8_t bytes[8];
+                std::memcpy(bytes, &bits, sizeof(bytes));
+                v = hn::IfThenElse(hn::LoadMaskBits(du, bytes), v, fill_lanes);
+            }
+            hn::Stream(v, du, to + i);
+        }
         streamed = true;
     }
     // Streaming stores are weakly ordered: make them visible before the tile is reported done.
@@ -258,15 +270,15 @@ HWY_EXPORT(FindOwnedPixels);
 HWY_EXPORT(StoreTileRows);
 
 void store_tile_rows(const void* rows, int rows_stride, void* target_origin, PixelRect tile, int target_stride,
-                     bool stream) {
+                     bool stream, const std::uint64_t* covered, std::uint32_t fill) {
     const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
     const auto* from = static_cast<const std::uint32_t*>(rows);
     auto* to = static_cast<std::uint32_t*>(target_origin);
     if (stream && !use_scalar_kernels())
-        return HWY_DYNAMIC_DISPATCH(StoreTileRows)(from, rows_stride, to, width, height, target_stride);
+        return HWY_DYNAMIC_DISPATCH(StoreTileRows)(from, rows_stride, covered, fill, to, width, height, target_stride);
     for (int row = 0; row < height; ++row)
-        std::memcpy(to + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride),
-                    from + row * rows_stride, static_cast<std::size_t>(width) * sizeof(std::uint32_t));
+        store_tile_row_reference(from + row * rows_stride, covered ? covered + row : nullptr, fill,
+                                 to + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride), width);
 }
 
 void find_owned_pixels(TileVisibility& vis, PixelRect tile) {

@@ -240,14 +240,25 @@ inline void fill_row(Rgba8* row, int width, Rgba8 colour) {
 // `target_stride` values apart. With `stream`, rows that are whole cache lines at aligned addresses
 // are written with streaming stores (SIMD, in src/raster/depth_simd.cpp): the target's lines are not
 // read first, nor kept in the caches; for tiles the draw cleared, which nothing reads again in this
-// draw. The others are copied.
+// draw. The others are copied. With `covered` (one 64-bit row mask per row, bit i for pixel
+// tile.x0 + i), a pixel whose bit is clear is written `fill` instead of its value in `rows`.
 void store_tile_rows(const void* rows, int rows_stride, void* target_origin, PixelRect tile, int target_stride,
-                     bool stream);
+                     bool stream, const std::uint64_t* covered = nullptr, std::uint32_t fill = 0);
 template <class T>
 void store_tile_rows(const T* rows, int rows_stride, T* target_origin, PixelRect tile, int target_stride, bool stream) {
     static_assert(sizeof(T) == 4);
     store_tile_rows(static_cast<const void*>(rows), rows_stride, static_cast<void*>(target_origin), tile, target_stride,
                     stream);
+}
+// One row of store_tile_rows, as it is specified: the values, or `fill` where `covered` (if given)
+// has a clear bit.
+inline void store_tile_row_reference(const std::uint32_t* from, const std::uint64_t* covered, std::uint32_t fill,
+                                     std::uint32_t* to, int width) {
+    if (!covered) {
+        std::memcpy(to, from, static_cast<std::size_t>(width) * sizeof(std::uint32_t));
+        return;
+    }
+    for (int i = 0; i < width; ++i) to[i] = (*covered >> i) & 1 ? from[i] : fill;
 }
 
 struct TileVisibility;
@@ -275,11 +286,13 @@ struct TileVisibility {
     // and a load of a vector the previous triangle stored is forwarded from the store whole
     // (unaligned vectors overlapping it partly wait for the store; measured: ~10% of the pass).
     alignas(64) float depth[k_max_tile_size * k_max_tile_size];
-    // The tile's colour while it is drawn, when the draw clears it (DrawState::clear): begin() fills
-    // it with the clear colour, the shading pass writes into it (colour_view) and store_colour()
-    // writes the finished tile to the target in whole cache lines, streamed past the caches: the
-    // target's old bytes are never read, and each of its lines is written once.
+    // The tile's colour while it is drawn, when the draw clears it (DrawState::clear): the shading
+    // pass writes its covered pixels (colour_view), and store_colour() writes the finished tile to
+    // the target in whole cache lines, streamed past the caches, with the clear colour where no
+    // triangle is visible: the tile is never filled first, the target's old bytes are never read,
+    // and each of its lines is written once. (The other pixels hold whatever the last tile left.)
     alignas(64) Rgba8 colour[k_max_tile_size * k_max_tile_size];
+    Rgba8 clear_colour{};
     bool depth_cleared = false;  // begin() set depth to a clear value: end() must store it
     bool colour_cleared = false;  // begin() set colour to a clear value: store_colour() must store it
     // Per row, the pixels some triangle owns: set by end() from `owner`, once per tile, rather than
@@ -304,12 +317,11 @@ struct TileVisibility {
         stride = k_shading_head + 3 * varyings;
         const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
         depth_cleared = colour_cleared = clear != nullptr;
-        if (clear) fill_row(colour, width, clear->colour);  // the first row, copied to the others below
+        if (clear) clear_colour = clear->colour;
         for (int r = 0; r < height; ++r) {
             std::fill_n(owner + r * k_max_tile_size, width, k_none);
             if (clear) {
                 std::fill_n(depth + r * k_max_tile_size, width, clear->depth);
-                if (r > 0) std::memcpy(colour + r * k_max_tile_size, colour, static_cast<std::size_t>(width) * sizeof(Rgba8));
             } else {
                 std::copy_n(target.depth + target.at(tile.x0, tile.y0 + r), width, depth + r * k_max_tile_size);
             }
@@ -327,10 +339,14 @@ struct TileVisibility {
     TargetView colour_view(PixelRect tile, TargetView target) {
         return colour_cleared ? TargetView{colour, nullptr, k_max_tile_size, tile.x0, tile.y0} : target;
     }
-    // After the shading pass: the tile's own colour, if it has one, to the target.
+    // After the shading pass: the tile's own colour, if it has one, to the target, the clear colour
+    // where no pixel was covered.
     void store_colour(PixelRect tile, TargetView target) const {
-        if (colour_cleared)
-            store_tile_rows(colour, k_max_tile_size, target.colour + target.at(tile.x0, tile.y0), tile, target.stride, true);
+        if (!colour_cleared) return;
+        std::uint32_t fill;
+        std::memcpy(&fill, &clear_colour, sizeof(fill));
+        store_tile_rows(colour, k_max_tile_size, target.colour + target.at(tile.x0, tile.y0), tile, target.stride, true,
+                        covered, fill);
     }
     // The shading records of the triangles listed from `first` on (resolve_bin lists them), with
     // each triangle's varyings from varyings_of(t, var); those of a later triangle are fetched a few
