@@ -9,16 +9,46 @@
 #include <thread>
 #include <vector>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
 namespace facet::detail {
+namespace {
+
+// A draw is several parallel loops in a row (vertices, front end, tiles), each a few hundred
+// microseconds to a few milliseconds long; waking a sleeping thread takes tens of microseconds (a
+// futex call, more in a virtual machine). So a worker that finishes a loop, and the caller waiting
+// for the last worker, first spin this many pauses (tens of microseconds) for the next event, and
+// only then sleep.
+constexpr int k_spin_pauses = 1 << 14;
+
+void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+    _mm_pause();
+#endif
+}
+
+// Spins until done() or k_spin_pauses have passed; true when done.
+template <class Done>
+bool spin_until(const Done& done) {
+    for (int i = 0; i < k_spin_pauses; ++i) {
+        if (done()) return true;
+        pause();
+    }
+    return done();
+}
+
+}  // namespace
 
 struct ThreadPool::State {
     int size = 1;
     std::vector<std::thread> threads;
     std::mutex mutex;
     std::condition_variable wake, finished;
-    std::uint64_t generation = 0;  // bumped for each parallel_for
+    std::atomic<std::uint64_t> generation{0};  // bumped (under the mutex) for each parallel_for
     bool stopping = false;
-    int busy = 0;                  // workers still inside the current loop
+    std::atomic<int> busy{0};                   // workers still inside the current loop
 
     ThreadPool::TaskRef task{};
     std::size_t count = 0;
@@ -43,15 +73,19 @@ struct ThreadPool::State {
     void worker_loop(int worker) {
         std::uint64_t seen = 0;
         for (;;) {
+            spin_until([&] { return generation.load(std::memory_order_relaxed) != seen; });
             {
+                // The loop's fields were set under the mutex: taking it makes them visible.
                 std::unique_lock lock(mutex);
-                wake.wait(lock, [&] { return stopping || generation != seen; });
+                wake.wait(lock, [&] { return stopping || generation.load(std::memory_order_relaxed) != seen; });
                 if (stopping) return;
-                seen = generation;
+                seen = generation.load(std::memory_order_relaxed);
             }
             run_tasks(worker);
-            std::lock_guard lock(mutex);
-            if (--busy == 0) finished.notify_one();
+            if (busy.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+                std::lock_guard lock(mutex);  // the caller tests `busy` under it: no lost wake-up
+                finished.notify_one();
+            }
         }
     }
 };
@@ -87,15 +121,16 @@ void ThreadPool::run(std::size_t count, TaskRef task) {
         s.next = 0;
         s.failed = false;
         s.error = nullptr;
-        s.busy = static_cast<int>(s.threads.size());
-        ++s.generation;
+        s.busy.store(static_cast<int>(s.threads.size()), std::memory_order_relaxed);
+        s.generation.fetch_add(1, std::memory_order_relaxed);
     }
     s.wake.notify_all();
     s.run_tasks(0);
+    spin_until([&] { return s.busy.load(std::memory_order_acquire) == 0; });
     std::exception_ptr error;
     {
         std::unique_lock lock(s.mutex);
-        s.finished.wait(lock, [&] { return s.busy == 0; });
+        s.finished.wait(lock, [&] { return s.busy.load(std::memory_order_acquire) == 0; });
         error = s.error;
         s.task = {};
     }
