@@ -353,7 +353,7 @@ struct TileVisibility {
     // triangles ahead, since a tile's triangles share vertices with triangles anywhere in the mesh.
     template <int N, class VaryingsOf>
     void write_shading_records(std::size_t first, const VaryingsOf& varyings_of) {
-        constexpr std::size_t k_distance = 6;
+        constexpr std::size_t k_distance = 16;
         const std::size_t count = triangles.size();
         planes.resize(count * static_cast<std::size_t>(stride));
         for (std::size_t i = first; i < count; ++i) {
