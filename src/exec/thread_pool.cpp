@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
@@ -17,11 +18,12 @@ namespace facet::detail {
 namespace {
 
 // A draw is several parallel loops in a row (vertices, front end, tiles), each a few hundred
-// microseconds to a few milliseconds long; waking a sleeping thread takes tens of microseconds (a
-// futex call, more in a virtual machine). So a worker that finishes a loop, and the caller waiting
-// for the last worker, first spin this many pauses (tens of microseconds) for the next event, and
-// only then sleep.
-constexpr int k_spin_pauses = 1 << 14;
+// microseconds to a few milliseconds long, and waking a sleeping thread takes tens of microseconds
+// (a futex call, more in a virtual machine). So a worker that finishes a loop, and the caller waiting
+// for the last worker, first spin this long for the next event, and only then sleep. Measured with
+// a spin of about this length (2-7% faster 2-thread mesh frames); when draws stop, each worker
+// spends this much CPU once before it sleeps.
+constexpr auto k_spin_time = std::chrono::microseconds(400);
 
 void pause() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -29,14 +31,17 @@ void pause() {
 #endif
 }
 
-// Spins until done() or k_spin_pauses have passed; true when done.
+// Spins until done() or k_spin_time has passed; true when done.
 template <class Done>
 bool spin_until(const Done& done) {
-    for (int i = 0; i < k_spin_pauses; ++i) {
-        if (done()) return true;
-        pause();
+    const auto until = std::chrono::steady_clock::now() + k_spin_time;
+    for (;;) {
+        for (int i = 0; i < 16; ++i) {
+            if (done()) return true;
+            pause();
+        }
+        if (std::chrono::steady_clock::now() >= until) return done();
     }
-    return done();
 }
 
 }  // namespace
