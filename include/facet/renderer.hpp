@@ -68,8 +68,8 @@ private:
 
     void prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin, std::size_t b) const;
     // Every tile in parallel: context = begin(tile, worker, clear), each(context, tile, chunk, bin)
-    // per chunk's non-empty bin of triangles binned to it, in submission order, then end(context, tile). `worker` is
-    // the pool worker running the tile (ThreadPool::parallel_for), for per-worker scratch memory.
+    // for each chunk's non-empty bin of the tile, in submission order, then end(context, tile).
+    // `worker` is the pool worker running the tile (ThreadPool::parallel_for), for per-worker scratch.
     // With ContextClears, a context told `clear` starts the tile's colour and depth at the clear
     // values and writes them to the target itself; the tile is not cleared first.
     template <bool ContextClears, class Begin, class Each, class End>
@@ -105,11 +105,7 @@ constexpr std::size_t k_vertex_block = 4096;
 inline void Renderer::prefetch_ahead(const detail::FrontEndChunk& chunk, const detail::TileBin& bin,
                                      std::size_t b) const {
     constexpr std::size_t k_record_distance = 12, k_varyings_distance = 6;
-    if (b + k_record_distance < bin.size()) {
-        const char* record = reinterpret_cast<const char*>(&bin[b + k_record_distance]);
-        detail::prefetch(record);
-        detail::prefetch(record + 64);
-    }
+    if (b + k_record_distance < bin.size()) detail::prefetch_record(&bin[b + k_record_distance]);
     if (b + k_varyings_distance < bin.size()) {
         const float* var[3];
         find_varyings(chunk, bin[b + k_varyings_distance], var);

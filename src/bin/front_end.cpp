@@ -77,10 +77,9 @@ private:
         set_up_ += static_cast<std::uint64_t>(std::popcount(lanes_.keep));
         for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
             const int i = std::countr_zero(keep);
-            const int tx0 = lanes_.min_x[i] >> tile_shift_, tx1 = lanes_.max_x[i] >> tile_shift_;
-            const int ty0 = lanes_.min_y[i] >> tile_shift_, ty1 = lanes_.max_y[i] >> tile_shift_;
-            if (tx0 == tx1 && ty0 == ty1) {
-                TriangleSetup& t = out_.bins[static_cast<std::size_t>(ty0) * p_.tiles_x + tx0].emplace_back();
+            const TileSpan span = tiles_of(lanes_.min_x[i], lanes_.max_x[i], lanes_.min_y[i], lanes_.max_y[i]);
+            if (span.one()) {
+                TriangleSetup& t = bin_of(span.x0, span.y0).emplace_back();
                 // The bin's lines a few records on, owned before they are written: a bin is a
                 // stream the hardware has not learnt, and a store that misses waits for its line
                 // (measured 6% of a 1M-triangle frame). Past the allocation, a prefetch does nothing.
@@ -89,32 +88,41 @@ private:
                 continue;
             }
             write_record(batch_, lanes_, i, scratch_[0]);
-            bin_across_tiles(scratch_[0], tx0, tx1, ty0, ty1);
+            bin_across_tiles(scratch_[0], span);
         }
         batch_.count = 0;
     }
 
-    // Tile sizes are powers of two and the bounds are inside the scissor (non-negative), so a shift
-    // finds the tile. A triangle inside one tile (most of them) goes to that tile's bin unexamined.
+    // The tiles a triangle's inclusive pixel bounds reach, inclusive. Tile sizes are powers of two
+    // and the bounds are inside the scissor (non-negative), so a shift finds the tile.
+    struct TileSpan {
+        int x0, x1, y0, y1;
+        bool one() const { return x0 == x1 && y0 == y1; }
+    };
+    TileSpan tiles_of(int min_x, int max_x, int min_y, int max_y) const {
+        return {min_x >> tile_shift_, max_x >> tile_shift_, min_y >> tile_shift_, max_y >> tile_shift_};
+    }
+    TileBin& bin_of(int tx, int ty) { return out_.bins[static_cast<std::size_t>(ty) * p_.tiles_x + tx]; }
+
+    // A triangle inside one tile (most of them) goes to that tile's bin unexamined.
     // Forced inline into the batch loop: as a call, its entry and exit were a third of its samples.
     [[gnu::always_inline]] void bin(const TriangleSetup& t) {
-        const int tx0 = t.min_x >> tile_shift_, tx1 = t.max_x >> tile_shift_;
-        const int ty0 = t.min_y >> tile_shift_, ty1 = t.max_y >> tile_shift_;
-        if (tx0 == tx1 && ty0 == ty1) {
-            out_.bins[static_cast<std::size_t>(ty0) * p_.tiles_x + tx0].push_back(t);
+        const TileSpan span = tiles_of(t.min_x, t.max_x, t.min_y, t.max_y);
+        if (span.one()) {
+            bin_of(span.x0, span.y0).push_back(t);
             return;
         }
-        bin_across_tiles(t, tx0, tx1, ty0, ty1);
+        bin_across_tiles(t, span);
     }
 
     // Out of line: few triangles span tiles, and the batch loop stays small without this one.
-    [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, int tx0, int tx1, int ty0, int ty1) {
+    [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, TileSpan span) {
         const int s = p_.tile_size;
-        for (int ty = ty0; ty <= ty1; ++ty)
-            for (int tx = tx0; tx <= tx1; ++tx) {
+        for (int ty = span.y0; ty <= span.y1; ++ty)
+            for (int tx = span.x0; tx <= span.x1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
                 if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
-                out_.bins[static_cast<std::size_t>(ty) * p_.tiles_x + tx].push_back(t);
+                bin_of(tx, ty).push_back(t);
             }
     }
 

@@ -175,10 +175,7 @@ void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect ti
     const TriangleSetup** listed = vis.triangles.data() + first;
     std::uint32_t id = static_cast<std::uint32_t>(first);
     for (std::size_t n = 0; n < count; ++n) {
-        if (n + k_distance < count) {
-            prefetch(records + n + k_distance);
-            prefetch(reinterpret_cast<const char*>(records + n + k_distance) + 64);
-        }
+        if (n + k_distance < count) prefetch_record(records + n + k_distance);
         const TriangleSetup& t = records[n];
         const bool any = resolve_one<D, DepthWrite>(t, tile, vis, id);
         listed[id - first] = &t;
