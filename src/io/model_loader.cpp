@@ -665,7 +665,16 @@ private:
     Result<std::shared_ptr<const Texture>> decode_embedded(const aiTexture& t, const std::string& name) const {
         const std::string label = path_ + " (embedded texture " + name + ")";
         if (!t.pcData) return Error{ErrorCode::bad_format, label + ": no data"};
-        if (t.mHeight == 0) return Texture::decode(t.pcData, t.mWidth, label, options_.texture_limits);
+        if (t.mHeight == 0) {
+            // Every reader that embeds a compressed file names its format in achFormatHint ("png",
+            // "jpg", the file's extension). assimp's MDL reader, given a skin of height 0, leaves
+            // the hint empty and mWidth far beyond the bytes it allocated: not a byte of such a
+            // buffer can be read safely.
+            if (t.achFormatHint[0] == '\0')
+                return Error{ErrorCode::bad_format, label + ": compressed data without a format hint, not read "
+                                                            "(assimp gives no trustworthy size for it)"};
+            return Texture::decode(t.pcData, t.mWidth, label, options_.texture_limits);
+        }
         const TextureLimits& limits = options_.texture_limits;
         if (t.mWidth > static_cast<unsigned>(limits.max_size) || t.mHeight > static_cast<unsigned>(limits.max_size) ||
             std::uint64_t{t.mWidth} * t.mHeight > limits.max_pixels)

@@ -191,6 +191,22 @@ TEST(Regression, PlyPropertyOfAnUnknownTypeIsRefusedBeforeAssimp) {
     }
 }
 
+// assimp's MDL reader hands over a skin of height 0 as a "compressed" texture of 65,538 bytes with
+// no format hint, in a buffer it allocated empty; reading it ran off the buffer's end (the CI fuzz
+// run, AddressSanitizer). The input, reduced from the fuzzer's: a 3D GameStudio MDL5 header for 3
+// vertices and 1 triangle, one such skin and the triangle. The model loads; the texture is refused.
+TEST(Regression, MdlSkinOfHeightZeroIsNotReadAsACompressedTexture) {
+    const fs::path input = k_regression_dir / "load_model" / "mdl_skin_of_height_zero.mdl";
+    const auto r = load_model(input.string());
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    EXPECT_EQ(r->scene.triangle_count(), 1u);
+    for (const SceneObject& o : r->scene.objects) EXPECT_EQ(o.material.base_colour_texture, nullptr);
+    ASSERT_EQ(r->warnings.size(), 1u);
+    EXPECT_TRUE(mentions(r->warnings[0], input.string()) && mentions(r->warnings[0], "embedded texture") &&
+                mentions(r->warnings[0], "without a format hint"))
+        << r->warnings[0];
+}
+
 // Every saved load_model_fuzzer input that facet now guards against, loaded as the fuzzer loads
 // it (the file's extension is its format): an Error or a scene, never a crash or an exception.
 TEST(Regression, LoadModelFuzzerInputsLoadOrFailCleanly) {
