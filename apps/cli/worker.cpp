@@ -4,6 +4,7 @@
 #include <malloc.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -316,6 +317,32 @@ void keep_freed_memory_for_reuse() {
     // glibc's largest mmap threshold (32 MiB on 64-bit); larger blocks are still mapped.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
+}
+
+void use_huge_pages_for_heap(std::uint64_t max_memory_bytes) {
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    std::uint64_t bytes = std::uint64_t{128} << 20;
+    if (max_memory_bytes > 0) bytes = std::min(bytes, max_memory_bytes / 4);
+    // The heap grows by `bytes` (address space: nothing is touched) through glibc's top pad, and
+    // that range is advised to use transparent huge pages. Freed, it stays the heap's top
+    // (keep_freed_memory_for_reuse's trim threshold), and the job's buffers are carved from it.
+    constexpr std::uintptr_t k_huge_page = 2 << 20;
+    constexpr int k_default_top_pad = 128 << 10;  // glibc's M_TOP_PAD
+    // A block larger than the free top of the heap (keepcost) makes malloc grow it, by the block's
+    // excess plus the pad; below the mmap threshold, or it would be mapped on its own.
+    const std::size_t block = mallinfo2().keepcost + (1 << 20);
+    if (block >= (32 << 20)) return;
+    const auto begin = reinterpret_cast<std::uintptr_t>(sbrk(0));
+    mallopt(M_TOP_PAD, static_cast<int>(bytes));
+    void* grow = std::malloc(block);
+    mallopt(M_TOP_PAD, k_default_top_pad);
+    const auto end = reinterpret_cast<std::uintptr_t>(sbrk(0));
+    const std::uintptr_t first = (begin + k_huge_page - 1) & ~(k_huge_page - 1), last = end & ~(k_huge_page - 1);
+    if (grow && last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    std::free(grow);
+#else
+    (void)max_memory_bytes;
+#endif
 }
 
 }  // namespace facet::cli

@@ -1,0 +1,85 @@
+// The command line's heap set-up for its one-job processes (apps/cli/worker.hpp): the heap's next
+// stretch is advised to use transparent huge pages, as large as asked and no larger than a quarter
+// of the memory cap. Checked in a forked child (the set-up changes the process's heap for good)
+// through /proc/self/smaps, where an advised region's VmFlags show "hg".
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "worker.hpp"
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool k_sanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+constexpr bool k_sanitized = true;
+#else
+constexpr bool k_sanitized = false;
+#endif
+#else
+constexpr bool k_sanitized = false;
+#endif
+
+// The total size of this process's regions advised for huge pages (VmFlags "hg"), in bytes.
+std::uint64_t advised_bytes() {
+    std::ifstream smaps("/proc/self/smaps");
+    std::uint64_t total = 0, size_kb = 0;
+    for (std::string line; std::getline(smaps, line);) {
+        std::istringstream fields(line);
+        std::string key;
+        fields >> key;
+        if (key == "Size:") fields >> size_kb;
+        if (key == "VmFlags:")
+            for (std::string flag; fields >> flag;)
+                if (flag == "hg") total += size_kb << 10;
+    }
+    return total;
+}
+
+// Runs the set-up with `cap` in a child and returns what it advised beyond what was advised before.
+std::uint64_t advised_by_setup(std::uint64_t cap) {
+    int fds[2];
+    if (pipe(fds) != 0) return ~0ull;
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fds[0]);
+        const std::uint64_t before = advised_bytes();
+        facet::cli::keep_freed_memory_for_reuse();
+        facet::cli::use_huge_pages_for_heap(cap);
+        const std::uint64_t grown = advised_bytes() - before;
+        (void)!write(fds[1], &grown, sizeof grown);
+        _exit(0);
+    }
+    close(fds[1]);
+    std::uint64_t grown = ~0ull;
+    if (read(fds[0], &grown, sizeof grown) != sizeof grown) grown = ~0ull;
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    return grown;
+}
+
+TEST(CliHeap, TheHeapIsGrownInHugePagesWithinAQuarterOfTheMemoryCap) {
+    if (k_sanitized) GTEST_SKIP() << "sanitizer builds have their own allocator, not glibc's brk heap";
+    if (!std::filesystem::exists("/sys/kernel/mm/transparent_hugepage"))
+        GTEST_SKIP() << "this kernel has no transparent huge pages";
+    constexpr std::uint64_t mib = 1 << 20;
+    // No cap: 128 MiB, less the partial huge pages at the two ends of the grown range.
+    const std::uint64_t uncapped = advised_by_setup(0);
+    EXPECT_GE(uncapped, 124 * mib);
+    EXPECT_LE(uncapped, 130 * mib);
+    // A 64 MiB cap: 16 MiB at most.
+    const std::uint64_t capped = advised_by_setup(64 * mib);
+    EXPECT_GE(capped, 12 * mib);
+    EXPECT_LE(capped, 18 * mib);
+}
+
+}  // namespace
