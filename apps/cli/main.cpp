@@ -6,12 +6,14 @@
 
 #include <cstdio>
 #include <optional>
+#include <string>
 
 #include "options.hpp"
 
 int main(int argc, char** argv) {
     using namespace facet::cli;
     CLI::App app{k_app_description};
+    app.set_version_flag("--version", std::string("facet ") + FACET_VERSION);
     app.require_subcommand(1);
 
     RenderOptions render_options;

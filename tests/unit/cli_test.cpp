@@ -45,6 +45,12 @@ TEST(Cli, HelpListsTheOptions) {
     EXPECT_EQ(run_facet("--help").exit_code, 0);
 }
 
+TEST(Cli, VersionPrintsTheProjectVersion) {
+    CommandResult r = run_facet("--version");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output, "facet " FACET_VERSION "\n");
+}
+
 TEST(Cli, RendersTheDefaultSceneAtTheRequestedSize) {
     const fs::path out = temp_dir("render") / "x.png";
     CommandResult r = run_facet("render --size 123x45 -o " + out.string());
