@@ -149,28 +149,47 @@ std::size_t Scene::triangle_count() const {
     return n;
 }
 
-Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fovy, float aspect) {
+namespace {
+
+// The sphere that frames a scene: the centre of its bounds and the farthest vertex from it (a unit
+// sphere for a single point or an empty scene).
+struct FramingSphere {
+    Vec3 centre;
+    float radius;
+};
+
+FramingSphere framing_sphere(const Scene& scene) {
     const Aabb box = scene.bounds();
     const Vec3 centre = box.empty() ? Vec3{} : box.centre();
-    float r = scene.radius_about(centre);
-    if (!(r > 0)) r = 1;  // a single point or an empty scene: frame a unit sphere
+    const float r = scene.radius_about(centre);
+    return {centre, r > 0 ? r : 1.0f};
+}
+
+Camera frame_sphere(FramingSphere s, float azimuth, float elevation, float fovy, float aspect) {
     const float fovx = 2 * std::atan(std::tan(fovy / 2) * aspect);
-    const float dist = r / std::sin(std::min(fovy, fovx) / 2);
-    Camera c = Camera::orbit(centre, azimuth, elevation, dist);
+    const float dist = s.radius / std::sin(std::min(fovy, fovx) / 2);
+    Camera c = Camera::orbit(s.centre, azimuth, elevation, dist);
     c.fovy = fovy;
-    c.near = std::max(dist - 1.5f * r, 0.01f * r);
-    c.far = dist + 1.5f * r;
+    c.near = std::max(dist - 1.5f * s.radius, 0.01f * s.radius);
+    c.far = dist + 1.5f * s.radius;
     return c;
 }
 
+}  // namespace
+
+Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fovy, float aspect) {
+    return frame_sphere(framing_sphere(scene), azimuth, elevation, fovy, aspect);
+}
+
 Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
+    // One pass over the vertices for the bounds and one for the radius, shared by the framing and
+    // the explicit view's defaults.
+    const FramingSphere sphere = framing_sphere(scene);
     if (!view.eye && !view.target && !view.near && !view.far && !view.orthographic && view.up == Vec3{0, 1, 0})
-        return frame_scene(scene, view.azimuth, view.elevation, view.fovy, aspect);
-    const Aabb box = scene.bounds();
-    const Vec3 centre = box.empty() ? Vec3{} : box.centre();
-    float r = scene.radius_about(centre);
-    if (!(r > 0)) r = 1;
-    Camera c = frame_scene(scene, view.azimuth, view.elevation, view.fovy, aspect);
+        return frame_sphere(sphere, view.azimuth, view.elevation, view.fovy, aspect);
+    const Vec3 centre = sphere.centre;
+    const float r = sphere.radius;
+    Camera c = frame_sphere(sphere, view.azimuth, view.elevation, view.fovy, aspect);
     c.up = view.up;
     if (view.target) c.target = *view.target;
     if (view.eye) c.position = *view.eye;
