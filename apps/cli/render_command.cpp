@@ -6,7 +6,6 @@
 // facet. The worker inherits stdout and stderr, so its warnings, errors and the --benchmark line
 // reach the user as they are written, and its exit status is facet's.
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -113,15 +112,6 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
     return k_exit_ok;
 }
 
-// The built-in scene, and plain OFF files, which load_model reads with its own parser (an OFF file
-// it cannot parse goes to assimp's OFF reader, which is small and fuzzed with the rest).
-bool read_by_facets_own_code(const std::string& model) {
-    if (model.empty()) return true;
-    std::string ext = std::filesystem::path(model).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return ext == ".off";
-}
-
 // After a worker that did not finish by itself: a failed run leaves no output behind, neither the
 // temporaries it was writing nor a colour image it had already renamed into place.
 void clean_up_after(const WorkerOutcome& outcome, const RenderRequest& r) {
@@ -154,7 +144,8 @@ int run_render(const std::string& model, const std::string& output, const std::s
     plan->load.threads = options.threads;
     const RenderRequest request{model, output, depth_out, benchmark_frames.value_or(0), *plan, options.threads};
     keep_freed_memory_for_reuse();  // this process, or its worker, renders one file and exits
-    const bool huge_pages = read_by_facets_own_code(model);
+    // Only for jobs read by facet's own code: the built-in scene and the formats load_model parses itself.
+    const bool huge_pages = model.empty() || has_own_parser(model);
     if (options.no_isolation) {
         if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
         return render_job(request, WorkerReport{});

@@ -812,6 +812,8 @@ Error out_of_memory(const std::string& path) {
 
 }  // namespace
 
+bool has_own_parser(const std::string& path) { return extension_of(path) == "off"; }
+
 bool is_supported_model_file(const std::string& path) {
     const std::string ext = extension_of(path);
     if (ext.empty()) return false;
@@ -832,7 +834,7 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
     if (Status s = check_header(path, ext, head, size, options); !s) return s.error();
 
     try {
-        if (fast_paths && ext == "off")
+        if (fast_paths && has_own_parser(path))
             if (std::optional<LoadedModel> model = load_plain_off(path, size, options)) return std::move(*model);
         Assimp::Importer importer;
         unsigned flags = k_import_flags;

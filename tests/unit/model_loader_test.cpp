@@ -549,6 +549,10 @@ TEST(ModelLoader, SupportedExtensions) {
     EXPECT_FALSE(is_supported_model_file("points.xyz"));
     EXPECT_FALSE(is_supported_model_file("picture.png"));
     EXPECT_FALSE(is_supported_model_file("no_extension"));
+    // facet's own parser: plain OFF, by the extension in any case.
+    EXPECT_TRUE(has_own_parser("a/b/bunny.off"));
+    EXPECT_TRUE(has_own_parser("BUNNY.OFF"));
+    for (const char* other : {"x.obj", "x.stl", "x.ply", "x.offx", "off", "no_extension"}) EXPECT_FALSE(has_own_parser(other)) << other;
 }
 
 // ---------------------------------------------------------------------------------------------
