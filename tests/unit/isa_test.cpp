@@ -117,6 +117,24 @@ TEST(Isa, CoverageOfRandomTrianglesEqualsTheScalarSpecificationOnEveryIsa) {
     EXPECT_GT(compared - covered, 1000);
 }
 
+// How random_tile draws a tile: full-size (64) sides one time in four, or three in four; its
+// left edge anywhere, or against the target's right edge one time in four (its bottom edge is
+// against the target's one time in four either way).
+struct TileOdds {
+    bool mostly_full;
+    bool right_edge_often;
+};
+
+// A tile of sides 1..64 inside a width x height target.
+PixelRect random_tile(std::mt19937& rng, int width, int height, TileOdds odds) {
+    std::uniform_int_distribution<int> size(1, 64), coin(0, 3);
+    const auto side = [&] { return (coin(rng) != 0) == odds.mostly_full ? 64 : size(rng); };
+    const int w = side(), h = side();
+    const int x0 = !odds.right_edge_often || coin(rng) ? std::uniform_int_distribution<int>(0, width - w)(rng) : width - w;
+    const int y0 = coin(rng) ? std::uniform_int_distribution<int>(0, height - h)(rng) : height - h;
+    return {x0, y0, x0 + w, y0 + h};
+}
+
 // One tile's pass one run by resolve_triangle (whichever ISA is selected) or by the reference.
 struct DepthPassState {
     std::vector<float> depth;
@@ -157,11 +175,9 @@ TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
         std::mt19937 rng(20261122);
         for (int n = 0; n < 800; ++n) {
             // A tile of any width and height up to 64 anywhere in the target, touching its edges often.
-            std::uniform_int_distribution<int> size(1, 64), coin(0, 3);
-            const int w = coin(rng) ? size(rng) : 64, h = coin(rng) ? size(rng) : 64;
-            const int x0 = coin(rng) ? std::uniform_int_distribution<int>(0, width - w)(rng) : width - w;
-            const int y0 = coin(rng) ? std::uniform_int_distribution<int>(0, height - h)(rng) : height - h;
-            const PixelRect tile{x0, y0, x0 + w, y0 + h};
+            const PixelRect tile = random_tile(rng, width, height, {.mostly_full = false, .right_edge_often = true});
+            const int x0 = tile.x0, y0 = tile.y0, w = tile.x1 - tile.x0, h = tile.y1 - tile.y0;
+            std::uniform_int_distribution<int> coin(0, 3);
             const DepthTest test = tests[rng() % std::size(tests)];
             const bool write = coin(rng) != 0;
             std::vector<float> depth(static_cast<std::size_t>(width) * height);
@@ -215,11 +231,9 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     for (const std::string& isa : available_isas()) {
         std::mt19937 rng(20261121);
         for (int n = 0; n < 300; ++n) {
-            std::uniform_int_distribution<int> size(1, 64), coin(0, 3);
-            const int w = coin(rng) ? 64 : size(rng), h = coin(rng) ? 64 : size(rng);
-            const int x0 = std::uniform_int_distribution<int>(0, width - w)(rng);
-            const int y0 = coin(rng) ? std::uniform_int_distribution<int>(0, height - h)(rng) : height - h;
-            const PixelRect tile{x0, y0, x0 + w, y0 + h};
+            const PixelRect tile = random_tile(rng, width, height, {.mostly_full = true, .right_edge_often = false});
+            const int x0 = tile.x0, y0 = tile.y0, w = tile.x1 - tile.x0, h = tile.y1 - tile.y0;
+            std::uniform_int_distribution<int> coin(0, 3);
             const DepthTest test = tests[rng() % std::size(tests)];
             const bool write = coin(rng) != 0;
             std::vector<TriangleSetup> bin;
