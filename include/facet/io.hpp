@@ -12,7 +12,7 @@
 
 namespace facet {
 
-// RGBA8 PNG.
+// 8-bit PNG: RGB when every pixel is opaque (alpha 255), RGBA otherwise; read back, the pixels are the same.
 Status write_png(const std::string& path, const Image& image);
 // 16-bit grayscale PNG of width * height values, first row at the top.
 Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values);

@@ -38,6 +38,33 @@ TEST(Png, RoundTripIsLossless) {
     EXPECT_TRUE(back->pixels == img.pixels);
 }
 
+// The colour type in the file's IHDR chunk (byte 25: signature 8, chunk length 4, "IHDR" 4,
+// width 4, height 4, bit depth 1).
+int png_colour_type(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    char header[26] = {};
+    in.read(header, sizeof(header));
+    return in ? static_cast<unsigned char>(header[25]) : -1;
+}
+
+TEST(Png, OpaqueImagesAreWrittenAsRgbAndOthersKeepTheirAlpha) {
+    const fs::path dir = temp_dir("opaque");
+    Image img = gradient(29, 17);
+    for (Rgba8& p : img.pixels) p.a = 255;
+    ASSERT_TRUE(write_png((dir / "rgb.png").string(), img).ok());
+    EXPECT_EQ(png_colour_type(dir / "rgb.png"), 2);  // truecolour
+    Result<Image> back = read_png((dir / "rgb.png").string());
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_TRUE(back->pixels == img.pixels);
+
+    img.at(28, 16).a = 254;  // one pixel short of opaque, the last one looked at
+    ASSERT_TRUE(write_png((dir / "rgba.png").string(), img).ok());
+    EXPECT_EQ(png_colour_type(dir / "rgba.png"), 6);  // truecolour with alpha
+    back = read_png((dir / "rgba.png").string());
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_TRUE(back->pixels == img.pixels);
+}
+
 TEST(Png, Gray16StoresBigEndianSamples) {
     const fs::path dir = temp_dir("gray16");
     const std::string path = (dir / "d.png").string();
