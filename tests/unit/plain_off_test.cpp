@@ -136,6 +136,9 @@ TEST(PlainOff, DeclinedFormsGoThroughAssimp) {
         {"spaces_line.off", "OFF\n3 1 0\n   \n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
         {"nul.off", std::string("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\0junk", 39)},
         {"long_line.off", "OFF\n3 1 0\n0 0 0" + std::string(5000, ' ') + "\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        // The last line read is too long past its numbers (checked after the reading, too).
+        {"long_last_line.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2" + std::string(5000, ' ') + "\n"},
+        {"long_middle_line.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 " + std::string(5000, '7') + "\n3 0 2 1\n"},
     };
     for (const auto& [name, text] : files) {
         const std::string path = write_file(dir / name, text);
