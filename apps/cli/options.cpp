@@ -204,10 +204,13 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     return p;
 }
 
-DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, Framebuffer& target,
-                      Image& colour, std::vector<float>* depth) {
+Camera plan_camera(const Scene& scene, const RenderPlan& plan) {
     const float aspect = static_cast<float>(plan.width) / static_cast<float>(plan.height);
-    const Camera camera = plan.use_default_scene_camera ? default_scene_camera(aspect) : make_camera(scene, plan.view, aspect);
+    return plan.use_default_scene_camera ? default_scene_camera(aspect) : make_camera(scene, plan.view, aspect);
+}
+
+DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
+                      Framebuffer& target, Image& colour, std::vector<float>* depth) {
     const DrawStats stats = render_scene(renderer, target, scene, camera, plan.settings);
     resolve_supersampled(target, plan.ssaa, colour, depth);
     return stats;

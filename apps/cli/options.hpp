@@ -74,9 +74,13 @@ bool has_camera_options(const CLI::App& command);
 // Checks and converts the options; the error message names the offending option.
 Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_given);
 
-// Renders a scene into `colour` (and `depth`, window depth per pixel, if given) by the plan.
-DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, Framebuffer& target,
-                      Image& colour, std::vector<float>* depth);
+// The plan's camera for the scene: its automatic framing (which reads every vertex) or the explicit one.
+Camera plan_camera(const Scene& scene, const RenderPlan& plan);
+
+// Renders a scene seen by `camera` (plan_camera) into `colour` (and `depth`, window depth per pixel,
+// if given) by the plan.
+DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
+                      Framebuffer& target, Image& colour, std::vector<float>* depth);
 
 // The default scene, or the model at `path`; warnings go to stderr prefixed with `command`.
 Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command);

@@ -113,7 +113,7 @@ void render_job(Job& job, const RenderPlan& plan, Renderer& renderer, Framebuffe
     }
     report.phase(WorkerPhase::rendering);
     try {
-        render_plan(renderer, *scene, plan, target, colour, nullptr);
+        render_plan(renderer, *scene, plan, plan_camera(*scene, plan), target, colour, nullptr);
     } catch (const std::exception& e) {
         job.error = job.input.string() + ": " + e.what();
         return;
