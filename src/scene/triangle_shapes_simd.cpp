@@ -1,0 +1,107 @@
+// facet scene: face normals and corner cosines of a chunk of triangles (triangle_shapes.hpp) as a
+// SIMD kernel, compiled per ISA by Highway and dispatched at run time. One lane per triangle does
+// what describe_triangle (mesh.cpp, the specification) does before its std::acos: the same float
+// operations in the same order (no FMA: -ffp-contract=off, and Highway's Mul, Add and Sub round
+// separately; Div and Sqrt are correctly rounded, as their scalar counterparts), dot products
+// starting from +0 as facet's dot does, so the lanes give the specification's bits. Lanes where a
+// normalization would leave normalize's common path are only flagged: the caller runs the
+// specification on those triangles.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "scene/triangle_shapes_simd.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include <limits>
+
+#include "scene/triangle_shapes.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace facet::detail::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+template <class V>
+struct Vec3Lanes {
+    V x, y, z;
+};
+
+// facet's dot: ((0 + x) + y) + z.
+template <class D, class V>
+HWY_INLINE V DotLanes(D d, const Vec3Lanes<V>& a, const Vec3Lanes<V>& b) {
+    return hn::Add(hn::Add(hn::Add(hn::Zero(d), hn::Mul(a.x, b.x)), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
+}
+
+template <class V>
+HWY_INLINE Vec3Lanes<V> SubLanes(const Vec3Lanes<V>& a, const Vec3Lanes<V>& b) {
+    return {hn::Sub(a.x, b.x), hn::Sub(a.y, b.y), hn::Sub(a.z, b.z)};
+}
+
+// normalize's common path; `usual` loses the lanes that would take its rare one.
+template <class D, class V, class M>
+HWY_INLINE Vec3Lanes<V> NormalizeLanes(D d, const Vec3Lanes<V>& a, M& usual) {
+    const V length = hn::Sqrt(DotLanes(d, a, a));
+    usual = hn::And(usual, hn::And(hn::Gt(length, hn::Zero(d)),
+                                   hn::Lt(length, hn::Set(d, std::numeric_limits<float>::infinity()))));
+    return {hn::Div(a.x, length), hn::Div(a.y, length), hn::Div(a.z, length)};
+}
+
+void ShapeTriangles(TriangleChunk& chunk) {
+    const hn::ScalableTag<float> d;
+    using V = hn::Vec<decltype(d)>;
+    const std::size_t lanes = hn::Lanes(d);
+    const V minus_one = hn::Set(d, -1.0f), one = hn::Set(d, 1.0f);
+    chunk.unusual = 0;
+    for (std::size_t i = 0; i < TriangleChunk::k_capacity; i += lanes) {
+        Vec3Lanes<V> p[3];
+        for (int k = 0; k < 3; ++k)
+            p[k] = {hn::Load(d, chunk.corner[k][0] + i), hn::Load(d, chunk.corner[k][1] + i),
+                    hn::Load(d, chunk.corner[k][2] + i)};
+        auto usual = hn::FirstN(d, lanes);
+        const Vec3Lanes<V> a = SubLanes(p[1], p[0]), b = SubLanes(p[2], p[0]);
+        const Vec3Lanes<V> cross = {hn::Sub(hn::Mul(a.y, b.z), hn::Mul(a.z, b.y)),
+                                    hn::Sub(hn::Mul(a.z, b.x), hn::Mul(a.x, b.z)),
+                                    hn::Sub(hn::Mul(a.x, b.y), hn::Mul(a.y, b.x))};
+        const Vec3Lanes<V> face = NormalizeLanes(d, cross, usual);
+        const Vec3Lanes<V> side[3] = {NormalizeLanes(d, a, usual), NormalizeLanes(d, SubLanes(p[2], p[1]), usual),
+                                      NormalizeLanes(d, SubLanes(p[0], p[2]), usual)};
+        hn::Store(face.x, d, chunk.face[0] + i);
+        hn::Store(face.y, d, chunk.face[1] + i);
+        hn::Store(face.z, d, chunk.face[2] + i);
+        for (int k = 0; k < 3; ++k) {
+            const Vec3Lanes<V>& s = side[(k + 2) % 3];
+            const V cosine = DotLanes(d, side[k], Vec3Lanes<V>{hn::Neg(s.x), hn::Neg(s.y), hn::Neg(s.z)});
+            // facet's clamp: v < lo ? lo : (v > hi ? hi : v)
+            hn::Store(hn::IfThenElse(hn::Lt(cosine, minus_one), minus_one,
+                                     hn::IfThenElse(hn::Gt(cosine, one), one, cosine)),
+                      d, chunk.cosine[k] + i);
+        }
+        if (!hn::AllTrue(d, usual)) {
+            std::uint8_t bits[8] = {};  // lane j: bit j % 8 of byte j / 8
+            hn::StoreMaskBits(d, hn::Not(usual), bits);
+            std::uint64_t lane_bits = 0;
+            for (std::size_t byte = 0; byte < (lanes + 7) / 8; ++byte)
+                lane_bits |= std::uint64_t{bits[byte]} << 8 * byte;
+            if (lanes < 64) lane_bits &= (std::uint64_t{1} << lanes) - 1;
+            chunk.unusual |= lane_bits << i;
+        }
+    }
+}
+
+}  // namespace facet::detail::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include "simd/isa.hpp"
+
+namespace facet::detail {
+
+HWY_EXPORT(ShapeTriangles);
+
+bool shape_triangles(TriangleChunk& chunk) {
+    if (use_scalar_kernels()) return false;
+    HWY_DYNAMIC_DISPATCH(ShapeTriangles)(chunk);
+    return true;
+}
+
+}  // namespace facet::detail
+#endif
