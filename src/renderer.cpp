@@ -11,12 +11,18 @@ namespace {
 // output (bins keep submission order), only the balance between threads.
 constexpr std::size_t k_min_chunk_triangles = 2048;
 
-// Triangles per batch and thread: bounds the set-up records held at once (128 bytes each, so about
-// 18 MB per thread) however large the draw. Not smaller: every batch revisits the tiles it touches,
-// re-reading their colour and depth from memory, which costs more than the set-up records' cache
-// misses saved by a batch that fits the caches (measured: 8192 per thread made the bunny at
-// 1920x1080 30% slower, one batch per draw is fastest, the 1M-triangle sphere is indifferent).
+// Triangles per batch and thread, and per batch at least: bounds the set-up records held at once
+// (128 bytes each: 128 MB for a batch of 2^20, 16 MB more per thread past eight) however large the
+// draw. Not smaller: every batch revisits the tiles it touches, re-reading their colour and depth
+// from memory and shading into the target rather than into the tile, which costs more than the
+// set-up records' cache misses saved by a batch that fits the caches. Measured: 8192 per thread
+// made the bunny at 1920x1080 30% slower; on the 1M-triangle sphere (whose two halves, front and
+// back, cover the same tiles from different parts of the mesh) one batch of 2^20 instead of 131072
+// per thread made frames 8% faster at one and at two threads, 2^19 3% faster, and raised the peak
+// memory of the benchmark's sphere by 7 MB (the bins of a mesh drawn in spatial order reach about
+// the same size either way).
 constexpr std::size_t k_batch_triangles_per_thread = 131072;
+constexpr std::size_t k_min_batch_triangles = std::size_t{1} << 20;
 
 // Throws invalid_argument with message() unless ok. The message is built only on failure: draw()
 // checks its arguments every call, and must not allocate when they are fine.
@@ -31,7 +37,8 @@ Renderer::Renderer(RendererConfig config)
     : pool_(config.threads),
       tile_size_(config.tile_size),
       batch_per_thread_(config.batch_triangles > 0 ? static_cast<std::size_t>(config.batch_triangles)
-                                                   : k_batch_triangles_per_thread) {
+                                                   : k_batch_triangles_per_thread),
+      min_batch_(config.batch_triangles > 0 ? 0 : k_min_batch_triangles) {
     const int s = config.tile_size;
     require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
             [&] { return "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s); });
@@ -64,7 +71,7 @@ Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& s
     // A trailing partial triangle (index count not a multiple of 3) is ignored.
     plan.triangle_count = input.indices.empty() ? input.vertex_count / 3 : input.indices.size() / 3;
     plan.stride = stride;
-    plan.batch_size = batch_per_thread_ * static_cast<std::size_t>(threads());
+    plan.batch_size = std::max(batch_per_thread_ * static_cast<std::size_t>(threads()), min_batch_);
     plan.chunk_count = 0;
     plan.max_tile_triangles = 0;
     plan.target_width = target.width();

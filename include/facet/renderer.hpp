@@ -28,9 +28,9 @@ namespace facet {
 struct RendererConfig {
     int threads = 0;     // 0: one per core
     int tile_size = 64;  // pixels, a power of two from 8 to 64
-    // Triangles per batch and thread (0: 131072). A draw is set up and rasterized one batch at a
-    // time, so this bounds the renderer's memory (about 130 bytes per triangle of a batch); the
-    // image does not depend on it.
+    // Triangles per batch and thread (0: 131072, and at least 1,048,576 per batch). A draw is set up
+    // and rasterized one batch at a time, so this bounds the renderer's memory (about 130 bytes per
+    // triangle of a batch); the image does not depend on it.
     int batch_triangles = 0;
 };
 
@@ -86,6 +86,7 @@ private:
     detail::ThreadPool pool_;
     int tile_size_;
     std::size_t batch_per_thread_;
+    std::size_t min_batch_;
     detail::ClipVertices vertices_;
     std::vector<detail::FrontEndChunk> chunks_;
     std::vector<std::unique_ptr<detail::TileVisibility>> tile_scratch_;  // one per pool worker
