@@ -24,6 +24,13 @@ constexpr std::size_t k_min_chunk_triangles = 2048;
 constexpr std::size_t k_batch_triangles_per_thread = 131072;
 constexpr std::size_t k_min_batch_triangles = std::size_t{1} << 20;
 
+// Triangles per batch: as configured per thread, or the defaults above.
+std::size_t batch_size_for(int configured_per_thread, int threads) {
+    const auto t = static_cast<std::size_t>(threads);
+    if (configured_per_thread > 0) return static_cast<std::size_t>(configured_per_thread) * t;
+    return std::max(k_batch_triangles_per_thread * t, k_min_batch_triangles);
+}
+
 // Throws invalid_argument with message() unless ok. The message is built only on failure: draw()
 // checks its arguments every call, and must not allocate when they are fine.
 template <class Message>
@@ -36,9 +43,7 @@ void require(bool ok, const Message& message) {
 Renderer::Renderer(RendererConfig config)
     : pool_(config.threads),
       tile_size_(config.tile_size),
-      batch_per_thread_(config.batch_triangles > 0 ? static_cast<std::size_t>(config.batch_triangles)
-                                                   : k_batch_triangles_per_thread),
-      min_batch_(config.batch_triangles > 0 ? 0 : k_min_batch_triangles) {
+      batch_size_(batch_size_for(config.batch_triangles, pool_.size())) {
     const int s = config.tile_size;
     require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
             [&] { return "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s); });
@@ -71,7 +76,7 @@ Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& s
     // A trailing partial triangle (index count not a multiple of 3) is ignored.
     plan.triangle_count = input.indices.empty() ? input.vertex_count / 3 : input.indices.size() / 3;
     plan.stride = stride;
-    plan.batch_size = std::max(batch_per_thread_ * static_cast<std::size_t>(threads()), min_batch_);
+    plan.batch_size = batch_size_;
     plan.chunk_count = 0;
     plan.max_tile_triangles = 0;
     plan.target_width = target.width();

@@ -85,8 +85,7 @@ private:
 
     detail::ThreadPool pool_;
     int tile_size_;
-    std::size_t batch_per_thread_;
-    std::size_t min_batch_;
+    std::size_t batch_size_;  // triangles per batch, all threads together
     detail::ClipVertices vertices_;
     std::vector<detail::FrontEndChunk> chunks_;
     std::vector<std::unique_ptr<detail::TileVisibility>> tile_scratch_;  // one per pool worker

@@ -64,6 +64,27 @@ bool opaque(const Image& image) {
     return all == 255;
 }
 
+// An 8-bit image: RGB when it is opaque (the same pixels read back, a quarter less to compress),
+// RGBA otherwise.
+Result<std::vector<unsigned char>> encode_image(const std::string& path, spng_ihdr ihdr, const Image& image) {
+    const auto width = static_cast<std::size_t>(image.width);
+    const Rgba8* pixels = image.pixels.data();
+    if (!opaque(image)) {
+        ihdr.color_type = SPNG_COLOR_TYPE_TRUECOLOR_ALPHA;
+        return encode(path, ihdr, width * sizeof(Rgba8), [&](std::uint32_t y, unsigned char*) { return pixels + y * width; });
+    }
+    ihdr.color_type = SPNG_COLOR_TYPE_TRUECOLOR;
+    return encode(path, ihdr, width * 3, [&](std::uint32_t y, unsigned char* rgb) {
+        const Rgba8* from = pixels + y * width;
+        for (std::size_t x = 0; x < width; ++x) {
+            rgb[3 * x] = from[x].r;
+            rgb[3 * x + 1] = from[x].g;
+            rgb[3 * x + 2] = from[x].b;
+        }
+        return rgb;
+    });
+}
+
 }  // namespace
 
 namespace {
@@ -125,27 +146,7 @@ Status write_png(const std::string& path, const Image& image) {
     ihdr.width = static_cast<std::uint32_t>(image.width);
     ihdr.height = static_cast<std::uint32_t>(image.height);
     ihdr.bit_depth = 8;
-    const auto width = static_cast<std::size_t>(image.width);
-    const Rgba8* pixels = image.pixels.data();
-    // An opaque image is written as RGB: the same pixels read back, a quarter less to compress.
-    auto encoded = [&]() -> Result<std::vector<unsigned char>> {
-        if (!opaque(image)) {
-            ihdr.color_type = SPNG_COLOR_TYPE_TRUECOLOR_ALPHA;
-            return encode(path, ihdr, width * sizeof(Rgba8),
-                          [&](std::uint32_t y, unsigned char*) { return pixels + y * width; });
-        }
-        ihdr.color_type = SPNG_COLOR_TYPE_TRUECOLOR;
-        return encode(path, ihdr, width * 3, [&](std::uint32_t y, unsigned char* rgb) {
-            const Rgba8* from = pixels + y * width;
-            for (std::size_t x = 0; x < width; ++x) {
-                rgb[3 * x] = from[x].r;
-                rgb[3 * x + 1] = from[x].g;
-                rgb[3 * x + 2] = from[x].b;
-            }
-            return rgb;
-        });
-    };
-    auto png = encoded();
+    auto png = encode_image(path, ihdr, image);
     if (!png) return png.error();
     return write_file_atomic(path, png->data(), png->size());
 }
