@@ -68,7 +68,8 @@ std::string describe_signal(int signal);
 bool is_supported_model_file(const std::string& path);
 
 // True when load_model reads the file with facet's own parser first rather than assimp's (plain
-// OFF, by its extension, case-insensitive; a file the parser declines still goes to assimp).
+// OFF and binary STL, by the extension, case-insensitive; a file the parser declines still goes to
+// assimp).
 bool has_own_parser(const std::string& path);
 
 }  // namespace facet

@@ -13,8 +13,9 @@
 //      with non-finite or out-of-range vertices are dropped with a warning; missing normals are
 //      computed with the crease angle; materials give base colour, opacity, alpha mode, sidedness
 //      and the base-colour texture (embedded or a file next to the model, found leniently).
-// Plain triangle OFF files (io/plain_off.hpp) skip steps 2 and 3: a dedicated reader gives the
-// same Scene several times faster; whatever it does not take goes through assimp as above.
+// Plain triangle OFF files (io/plain_off.hpp) and binary STL files (io/binary_stl.hpp) skip steps
+// 2 and 3: a dedicated reader gives the same Scene several times faster; whatever it does not take
+// goes through assimp as above.
 #include "facet/model.hpp"
 
 #include <assimp/DefaultLogger.hpp>
@@ -48,6 +49,7 @@
 #include <vector>
 
 #include "facet/mesh.hpp"
+#include "io/binary_stl.hpp"
 #include "io/load_paths.hpp"
 #include "io/plain_off.hpp"
 
@@ -763,8 +765,8 @@ Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene,
 }
 
 // ---------------------------------------------------------------------------------------------
-// The plain OFF fast path (io/plain_off.hpp): the Scene convert_scene makes of assimp's import of
-// the same file, without assimp. Anything the fast reader does not take, and any limit or
+// The fast paths (io/plain_off.hpp, io/binary_stl.hpp): the Scene convert_scene makes of assimp's
+// import of the same file, without assimp. Anything a fast reader does not take, and any limit or
 // degenerate-file error, goes the assimp way, which reports it.
 
 std::optional<std::string> read_whole_file(const std::string& path, std::uintmax_t size) {
@@ -784,23 +786,39 @@ Material off_material() {
     return m;
 }
 
-std::optional<LoadedModel> load_plain_off(const std::string& path, std::uintmax_t size, const LoadOptions& options) {
-    const std::optional<std::string> text = read_whole_file(path, size);
-    if (!text) return std::nullopt;
-    std::optional<io_detail::PlainOffMesh> off = io_detail::read_plain_off(*text);
-    if (!off) return std::nullopt;
-    const std::size_t triangles = off->indices.size() / 3;
-    const std::uint64_t bytes = std::min<std::uint64_t>(off->positions.size(), 3 * std::uint64_t{triangles}) * sizeof(Vec3) * 2 +
-                                std::uint64_t{triangles} * 3 * sizeof(std::uint32_t);  // as estimated_bytes
-    if (triangles > options.max_triangles || bytes > options.max_scene_bytes || off->degenerate == triangles)
+// What assimp's STL reader gives a file without colours: a white material, converted as
+// Converter::convert_material converts it.
+Material stl_material() {
+    Material m;
+    m.base_colour = clamp_colour(aiColor4D(1.0f, 1.0f, 1.0f, 1.0f));
+    return m;
+}
+
+// The file read by facet's own reader for its format, or nullopt for the assimp path.
+std::optional<io_detail::JoinedMesh> read_with_own_parser(const std::string& ext, const std::string& bytes) {
+    if (ext == "off") return io_detail::read_plain_off(bytes);
+    if (ext == "stl") return io_detail::read_binary_stl(bytes);
+    return std::nullopt;
+}
+
+std::optional<LoadedModel> load_with_own_parser(const std::string& path, const std::string& ext, std::uintmax_t size,
+                                                const LoadOptions& options) {
+    const std::optional<std::string> bytes = read_whole_file(path, size);
+    if (!bytes) return std::nullopt;
+    std::optional<io_detail::JoinedMesh> mesh = read_with_own_parser(ext, *bytes);
+    if (!mesh) return std::nullopt;
+    const std::size_t triangles = mesh->indices.size() / 3;
+    const std::uint64_t bytes_needed = std::min<std::uint64_t>(mesh->positions.size(), 3 * std::uint64_t{triangles}) * sizeof(Vec3) * 2 +
+                                       std::uint64_t{triangles} * 3 * sizeof(std::uint32_t);  // as estimated_bytes
+    if (triangles > options.max_triangles || bytes_needed > options.max_scene_bytes || mesh->degenerate == triangles)
         return std::nullopt;
     SceneObject object;
-    object.mesh.positions = std::move(off->positions);
-    object.mesh.indices = std::move(off->indices);
+    object.mesh.positions = std::move(mesh->positions);
+    object.mesh.indices = std::move(mesh->indices);
     compute_creased_normals(object.mesh, radians(options.crease_angle_degrees), options.threads);
     const Mat4 root = options.up_axis == UpAxis::z ? z_up_to_y_up() : Mat4::identity();
-    object.model = root * to_mat4(aiMatrix4x4());  // the root node's transform, as walk_nodes applies it
-    object.material = off_material();
+    object.model = root * to_mat4(aiMatrix4x4());  // the nodes' transforms, identity, as walk_nodes applies them
+    object.material = ext == "off" ? off_material() : stl_material();
     LoadedModel out;
     out.scene.objects.push_back(std::move(object));
     return out;
@@ -812,7 +830,10 @@ Error out_of_memory(const std::string& path) {
 
 }  // namespace
 
-bool has_own_parser(const std::string& path) { return extension_of(path) == "off"; }
+bool has_own_parser(const std::string& path) {
+    const std::string ext = extension_of(path);
+    return ext == "off" || ext == "stl";
+}
 
 bool is_supported_model_file(const std::string& path) {
     const std::string ext = extension_of(path);
@@ -835,7 +856,7 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
 
     try {
         if (fast_paths && has_own_parser(path))
-            if (std::optional<LoadedModel> model = load_plain_off(path, size, options)) return std::move(*model);
+            if (std::optional<LoadedModel> model = load_with_own_parser(path, ext, size, options)) return std::move(*model);
         Assimp::Importer importer;
         unsigned flags = k_import_flags;
         if (ext == "stl") {

@@ -5,13 +5,11 @@
 //  - vertices: SkipSpaces then fast_atoreal_move<float> three times, the rest of the line ignored;
 //  - faces: SkipSpaces then strtoul10 for the count and each index, the rest ignored (a missing
 //    index reads as 0 in both);
-//  - JoinIdenticalVertices: only vertices the faces use, joined when their positions are equal
-//    (-0 equal to +0), each group keeping the first of them in file order. assimp finds equal
-//    positions with a tolerance of a few units in the last place of tiny squared distances,
-//    which differs from exact equality only for coordinates within about 1e-22 of each other:
-//    files with nonzero coordinates below 2^-49 go to assimp, as do non-finite ones;
-//  - facet's conversion: vertices renumbered in order of first use by the triangles.
+//  - JoinIdenticalVertices and facet's conversion: join_identical_vertices (io/joined_mesh.hpp),
+//    which leaves files with positions only assimp's tolerance would join to assimp.
 #include "io/plain_off.hpp"
+
+#include "io/joined_mesh.hpp"
 
 #include <assimp/fast_atof.h>
 
@@ -105,12 +103,6 @@ std::optional<Header> parse_header(const char* c) {
     return h;
 }
 
-// Coordinates the exact join below treats as assimp does (see the file comment).
-bool joins_exactly(float v) {
-    constexpr float k_tiny = 0x1p-49f;
-    return std::isfinite(v) && (v == 0.0f || std::fabs(v) >= k_tiny);
-}
-
 // Reads `count` vertex lines, the first at `c`; returns where the reader stopped in the last one,
 // or nullptr.
 const char* read_vertices(Lines& lines, const char* c, std::uint32_t count, std::vector<Vec3>& out) {
@@ -121,7 +113,7 @@ const char* read_vertices(Lines& lines, const char* c, std::uint32_t count, std:
         for (std::size_t dim = 0; dim < 3; ++dim) {
             c = skip_spaces(c);
             c = Assimp::fast_atoreal_move<float, NotANumber>(c, out[i][dim]);  // throws where assimp's reader fails
-            if (!joins_exactly(out[i][dim])) return nullptr;
+            if (!std::isfinite(out[i][dim])) return nullptr;
         }
     }
     return c;
@@ -147,66 +139,6 @@ const char* read_triangles(Lines& lines, const char* c, std::uint32_t count, std
     return c;
 }
 
-// Equal positions share a key: the bit patterns, with -0 as +0.
-std::uint32_t key_bits(float v) { return std::bit_cast<std::uint32_t>(v == 0.0f ? 0.0f : v); }
-
-std::uint64_t position_hash(const Vec3& p) {
-    std::uint64_t h = key_bits(p.x) * 0x9E3779B97F4A7C15ull;
-    h = (h ^ key_bits(p.y)) * 0xC2B2AE3D27D4EB4Full;
-    h = (h ^ key_bits(p.z)) * 0x165667B19E3779F9ull;
-    return h ^ (h >> 29);
-}
-
-bool same_position(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-
-// For each used vertex, the first used vertex in file order at the same position (its group's
-// representative, as in assimp's JoinIdenticalVertices); unused vertices keep ~0.
-std::vector<std::uint32_t> join_used_vertices(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& indices) {
-    constexpr std::uint32_t none = ~0u;
-    std::vector<std::uint32_t> representative(positions.size(), none);
-    for (std::uint32_t i : indices) representative[i] = 0;  // marks the used ones
-    const std::size_t capacity = std::bit_ceil(2 * positions.size());
-    std::vector<std::uint32_t> table(capacity, none);  // open addressing, linear probing
-    for (std::uint32_t v = 0; v < positions.size(); ++v) {
-        if (representative[v] == none) continue;
-        for (std::size_t slot = position_hash(positions[v]) & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
-            if (table[slot] == none) {
-                table[slot] = v;
-                representative[v] = v;
-                break;
-            }
-            if (same_position(positions[table[slot]], positions[v])) {
-                representative[v] = table[slot];
-                break;
-            }
-        }
-    }
-    return representative;
-}
-
-// The representatives renumbered in order of first use by the triangles, as facet's conversion
-// of assimp's mesh does.
-PlainOffMesh number_by_first_use(const std::vector<Vec3>& file_positions, const std::vector<std::uint32_t>& file_indices) {
-    const std::vector<std::uint32_t> representative = join_used_vertices(file_positions, file_indices);
-    constexpr std::uint32_t none = ~0u;
-    std::vector<std::uint32_t> number(file_positions.size(), none);
-    PlainOffMesh out;
-    out.indices.resize(file_indices.size());
-    for (std::size_t c = 0; c < file_indices.size(); ++c) {
-        const std::uint32_t r = representative[file_indices[c]];
-        if (number[r] == none) {
-            number[r] = static_cast<std::uint32_t>(out.positions.size());
-            out.positions.push_back(file_positions[r]);
-        }
-        out.indices[c] = number[r];
-    }
-    for (std::size_t t = 0; t < out.indices.size(); t += 3) {
-        const std::uint32_t a = out.indices[t], b = out.indices[t + 1], c = out.indices[t + 2];
-        out.degenerate += a == b || b == c || c == a;
-    }
-    return out;
-}
-
 }  // namespace
 
 std::optional<PlainOffMesh> read_plain_off(std::string_view text) {
@@ -226,7 +158,7 @@ std::optional<PlainOffMesh> read_plain_off(std::string_view text) {
     }
     if (stopped) stopped = read_triangles(lines, stopped, header->faces, header->vertices, indices);
     if (!stopped || !lines.finish(stopped)) return std::nullopt;
-    return number_by_first_use(positions, indices);
+    return join_identical_vertices(positions, indices);
 }
 
 }  // namespace facet::io_detail

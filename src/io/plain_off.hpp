@@ -9,8 +9,8 @@
 // three counts alone on the next, then exactly the announced vertex lines (at least three
 // numbers) and triangle lines ("3 a b c"), blank lines allowed between them. Anything else
 // (comments, a variant header such as COFF or STOFF, polygons other than triangles, an index out
-// of range, a count that does not match the lines, non-finite or extremely small coordinates,
-// a NUL byte) gives nullopt, and the caller loads the file through assimp as before, with its
+// of range, a count that does not match the lines, non-finite coordinates, distinct positions
+// that assimp's tolerance would join, a NUL byte) gives nullopt, and the caller loads the file through assimp as before, with its
 // messages and workarounds.
 #pragma once
 
@@ -20,15 +20,11 @@
 #include <string_view>
 #include <vector>
 
-#include "facet/math/vec.hpp"
+#include "io/joined_mesh.hpp"
 
 namespace facet::io_detail {
 
-struct PlainOffMesh {
-    std::vector<Vec3> positions;          // joined by position, in order of first use by the triangles
-    std::vector<std::uint32_t> indices;   // three per triangle, in file order
-    std::size_t degenerate = 0;           // triangles with two corners at the same position
-};
+using PlainOffMesh = JoinedMesh;
 
 // `text` is the whole file and must be followed by a NUL character (as std::string's data is):
 // the parser relies on it to stop.

@@ -552,7 +552,9 @@ TEST(ModelLoader, SupportedExtensions) {
     // facet's own parser: plain OFF, by the extension in any case.
     EXPECT_TRUE(has_own_parser("a/b/bunny.off"));
     EXPECT_TRUE(has_own_parser("BUNNY.OFF"));
-    for (const char* other : {"x.obj", "x.stl", "x.ply", "x.offx", "off", "no_extension"}) EXPECT_FALSE(has_own_parser(other)) << other;
+    EXPECT_TRUE(has_own_parser("part.stl"));
+    EXPECT_TRUE(has_own_parser("PART.STL"));
+    for (const char* other : {"x.obj", "x.ply", "x.offx", "x.stlx", "off", "stl", "no_extension"}) EXPECT_FALSE(has_own_parser(other)) << other;
 }
 
 // ---------------------------------------------------------------------------------------------

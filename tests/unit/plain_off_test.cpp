@@ -17,52 +17,18 @@
 #include "facet/model.hpp"
 #include "io/load_paths.hpp"
 #include "io/plain_off.hpp"
+#include "support/same_scene.hpp"
 #include "support/test_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace facet;
-using facet_test::bits_of;
+using facet_test::expect_same_as_assimp;
 using facet_test::read_file;
 using facet_test::write_file;
 
 bool fast_reader_takes(const std::string& path) { return io_detail::read_plain_off(read_file(path)).has_value(); }
-
-void expect_same_scene(const Result<LoadedModel>& fast, const Result<LoadedModel>& assimp) {
-    ASSERT_EQ(fast.ok(), assimp.ok()) << (fast.ok() ? assimp.error().message : fast.error().message);
-    if (!fast.ok()) {
-        EXPECT_EQ(fast.error().code, assimp.error().code);
-        EXPECT_EQ(fast.error().message, assimp.error().message);
-        return;
-    }
-    EXPECT_EQ(fast->warnings, assimp->warnings);
-    ASSERT_EQ(fast->scene.objects.size(), assimp->scene.objects.size());
-    for (std::size_t o = 0; o < fast->scene.objects.size(); ++o) {
-        SCOPED_TRACE("object " + std::to_string(o));
-        const SceneObject &a = fast->scene.objects[o], &b = assimp->scene.objects[o];
-        EXPECT_EQ(bits_of(a.mesh.positions), bits_of(b.mesh.positions));
-        EXPECT_EQ(bits_of(a.mesh.normals), bits_of(b.mesh.normals));
-        EXPECT_EQ(bits_of(a.mesh.colours), bits_of(b.mesh.colours));
-        EXPECT_EQ(bits_of(a.mesh.uvs), bits_of(b.mesh.uvs));
-        EXPECT_EQ(a.mesh.indices, b.mesh.indices);
-        EXPECT_EQ(bits_of(std::vector<Mat4>{a.model}), bits_of(std::vector<Mat4>{b.model}));
-        EXPECT_EQ(bits_of(std::vector<Vec4>{a.material.base_colour}), bits_of(std::vector<Vec4>{b.material.base_colour}));
-        EXPECT_EQ(a.material.base_colour_texture, b.material.base_colour_texture);
-        EXPECT_EQ(a.material.alpha_mode, b.material.alpha_mode);
-        EXPECT_EQ(a.material.alpha_cutoff, b.material.alpha_cutoff);
-        EXPECT_EQ(a.material.double_sided, b.material.double_sided);
-        EXPECT_EQ(a.material.sampler.wrap_u, b.material.sampler.wrap_u);
-        EXPECT_EQ(a.material.sampler.wrap_v, b.material.sampler.wrap_v);
-    }
-    const Aabb fa = fast->scene.bounds(), ab = assimp->scene.bounds();
-    EXPECT_EQ(bits_of(std::vector<Vec3>{fa.min, fa.max}), bits_of(std::vector<Vec3>{ab.min, ab.max}));
-}
-
-void expect_same_as_assimp(const std::string& path, const LoadOptions& options = {}) {
-    SCOPED_TRACE(path);
-    expect_same_scene(load_model(path, options), io_detail::load_model_through_assimp(path, options));
-}
 
 fs::path temp_dir() { return facet_test::test_temp_dir("facet_plain_off_test"); }
 
@@ -106,6 +72,8 @@ TEST(PlainOff, AcceptedFormsMatchAssimp) {
         {"numbers.off", "OFF\n4 2 0\n1e2 -2.5E-1 +3\n1,5 .25 7.\n0.123456789012345678 1.0000001 -0\n3 4 5\n3 0 1 2\n3 0 2 3\n"},
         // A degenerate triangle among good ones; a vertex line with a fourth value.
         {"degenerate.off", "OFF\n4 2 0\n0 0 0 9\n1 0 0\n0 1 0\n1 0 0\n3 0 1 2\n3 1 3 2\n"},
+        // Equal tiny coordinates join as assimp joins them (distinct ones are declined below).
+        {"tiny_equal.off", "OFF\n5 2 0\n1e-30 0 0\n1 0 0\n0 1 0\n1e-30 0 0\n0 0 1\n3 0 1 2\n3 3 2 4\n"},
         // Read, but nothing but degenerate triangles: load_model leaves the error to the assimp path.
         {"all_degenerate.off", "OFF\n3 1 0\n0 0 0\n0 0 0\n0 1 0\n3 0 1 2\n"},
     };

@@ -1,0 +1,54 @@
+// The fast-path tests' check: load_model (facet's own readers first) must give exactly the Scene the
+// assimp path gives (io_detail::load_model_through_assimp), field by field and bit for bit, or the
+// same error.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "facet/model.hpp"
+#include "io/load_paths.hpp"
+#include "support/test_data.hpp"
+
+namespace facet_test {
+
+using namespace facet;
+
+inline void expect_same_scene(const Result<LoadedModel>& fast, const Result<LoadedModel>& assimp) {
+    ASSERT_EQ(fast.ok(), assimp.ok()) << (fast.ok() ? assimp.error().message : fast.error().message);
+    if (!fast.ok()) {
+        EXPECT_EQ(fast.error().code, assimp.error().code);
+        EXPECT_EQ(fast.error().message, assimp.error().message);
+        return;
+    }
+    EXPECT_EQ(fast->warnings, assimp->warnings);
+    ASSERT_EQ(fast->scene.objects.size(), assimp->scene.objects.size());
+    for (std::size_t o = 0; o < fast->scene.objects.size(); ++o) {
+        SCOPED_TRACE("object " + std::to_string(o));
+        const SceneObject &a = fast->scene.objects[o], &b = assimp->scene.objects[o];
+        EXPECT_EQ(bits_of(a.mesh.positions), bits_of(b.mesh.positions));
+        EXPECT_EQ(bits_of(a.mesh.normals), bits_of(b.mesh.normals));
+        EXPECT_EQ(bits_of(a.mesh.colours), bits_of(b.mesh.colours));
+        EXPECT_EQ(bits_of(a.mesh.uvs), bits_of(b.mesh.uvs));
+        EXPECT_EQ(a.mesh.indices, b.mesh.indices);
+        EXPECT_EQ(bits_of(std::vector<Mat4>{a.model}), bits_of(std::vector<Mat4>{b.model}));
+        EXPECT_EQ(bits_of(std::vector<Vec4>{a.material.base_colour}), bits_of(std::vector<Vec4>{b.material.base_colour}));
+        EXPECT_EQ(a.material.base_colour_texture, b.material.base_colour_texture);
+        EXPECT_EQ(a.material.alpha_mode, b.material.alpha_mode);
+        EXPECT_EQ(a.material.alpha_cutoff, b.material.alpha_cutoff);
+        EXPECT_EQ(a.material.double_sided, b.material.double_sided);
+        EXPECT_EQ(a.material.sampler.wrap_u, b.material.sampler.wrap_u);
+        EXPECT_EQ(a.material.sampler.wrap_v, b.material.sampler.wrap_v);
+    }
+    const Aabb fa = fast->scene.bounds(), ab = assimp->scene.bounds();
+    EXPECT_EQ(bits_of(std::vector<Vec3>{fa.min, fa.max}), bits_of(std::vector<Vec3>{ab.min, ab.max}));
+}
+
+inline void expect_same_as_assimp(const std::string& path, const LoadOptions& options = {}) {
+    SCOPED_TRACE(path);
+    expect_same_scene(load_model(path, options), io_detail::load_model_through_assimp(path, options));
+}
+
+}  // namespace facet_test
