@@ -1,5 +1,5 @@
 // facet io: what assimp's JoinIdenticalVertices and facet's conversion of its mesh make of a list
-// of triangles, for the readers that load a format without assimp (plain_off.hpp, binary_stl.hpp)
+// of triangles, for the readers that load a format without assimp (plain_off.hpp, stl.hpp)
 // and must give exactly the Scene the assimp path gives:
 //  - JoinIdenticalVertices: only vertices the triangles use, joined when their positions are equal
 //    (-0 equal to +0), each group keeping the first of them in file order. assimp finds equal

@@ -13,7 +13,7 @@
 //      with non-finite or out-of-range vertices are dropped with a warning; missing normals are
 //      computed with the crease angle; materials give base colour, opacity, alpha mode, sidedness
 //      and the base-colour texture (embedded or a file next to the model, found leniently).
-// Plain triangle OFF files (io/plain_off.hpp) and binary STL files (io/binary_stl.hpp) skip steps
+// Plain triangle OFF files (io/plain_off.hpp) and plain STL files (io/stl.hpp) skip steps
 // 2 and 3: a dedicated reader gives the same Scene several times faster; whatever it does not take
 // goes through assimp as above.
 #include "facet/model.hpp"
@@ -49,9 +49,9 @@
 #include <vector>
 
 #include "facet/mesh.hpp"
-#include "io/binary_stl.hpp"
 #include "io/load_paths.hpp"
 #include "io/plain_off.hpp"
+#include "io/stl.hpp"
 
 // assimp's internal consistency checks (ai_assert) are compiled into Debian's libassimp and call
 // std::abort() when they fail; malformed input reaches some of them (a truncated ASCII PLY trips
@@ -765,7 +765,7 @@ Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene,
 }
 
 // ---------------------------------------------------------------------------------------------
-// The fast paths (io/plain_off.hpp, io/binary_stl.hpp): the Scene convert_scene makes of assimp's
+// The fast paths (io/plain_off.hpp, io/stl.hpp): the Scene convert_scene makes of assimp's
 // import of the same file, without assimp. Anything a fast reader does not take, and any limit or
 // degenerate-file error, goes the assimp way, which reports it.
 
@@ -786,7 +786,7 @@ Material off_material() {
     return m;
 }
 
-// What assimp's STL reader gives a file without colours: a white material, converted as
+// What assimp's STL reader gives a file without colours, binary or ASCII: a white material, converted as
 // Converter::convert_material converts it.
 Material stl_material() {
     Material m;
@@ -797,7 +797,7 @@ Material stl_material() {
 // The file read by facet's own reader for its format, or nullopt for the assimp path.
 std::optional<io_detail::JoinedMesh> read_with_own_parser(const std::string& ext, const std::string& bytes) {
     if (ext == "off") return io_detail::read_plain_off(bytes);
-    if (ext == "stl") return io_detail::read_binary_stl(bytes);
+    if (ext == "stl") return io_detail::read_stl(bytes);
     return std::nullopt;
 }
 

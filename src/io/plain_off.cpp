@@ -9,31 +9,13 @@
 //    which leaves files with positions only assimp's tolerance would join to assimp.
 #include "io/plain_off.hpp"
 
-#include "io/joined_mesh.hpp"
-
-#include <assimp/fast_atof.h>
-
-#include <bit>
 #include <cmath>
-#include <exception>
+
+#include "io/assimp_text.hpp"
+#include "io/joined_mesh.hpp"
 
 namespace facet::io_detail {
 namespace {
-
-// What fast_atof throws where assimp's reader would fail (assimp's own DeadlyImportError is not
-// exported by libassimp); the caller then leaves the file to assimp, which reports it.
-struct NotANumber : std::exception {
-    template <class... Parts>
-    explicit NotANumber(Parts&&...) {}
-};
-
-bool is_line_end(char c) { return c == '\n' || c == '\r' || c == '\f'; }  // and '\0', the end
-bool is_space(char c) { return c == ' ' || c == '\t'; }
-
-const char* skip_spaces(const char* c) {
-    while (is_space(*c)) ++c;
-    return c;
-}
 
 // assimp copies each line into a 4096-byte buffer; a longer line would be read differently.
 constexpr std::ptrdiff_t k_max_line = 4000;
@@ -112,7 +94,7 @@ const char* read_vertices(Lines& lines, const char* c, std::uint32_t count, std:
         if (!c) return nullptr;
         for (std::size_t dim = 0; dim < 3; ++dim) {
             c = skip_spaces(c);
-            c = Assimp::fast_atoreal_move<float, NotANumber>(c, out[i][dim]);  // throws where assimp's reader fails
+            c = read_float(c, out[i][dim]);  // throws where assimp's reader fails
             if (!std::isfinite(out[i][dim])) return nullptr;
         }
     }

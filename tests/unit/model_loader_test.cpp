@@ -34,6 +34,7 @@
 #include "facet/math/transform.hpp"
 #include "facet/mesh.hpp"
 #include "facet/model.hpp"
+#include "support/stl_files.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -42,6 +43,9 @@ namespace fs = std::filesystem;
 using namespace facet;
 using facet_test::read_file;
 using facet_test::write_file;
+using facet_test::ascii_stl;
+using facet_test::binary_stl;
+using facet_test::triangles_of;
 using facet_test::base64;
 
 constexpr float k_nan = std::numeric_limits<float>::quiet_NaN();
@@ -59,36 +63,6 @@ void put(std::string& out, T value) {
     char bytes[sizeof(T)];
     std::memcpy(bytes, &value, sizeof(T));  // little-endian host, as the formats want
     out.append(bytes, sizeof(T));
-}
-
-std::string binary_stl(const std::vector<std::array<Vec3, 3>>& triangles, const std::string& header = "") {
-    std::string s = header + std::string(80 - header.size(), '\0');
-    put(s, static_cast<std::uint32_t>(triangles.size()));
-    for (const auto& t : triangles) {
-        for (int k = 0; k < 3; ++k) put(s, 0.0f);  // facet normal: zero, as many exporters write it
-        for (const Vec3& p : t) put(s, p.x), put(s, p.y), put(s, p.z);
-        put(s, std::uint16_t{0});
-    }
-    return s;
-}
-
-std::string ascii_stl(const std::vector<std::array<Vec3, 3>>& triangles) {
-    std::ostringstream s;
-    s << "solid test\n";
-    for (const auto& t : triangles) {
-        s << " facet normal 0 0 0\n  outer loop\n";
-        for (const Vec3& p : t) s << "   vertex " << p.x << ' ' << p.y << ' ' << p.z << '\n';
-        s << "  endloop\n endfacet\n";
-    }
-    s << "endsolid test\n";
-    return s.str();
-}
-
-std::vector<std::array<Vec3, 3>> triangles_of(const Mesh& m) {
-    std::vector<std::array<Vec3, 3>> out;
-    for (std::size_t t = 0; t < m.indices.size(); t += 3)
-        out.push_back({m.positions[m.indices[t]], m.positions[m.indices[t + 1]], m.positions[m.indices[t + 2]]});
-    return out;
 }
 
 // A 2x2 texture: top row red, green; bottom row blue, white.
