@@ -1,6 +1,4 @@
 // A rotating cube lit per pixel by a directional light (Blinn-Phong), one PNG per frame.
-// Usage: example_lit_cube [OUT_PREFIX] [FRAMES]   writes OUT_PREFIX_000.png, ...
-//        example_lit_cube --window                  turns in a window until it is closed
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -11,11 +9,19 @@
 #include "facet/shaders.hpp"
 #include "window.hpp"
 
+namespace {
+const char* const k_usage =
+    "usage: example_lit_cube [OUT_PREFIX] [FRAMES]   writes FRAMES (default 4) PNGs, OUT_PREFIX_000.png, ...\n"
+    "                                                (default prefix cube)\n"
+    "       example_lit_cube --window                  turns in a window until it is closed (Esc or Q)\n";
+}
+
 int main(int argc, char** argv) {
     using namespace facet;
-    const bool window = example::window_requested(argc, argv);
-    const std::string prefix = argc > 1 && !window ? argv[1] : "cube";
-    const int frames = argc > 2 ? std::atoi(argv[2]) : 4;
+    const example::CommandLine line = example::parse_command_line(argc, argv, k_usage, 2);
+    const bool window = line.window;
+    const std::string prefix = line.arg(0, "cube");
+    const int frames = example::frame_count(line, 1, 4, k_usage);
 
     const Mesh cube = make_cube(0.8f);
     Camera camera;

@@ -1,7 +1,5 @@
 // The seeds' spinning triangle: a two-sided triangle turning about Y in front of a perspective
 // camera, one PNG per frame. Its back face is drawn too, in its own colour.
-// Usage: example_spinning_triangle [OUT_PREFIX] [FRAMES]   writes OUT_PREFIX_000.png, ...
-//        example_spinning_triangle --window                  spins in a window until it is closed
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -11,11 +9,19 @@
 #include "facet/renderer.hpp"
 #include "window.hpp"
 
+namespace {
+const char* const k_usage =
+    "usage: example_spinning_triangle [OUT_PREFIX] [FRAMES]   writes FRAMES (default 8) PNGs, OUT_PREFIX_000.png, ...\n"
+    "                                                         (default prefix spin)\n"
+    "       example_spinning_triangle --window                  spins in a window until it is closed (Esc or Q)\n";
+}
+
 int main(int argc, char** argv) {
     using namespace facet;
-    const bool window = example::window_requested(argc, argv);
-    const std::string prefix = argc > 1 && !window ? argv[1] : "spin";
-    const int frames = argc > 2 ? std::atoi(argv[2]) : 8;
+    const example::CommandLine line = example::parse_command_line(argc, argv, k_usage, 2);
+    const bool window = line.window;
+    const std::string prefix = line.arg(0, "spin");
+    const int frames = example::frame_count(line, 1, 8, k_usage);
 
     const Vec3 corners[3] = {{-1, -0.8f, 0}, {1, -0.8f, 0}, {0, 1, 0}};
     const Vec3 colours[3] = {{1, 0.2f, 0.2f}, {0.2f, 1, 0.2f}, {0.2f, 0.3f, 1}};

@@ -1,15 +1,21 @@
 // The seeds' "hello triangle": one triangle, a colour per vertex, interpolated across it.
-// Usage: example_triangle [OUT.png]     or: example_triangle --window
 #include <cstdio>
 
 #include "facet/io.hpp"
 #include "facet/renderer.hpp"
 #include "window.hpp"
 
+namespace {
+const char* const k_usage =
+    "usage: example_triangle [OUT.png]   writes the triangle to OUT.png (default triangle.png)\n"
+    "       example_triangle --window    shows it in a window until it is closed (Esc or Q)\n";
+}
+
 int main(int argc, char** argv) {
     using namespace facet;
-    const bool window = example::window_requested(argc, argv);
-    const char* out = argc > 1 && !window ? argv[1] : "triangle.png";
+    const example::CommandLine line = example::parse_command_line(argc, argv, k_usage, 1);
+    const bool window = line.window;
+    const std::string out = line.arg(0, "triangle.png");
 
     // Clip-space corners (w = 1, so clip space is NDC) and their colours.
     const Vec4 corners[3] = {{-0.8f, -0.75f, 0.5f, 1}, {0.8f, -0.75f, 0.5f, 1}, {0.0f, 0.85f, 0.5f, 1}};
@@ -38,6 +44,6 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s\n", s.error().message.c_str());
         return 1;
     }
-    std::printf("wrote %s\n", out);
+    std::printf("wrote %s\n", out.c_str());
     return 0;
 }

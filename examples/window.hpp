@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "facet/image.hpp"
 #include "facet/io.hpp"
@@ -79,7 +80,6 @@ private:
     Uint32 last_ = 0;
 };
 
-// True when the first argument is --window (the examples then take no other arguments).
 // Writes render_frame(0) ... render_frame(count - 1) to PREFIX_000.png, PREFIX_001.png, ...
 // Returns the program's exit code: 1 after the first frame that cannot be written.
 template <class RenderFrame>
@@ -96,6 +96,48 @@ int write_frames(const std::string& prefix, int count, RenderFrame render_frame)
     return 0;
 }
 
-inline bool window_requested(int argc, char** argv) { return argc > 1 && std::string(argv[1]) == "--window"; }
+// An example's command line: --help prints `usage` and exits 0; --window asks for the window (and
+// takes no other argument); the other arguments are the example's own, at most `max_args` of them.
+// Anything else (an unknown option, too many arguments) prints the usage to stderr and exits 2.
+struct CommandLine {
+    std::string program;  // argv[0]'s file name, for messages
+    bool window = false;
+    std::vector<std::string> args;
+    // args[i], or `otherwise` when it was not given.
+    std::string arg(std::size_t i, const std::string& otherwise) const { return i < args.size() ? args[i] : otherwise; }
+};
+
+[[noreturn]] inline void usage_error(const CommandLine& line, const char* usage, const std::string& problem) {
+    std::fprintf(stderr, "%s: %s\n%s", line.program.c_str(), problem.c_str(), usage);
+    std::exit(2);
+}
+
+inline CommandLine parse_command_line(int argc, char** argv, const char* usage, std::size_t max_args) {
+    CommandLine line;
+    line.program = argc > 0 ? argv[0] : "example";
+    line.program.erase(0, line.program.find_last_of('/') + 1);
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--help" || a == "-h") {
+            std::printf("%s", usage);
+            std::exit(0);
+        }
+        if (a == "--window") line.window = true;
+        else if (a.size() > 1 && a[0] == '-') usage_error(line, usage, "unknown option " + a);
+        else line.args.push_back(a);
+    }
+    if (line.args.size() > (line.window ? 0 : max_args)) usage_error(line, usage, "too many arguments");
+    return line;
+}
+
+// A frame count argument: a whole number from 1 to 10000.
+inline int frame_count(const CommandLine& line, std::size_t i, int otherwise, const char* usage) {
+    if (i >= line.args.size()) return otherwise;
+    const std::string& a = line.args[i];
+    char* end = nullptr;
+    const long n = std::strtol(a.c_str(), &end, 10);
+    if (a.empty() || *end != '\0' || n < 1 || n > 10000) usage_error(line, usage, "FRAMES must be a whole number from 1 to 10000, got " + a);
+    return static_cast<int>(n);
+}
 
 }  // namespace example

@@ -688,4 +688,39 @@ TEST(ExamplesCli, WindowWithoutADisplayWritesThePngInstead) {
     fs::remove_all(dir);
 }
 
+// The examples' own command lines: --help prints the usage (and writes no file named --help), an
+// unknown option, too many arguments or a bad frame count is a usage error (exit 2) naming the problem.
+TEST(ExamplesCli, HelpAndBadArguments) {
+    const fs::path dir = fs::temp_directory_path() / ("facet_examples_args_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto example = [&](const std::string& name, const std::string& args) {
+        const fs::path binary = fs::path(FACET_BINARY_DIR) / "examples" / ("example_" + name);
+        return run("cd " + dir.string() + " && timeout 30 " + binary.string() + " " + args + " 2>&1");
+    };
+    for (const char* name : {"triangle", "spinning_triangle", "lit_cube"}) {
+        const CommandResult help = example(name, "--help");
+        EXPECT_EQ(help.exit_code, 0) << name;
+        EXPECT_EQ(help.output.rfind(std::string("usage: example_") + name, 0), 0u) << help.output;
+        EXPECT_NE(help.output.find("--window"), std::string::npos) << help.output;
+        const CommandResult bad = example(name, "--bogus");
+        EXPECT_EQ(bad.exit_code, 2) << name;
+        EXPECT_EQ(bad.output.rfind(std::string("example_") + name + ": unknown option --bogus\n", 0), 0u) << bad.output;
+        EXPECT_EQ(example(name, "a b c").exit_code, 2) << name;
+    }
+    for (const char* frames : {"x", "0", "2x", "10001"}) {
+        const CommandResult r = example("lit_cube", std::string("out ") + frames);
+        EXPECT_EQ(r.exit_code, 2) << frames;
+        EXPECT_NE(r.output.find("FRAMES must be a whole number"), std::string::npos) << r.output;
+    }
+    EXPECT_NE(example("lit_cube", "out -3").output.find("unknown option -3"), std::string::npos);  // not a count
+    const CommandResult two = example("spinning_triangle", "spin 2");
+    EXPECT_EQ(two.exit_code, 0) << two.output;
+    EXPECT_TRUE(fs::exists(dir / "spin_001.png"));
+    EXPECT_FALSE(fs::exists(dir / "spin_002.png"));
+    EXPECT_FALSE(fs::exists(dir / "--help"));
+    EXPECT_FALSE(fs::exists(dir / "--help_000.png"));
+    fs::remove_all(dir);
+}
+
 }  // namespace
