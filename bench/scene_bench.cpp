@@ -71,11 +71,24 @@ std::vector<std::string> split(const std::string& s, char sep) {
     return out;
 }
 
+constexpr const char* k_usage =
+    "usage: facet_bench_scenes [--frames N] [--warmup N] [--threads 1,2] [--sizes WxH,...]\n"
+    "                          [--scenes bunny,armadillo,elephant,sphere1m,quads64] [--markdown FILE]\n"
+    "                          [--no-memory] [--no-agreement]\n"
+    "Renders each scene with facet and with Mesa llvmpipe (EGL, surfaceless) on the same camera, size,\n"
+    "shading and thread count, and prints both median frame times and their ratio (llvmpipe / facet),\n"
+    "then the peak memory of the 1M-triangle sphere and how far the two images agree.\n"
+    "  --frames N        frames measured per case (median), default 21\n"
+    "  --warmup N        frames drawn first and not measured, default 3\n"
+    "  --threads LIST    facet thread counts, default 1,2 (llvmpipe: LP_NUM_THREADS 0 for 1, else the same)\n"
+    "  --sizes LIST      render sizes, WxH each, default 1920x1080,512x512\n"
+    "  --scenes LIST     which scenes, default all five\n"
+    "  --markdown FILE   also write the results as the Markdown of docs/BENCHMARKS.md\n"
+    "  --no-memory       skip the peak-memory measurement\n"
+    "  --no-agreement    skip the image-agreement measurement\n";
+
 [[noreturn]] void usage_error(const std::string& message) {
-    std::cerr << "facet_bench_scenes: " << message << "\n"
-              << "usage: facet_bench_scenes [--frames N] [--warmup N] [--threads 1,2] [--sizes WxH,...]\n"
-                 "                          [--scenes bunny,armadillo,elephant,sphere1m,quads64] [--markdown FILE]\n"
-                 "                          [--no-memory] [--no-agreement]\n";
+    std::cerr << "facet_bench_scenes: " << message << "\n" << k_usage;
     std::exit(2);
 }
 
@@ -87,6 +100,10 @@ Options parse(int argc, char** argv) {
     };
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
+        if (a == "--help" || a == "-h") {
+            std::cout << k_usage;
+            std::exit(0);
+        }
         if (a == "--frames") o.frames = std::max(1, std::atoi(value(i).c_str()));
         else if (a == "--warmup") o.warmup = std::max(0, std::atoi(value(i).c_str()));
         else if (a == "--threads") {
