@@ -18,10 +18,7 @@ const char* const k_usage =
 
 int main(int argc, char** argv) {
     using namespace facet;
-    const example::CommandLine line = example::parse_command_line(argc, argv, k_usage, 2);
-    const bool window = line.window;
-    const std::string prefix = line.arg(0, "cube");
-    const int frames = example::frame_count(line, 1, 4, k_usage);
+    const auto [window, prefix, frames] = example::parse_frames_command_line(argc, argv, k_usage, "cube", 4);
 
     const Mesh cube = make_cube(0.8f);
     Camera camera;

@@ -18,10 +18,7 @@ const char* const k_usage =
 
 int main(int argc, char** argv) {
     using namespace facet;
-    const example::CommandLine line = example::parse_command_line(argc, argv, k_usage, 2);
-    const bool window = line.window;
-    const std::string prefix = line.arg(0, "spin");
-    const int frames = example::frame_count(line, 1, 8, k_usage);
+    const auto [window, prefix, frames] = example::parse_frames_command_line(argc, argv, k_usage, "spin", 8);
 
     const Vec3 corners[3] = {{-1, -0.8f, 0}, {1, -0.8f, 0}, {0, 1, 0}};
     const Vec3 colours[3] = {{1, 0.2f, 0.2f}, {0.2f, 1, 0.2f}, {0.2f, 0.3f, 1}};

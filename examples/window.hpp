@@ -140,4 +140,16 @@ inline int frame_count(const CommandLine& line, std::size_t i, int otherwise, co
     return static_cast<int>(n);
 }
 
+// The command line of an example that writes numbered frames: [OUT_PREFIX] [FRAMES], or --window.
+struct FramesCommandLine {
+    bool window;
+    std::string prefix;
+    int frames;
+};
+inline FramesCommandLine parse_frames_command_line(int argc, char** argv, const char* usage, const char* prefix,
+                                                   int frames) {
+    const CommandLine line = parse_command_line(argc, argv, usage, 2);
+    return {line.window, line.arg(0, prefix), frame_count(line, 1, frames, usage)};
+}
+
 }  // namespace example
