@@ -67,9 +67,8 @@ std::string describe_signal(int signal);
 // True when the file name has an extension of a format load_model reads (case-insensitive).
 bool is_supported_model_file(const std::string& path);
 
-// True when load_model reads the file with facet's own parser first rather than assimp's (plain
-// OFF and binary STL, by the extension, case-insensitive; a file the parser declines still goes to
-// assimp).
+// True when load_model reads the file with facet's own parser first rather than assimp's (OFF, STL
+// and PLY, by the extension, case-insensitive; a file the parser declines still goes to assimp).
 bool has_own_parser(const std::string& path);
 
 }  // namespace facet

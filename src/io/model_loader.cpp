@@ -13,8 +13,8 @@
 //      with non-finite or out-of-range vertices are dropped with a warning; missing normals are
 //      computed with the crease angle; materials give base colour, opacity, alpha mode, sidedness
 //      and the base-colour texture (embedded or a file next to the model, found leniently).
-// Plain triangle OFF files (io/plain_off.hpp) and plain STL files (io/stl.hpp) skip steps
-// 2 and 3: a dedicated reader gives the same Scene several times faster; whatever it does not take
+// Plain triangle OFF files (io/plain_off.hpp), plain STL files (io/stl.hpp) and PLY files with
+// positions only (io/ply.hpp) skip steps 2 and 3: a dedicated reader gives the same Scene several times faster; whatever it does not take
 // goes through assimp as above.
 #include "facet/model.hpp"
 
@@ -51,6 +51,7 @@
 #include "facet/mesh.hpp"
 #include "io/load_paths.hpp"
 #include "io/plain_off.hpp"
+#include "io/ply.hpp"
 #include "io/stl.hpp"
 
 // assimp's internal consistency checks (ai_assert) are compiled into Debian's libassimp and call
@@ -765,7 +766,7 @@ Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene,
 }
 
 // ---------------------------------------------------------------------------------------------
-// The fast paths (io/plain_off.hpp, io/stl.hpp): the Scene convert_scene makes of assimp's
+// The fast paths (io/plain_off.hpp, io/stl.hpp, io/ply.hpp): the Scene convert_scene makes of assimp's
 // import of the same file, without assimp. Anything a fast reader does not take, and any limit or
 // degenerate-file error, goes the assimp way, which reports it.
 
@@ -786,9 +787,9 @@ Material off_material() {
     return m;
 }
 
-// What assimp's STL reader gives a file without colours, binary or ASCII: a white material, converted as
-// Converter::convert_material converts it.
-Material stl_material() {
+// What assimp's STL reader gives a file without colours, binary or ASCII, and its PLY reader a file
+// without colours: a white material, converted as Converter::convert_material converts it.
+Material white_material() {
     Material m;
     m.base_colour = clamp_colour(aiColor4D(1.0f, 1.0f, 1.0f, 1.0f));
     return m;
@@ -798,6 +799,7 @@ Material stl_material() {
 std::optional<io_detail::JoinedMesh> read_with_own_parser(const std::string& ext, const std::string& bytes) {
     if (ext == "off") return io_detail::read_plain_off(bytes);
     if (ext == "stl") return io_detail::read_stl(bytes);
+    if (ext == "ply") return io_detail::read_plain_ply(bytes);
     return std::nullopt;
 }
 
@@ -818,7 +820,7 @@ std::optional<LoadedModel> load_with_own_parser(const std::string& path, const s
     compute_creased_normals(object.mesh, radians(options.crease_angle_degrees), options.threads);
     const Mat4 root = options.up_axis == UpAxis::z ? z_up_to_y_up() : Mat4::identity();
     object.model = root * to_mat4(aiMatrix4x4());  // the nodes' transforms, identity, as walk_nodes applies them
-    object.material = ext == "off" ? off_material() : stl_material();
+    object.material = ext == "off" ? off_material() : white_material();
     LoadedModel out;
     out.scene.objects.push_back(std::move(object));
     return out;
@@ -832,7 +834,7 @@ Error out_of_memory(const std::string& path) {
 
 bool has_own_parser(const std::string& path) {
     const std::string ext = extension_of(path);
-    return ext == "off" || ext == "stl";
+    return ext == "off" || ext == "stl" || ext == "ply";
 }
 
 bool is_supported_model_file(const std::string& path) {

@@ -51,4 +51,13 @@ inline void expect_same_as_assimp(const std::string& path, const LoadOptions& op
     expect_same_scene(load_model(path, options), io_detail::load_model_through_assimp(path, options));
 }
 
+
+// `read` is a fast path's reader (bytes -> optional mesh): it takes the file or not, as `taken` says,
+// and load_model gives the assimp path's Scene either way.
+template <class Read>
+void expect_read_as_told_and_same(const std::string& path, Read read, bool taken = true) {
+    EXPECT_EQ(read(read_file(path)).has_value(), taken) << path;
+    expect_same_as_assimp(path);
+}
+
 }  // namespace facet_test

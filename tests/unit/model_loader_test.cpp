@@ -523,12 +523,13 @@ TEST(ModelLoader, SupportedExtensions) {
     EXPECT_FALSE(is_supported_model_file("points.xyz"));
     EXPECT_FALSE(is_supported_model_file("picture.png"));
     EXPECT_FALSE(is_supported_model_file("no_extension"));
-    // facet's own parser: plain OFF, by the extension in any case.
+    // facet's own parsers: OFF, STL and PLY, by the extension in any case.
     EXPECT_TRUE(has_own_parser("a/b/bunny.off"));
     EXPECT_TRUE(has_own_parser("BUNNY.OFF"));
     EXPECT_TRUE(has_own_parser("part.stl"));
     EXPECT_TRUE(has_own_parser("PART.STL"));
-    for (const char* other : {"x.obj", "x.ply", "x.offx", "x.stlx", "off", "stl", "no_extension"}) EXPECT_FALSE(has_own_parser(other)) << other;
+    EXPECT_TRUE(has_own_parser("scan.ply"));
+    for (const char* other : {"x.obj", "x.glb", "x.offx", "x.stlx", "off", "stl", "ply", "no_extension"}) EXPECT_FALSE(has_own_parser(other)) << other;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -29,16 +29,13 @@ using facet_test::ascii_stl;
 using facet_test::binary_stl;
 using facet_test::expect_same_as_assimp;
 using facet_test::StlTriangle;
-using facet_test::read_file;
 using facet_test::write_file;
 
-bool fast_reader_takes(const std::string& path) { return io_detail::read_stl(read_file(path)).has_value(); }
 
 fs::path temp_dir() { return facet_test::test_temp_dir("facet_stl_test"); }
 
 void expect_taken_and_same(const std::string& path, bool taken = true) {
-    EXPECT_EQ(fast_reader_takes(path), taken) << path;
-    expect_same_as_assimp(path);
+    facet_test::expect_read_as_told_and_same(path, io_detail::read_stl, taken);
 }
 
 TEST(Stl, AssimpTestModelsMatchAssimp) {

@@ -1,0 +1,306 @@
+// facet io: the plain PLY fast path (ply.hpp). Each step mirrors what assimp 5.2 does with a file of
+// the accepted form: binary values copied (byte-swapped for big-endian files) and converted to float
+// by a cast; ASCII float values read by fast_atoreal_move<float>, double ones by
+// fast_atoreal_move<double> and then cast, each element from its own line.
+#include "io/ply.hpp"
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "io/assimp_text.hpp"
+
+namespace facet::io_detail {
+namespace {
+
+enum class Format { ascii, little_endian, big_endian };
+enum class Type { i8, u8, i16, u16, i32, u32, f32, f64 };
+
+std::optional<Type> type_named(std::string_view name) {
+    struct Named {
+        const char* name;
+        Type type;
+    };
+    static constexpr Named k_types[] = {{"char", Type::i8},    {"int8", Type::i8},     {"uchar", Type::u8},   {"uint8", Type::u8},
+                                        {"short", Type::i16},  {"int16", Type::i16},   {"ushort", Type::u16}, {"uint16", Type::u16},
+                                        {"int", Type::i32},    {"int32", Type::i32},   {"uint", Type::u32},   {"uint32", Type::u32},
+                                        {"float", Type::f32},  {"float32", Type::f32}, {"double", Type::f64}, {"float64", Type::f64}};
+    for (const Named& t : k_types)
+        if (name == t.name) return t.type;
+    return std::nullopt;
+}
+
+std::size_t size_of(Type t) {
+    switch (t) {
+        case Type::i8: case Type::u8: return 1;
+        case Type::i16: case Type::u16: return 2;
+        case Type::i32: case Type::u32: case Type::f32: return 4;
+        case Type::f64: return 8;
+    }
+    return 0;
+}
+bool is_float(Type t) { return t == Type::f32 || t == Type::f64; }
+bool is_signed(Type t) { return t == Type::i8 || t == Type::i16 || t == Type::i32; }
+
+constexpr int k_ignored = -1;  // a vertex property assimp does not use; otherwise 0, 1, 2 for x, y, z
+
+struct Property {
+    Type type;
+    int axis;
+};
+
+struct Header {
+    Format format = Format::ascii;
+    std::uint64_t vertices = 0, faces = 0;
+    std::vector<Property> vertex;
+    Type count_type = Type::u8, index_type = Type::i32;
+    std::size_t body = 0;  // offset of the first byte after end_header's line
+};
+
+std::vector<std::string_view> words_of(std::string_view line) {
+    std::vector<std::string_view> words;
+    std::size_t i = 0;
+    while (i < line.size()) {
+        while (i < line.size() && is_space(line[i])) ++i;
+        const std::size_t start = i;
+        while (i < line.size() && !is_space(line[i])) ++i;
+        if (i > start) words.push_back(line.substr(start, i - start));
+    }
+    return words;
+}
+
+std::optional<std::uint64_t> count_of(std::string_view word) {
+    if (word.empty() || word.size() > 10) return std::nullopt;
+    std::uint64_t n = 0;
+    for (char c : word) {
+        if (c < '0' || c > '9') return std::nullopt;
+        n = n * 10 + static_cast<std::uint64_t>(c - '0');
+    }
+    return n;
+}
+
+std::optional<Header> parse_header(std::string_view bytes) {
+    Header h;
+    enum class Expect { magic, format, vertex_element, vertex_property, face_property, end } expect = Expect::magic;
+    bool carriage_return = false;
+    for (std::size_t at = 0; at < bytes.size();) {
+        const std::size_t newline = bytes.find('\n', at);
+        if (newline == std::string_view::npos) return std::nullopt;
+        std::string_view line = bytes.substr(at, newline - at);
+        at = newline + 1;
+        if (!line.empty() && line.back() == '\r') {
+            line.remove_suffix(1);
+            carriage_return = true;
+        }
+        if (line.find_first_of("\r\f\v") != std::string_view::npos) return std::nullopt;
+        const std::vector<std::string_view> w = words_of(line);
+        if (expect != Expect::magic && !w.empty() && (w[0] == "comment" || w[0] == "obj_info")) continue;
+        switch (expect) {
+            case Expect::magic:
+                if (line != "ply") return std::nullopt;
+                expect = Expect::format;
+                break;
+            case Expect::format:
+                if (w.size() != 3 || w[0] != "format" || w[2] != "1.0") return std::nullopt;
+                if (w[1] == "ascii") h.format = Format::ascii;
+                else if (w[1] == "binary_little_endian") h.format = Format::little_endian;
+                else if (w[1] == "binary_big_endian") h.format = Format::big_endian;
+                else return std::nullopt;
+                expect = Expect::vertex_element;
+                break;
+            case Expect::vertex_element: {
+                const std::optional<std::uint64_t> n = w.size() == 3 ? count_of(w[2]) : std::nullopt;
+                if (!n || w[0] != "element" || w[1] != "vertex" || *n == 0) return std::nullopt;
+                h.vertices = *n;
+                expect = Expect::vertex_property;
+                break;
+            }
+            case Expect::vertex_property: {
+                if (w.size() == 3 && w[0] == "element" && w[1] == "face") {
+                    const std::optional<std::uint64_t> n = count_of(w[2]);
+                    if (!n || *n == 0) return std::nullopt;
+                    h.faces = *n;
+                    expect = Expect::face_property;
+                    break;
+                }
+                const std::optional<Type> type = w.size() == 3 && w[0] == "property" ? type_named(w[1]) : std::nullopt;
+                if (!type) return std::nullopt;
+                int axis = k_ignored;
+                if (w[2] == "x" || w[2] == "y" || w[2] == "z") axis = w[2][0] - 'x';
+                else if (w[2] != "confidence" && w[2] != "intensity") return std::nullopt;
+                if (axis != k_ignored && !is_float(*type)) return std::nullopt;
+                h.vertex.push_back({*type, axis});
+                break;
+            }
+            case Expect::face_property: {
+                if (w.size() != 5 || w[0] != "property" || w[1] != "list" || (w[4] != "vertex_indices" && w[4] != "vertex_index"))
+                    return std::nullopt;
+                const std::optional<Type> count = type_named(w[2]), index = type_named(w[3]);
+                if (!count || !index || is_float(*count) || is_float(*index)) return std::nullopt;
+                h.count_type = *count;
+                h.index_type = *index;
+                expect = Expect::end;
+                break;
+            }
+            case Expect::end:
+                if (line != "end_header") return std::nullopt;
+                if (h.format != Format::ascii && carriage_return) return std::nullopt;  // assimp's binary body would start at the '\n'
+                h.body = at;
+                for (int axis = 0; axis < 3; ++axis) {
+                    int seen = 0;
+                    for (const Property& p : h.vertex) seen += p.axis == axis;
+                    if (seen != 1) return std::nullopt;
+                }
+                return h;
+        }
+    }
+    return std::nullopt;
+}
+
+// ---- binary ----
+
+// The value of type t at p, in the file's byte order, as a double (exact for every type).
+double binary_value(const char* p, Type t, bool swap) {
+    unsigned char b[8];
+    const std::size_t n = size_of(t);
+    std::memcpy(b, p, n);
+    if (swap)
+        for (std::size_t i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
+    switch (t) {
+        case Type::i8: return static_cast<std::int8_t>(b[0]);
+        case Type::u8: return b[0];
+        case Type::i16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
+        case Type::u16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
+        case Type::i32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
+        case Type::u32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
+        case Type::f32: { float v; std::memcpy(&v, b, 4); return v; }
+        case Type::f64: { double v; std::memcpy(&v, b, 8); return v; }
+    }
+    return 0;
+}
+
+bool read_binary(std::string_view bytes, const Header& h, std::vector<Vec3>& positions, std::vector<std::uint32_t>& indices) {
+    const bool swap = (h.format == Format::big_endian) == (std::endian::native == std::endian::little);
+    std::size_t vertex_size = 0;
+    for (const Property& p : h.vertex) vertex_size += size_of(p.type);
+    const std::size_t face_size = size_of(h.count_type) + 3 * size_of(h.index_type);
+    if (h.body + h.vertices * vertex_size + h.faces * face_size != bytes.size()) return false;
+    positions.resize(h.vertices);
+    const char* p = bytes.data() + h.body;
+    for (Vec3& v : positions) {
+        for (const Property& prop : h.vertex) {
+            if (prop.axis != k_ignored) {
+                // float as stored; double cast to float, as assimp converts it
+                const double value = binary_value(p, prop.type, swap);
+                v[static_cast<std::size_t>(prop.axis)] = static_cast<float>(value);
+                if (!std::isfinite(v[static_cast<std::size_t>(prop.axis)])) return false;
+            }
+            p += size_of(prop.type);
+        }
+    }
+    indices.resize(3 * h.faces);
+    for (std::size_t f = 0; f < h.faces; ++f) {
+        if (binary_value(p, h.count_type, swap) != 3) return false;  // polygons: assimp triangulates them
+        p += size_of(h.count_type);
+        for (std::size_t k = 0; k < 3; ++k, p += size_of(h.index_type)) {
+            const double index = binary_value(p, h.index_type, swap);
+            if (index < 0 || index >= static_cast<double>(h.vertices)) return false;
+            indices[3 * f + k] = static_cast<std::uint32_t>(index);
+        }
+    }
+    return true;
+}
+
+// ---- ASCII ----
+
+// An integer of type t at c, as assimp's strtol10/strtoul10 reads it: an optional '-' (signed types),
+// then digits; nullptr when there is no digit.
+const char* read_integer(const char* c, Type t, std::int64_t& out) {
+    bool negative = false;
+    if (is_signed(t) && *c == '-') negative = true, ++c;
+    if (*c < '0' || *c > '9') return nullptr;
+    std::int64_t v = 0;
+    for (; *c >= '0' && *c <= '9'; ++c)
+        if ((v = v * 10 + (*c - '0')) > (std::int64_t{1} << 32)) return nullptr;  // beyond every type: leave it to assimp
+    out = negative ? -v : v;
+    return c;
+}
+
+// One value of type t at c (after spaces): as a float for x, y and z. Returns where it ends, which
+// must be a space or the line's end, or nullptr.
+const char* read_ascii_value(const char* c, Type t, float& value) {
+    c = skip_spaces(c);
+    if (is_line_end(*c) || *c == '\0') return nullptr;  // assimp would take the value from the next line
+    if (t == Type::f32) {
+        c = read_float(c, value);
+    } else if (t == Type::f64) {
+        double d;
+        c = Assimp::fast_atoreal_move<double, NotANumber>(c, d);
+        value = static_cast<float>(d);
+    } else {
+        std::int64_t ignored;
+        if (!(c = read_integer(c, t, ignored))) return nullptr;
+    }
+    return is_space(*c) || *c == '\r' || *c == '\n' ? c : nullptr;
+}
+
+// The end of the line at c, which holds nothing more but spaces: where the next line starts, or nullptr.
+const char* next_line(const char* c) {
+    c = skip_spaces(c);
+    if (*c == '\r') ++c;
+    return *c == '\n' ? c + 1 : nullptr;
+}
+
+bool read_ascii(std::string_view bytes, const Header& h, std::vector<Vec3>& positions, std::vector<std::uint32_t>& indices) {
+    // A vertex line takes at least 6 bytes ("0 0 0\n"), a face line 8: more would be a damaged header.
+    if (h.vertices * 2 * h.vertex.size() + h.faces * 8 > bytes.size()) return false;
+    positions.resize(h.vertices);
+    indices.resize(3 * h.faces);
+    const char* c = bytes.data() + h.body;
+    try {
+        for (Vec3& v : positions) {
+            for (const Property& prop : h.vertex) {
+                float value = 0;
+                if (!(c = read_ascii_value(c, prop.type, value))) return false;
+                if (prop.axis != k_ignored) {
+                    if (!std::isfinite(value)) return false;
+                    v[static_cast<std::size_t>(prop.axis)] = value;
+                }
+            }
+            if (!(c = next_line(c))) return false;
+        }
+    } catch (const NotANumber&) {
+        return false;
+    }
+    for (std::size_t f = 0; f < h.faces; ++f) {
+        std::int64_t count = 0;
+        if (!(c = read_integer(skip_spaces(c), h.count_type, count)) || count != 3) return false;
+        for (std::size_t k = 0; k < 3; ++k) {
+            std::int64_t index = 0;
+            if (!is_space(*c) || !(c = read_integer(skip_spaces(c), h.index_type, index))) return false;
+            if (index < 0 || static_cast<std::uint64_t>(index) >= h.vertices) return false;
+            indices[3 * f + k] = static_cast<std::uint32_t>(index);
+        }
+        if (!(c = next_line(c))) return false;
+    }
+    while (is_space(*c) || *c == '\r' || *c == '\n') ++c;
+    return *c == '\0' && c == bytes.data() + bytes.size();
+}
+
+}  // namespace
+
+std::optional<JoinedMesh> read_plain_ply(std::string_view bytes) {
+    const std::optional<Header> h = parse_header(bytes);
+    if (!h || h->vertices > 0xFFFFFFFFu || h->faces > 0xFFFFFFFFu / 3) return std::nullopt;
+    std::vector<Vec3> positions;
+    std::vector<std::uint32_t> indices;
+    const bool read = h->format == Format::ascii ? read_ascii(bytes, *h, positions, indices)
+                                                 : read_binary(bytes, *h, positions, indices);
+    if (!read) return std::nullopt;
+    return join_identical_vertices(positions, indices);
+}
+
+}  // namespace facet::io_detail
