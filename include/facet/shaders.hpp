@@ -102,7 +102,7 @@ struct VertexColour {
 
 struct Flat {
     static constexpr int k_varyings = 7;  // world position, colour
-    static constexpr bool k_derivatives = true;
+    static constexpr int k_derivative_count = 3;  // the position's: its colour needs none
     MeshArrays mesh;
     ShadingUniforms u;
     Vec4 vertex(std::uint32_t i, Varyings<7>& out) const {
@@ -250,6 +250,7 @@ FACET_COMPILED_VISIBLE_PASS(BlinnPhong)
 FACET_COMPILED_VISIBLE_PASS(BlinnPhongBaseColour)
 FACET_COMPILED_VISIBLE_PASS(Normals)
 FACET_COMPILED_VISIBLE_PASS(VertexColour)
+FACET_COMPILED_VISIBLE_PASS(Flat)
 #undef FACET_COMPILED_VISIBLE_PASS
 }  // namespace detail
 }  // namespace facet

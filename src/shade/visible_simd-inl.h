@@ -6,6 +6,7 @@
 //   visible_simd_lambert.cpp      Lambert, LambertBaseColour
 //   visible_simd_blinn_phong.cpp  BlinnPhong, BlinnPhongBaseColour
 //   visible_simd_unlit.cpp        Normals, VertexColour
+//   visible_simd_flat.cpp         Flat (the only one that reads derivatives: LanesIn::ddx, ddy)
 // In: a tile's TileVisibility (which triangle owns each pixel, and each triangle's shading record).
 // Out: the colour of every visible pixel of the tile.
 //
@@ -180,11 +181,13 @@ HWY_INLINE ColourLanes shade(const VF* albedo, const Vec3Lanes& light) {
     return {hn::Mul(albedo[0], light.x), hn::Mul(albedo[1], light.y), hn::Mul(albedo[2], light.z), albedo[3]};
 }
 
-// What each lane of a row knows, for the shaders below: its varyings, whether its triangle faces
-// the viewer, which lanes are visible, and which must be redone by the specification.
-template <int N>
+// What each lane of a row knows, for the shaders below: its varyings (and the screen derivatives of
+// the first D of them), whether its triangle faces the viewer, which lanes are visible, and which
+// must be redone by the specification.
+template <int N, int D = 0>
 struct LanesIn {
     VF v[N > 0 ? N : 1];
+    VF ddx[D > 0 ? D : 1], ddy[D > 0 ? D : 1];
     MF front_facing;
     MF visible;
     MF scalar;
@@ -214,8 +217,15 @@ HWY_INLINE hn::Vec<DU> to_rgba8(const ColourLanes& c) {
                   hn::Or(hn::ShiftLeft<16>(unorm8(c.b)), hn::ShiftLeft<24>(unorm8(c.a))));
 }
 
+// How many varyings' derivatives a shader's lanes read: Lanes::D, or none.
+template <class Lanes>
+constexpr int derivative_lanes() {
+    if constexpr (requires { Lanes::D; }) return Lanes::D;
+    else return 0;
+}
+
 // The colours of the lanes in `active`, whose pixel centres are (centre_x, centre_y) (each x + 0.5
-// computed exactly as fragment_at does): interpolation as in fragment_at, with
+// computed exactly as fragment_at does): interpolation (and derivatives) as in fragment_at, with
 // each triangle value read by field(j) (record offset j), then the shader's lanes. Lanes whose
 // result needs the specification are added to `scalar`.
 template <int N, class Lanes, class Field>
@@ -230,10 +240,23 @@ HWY_INLINE hn::Vec<DU> shade_lanes(const Lanes& lanes, const Field& field, VF ce
     const VF zero = hn::Zero(df);
     const VF b1 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
     const VF b2 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
-    LanesIn<N> in;
+    constexpr int D = derivative_lanes<Lanes>();
+    LanesIn<N, D> in;
     for (int k = 0; k < N; ++k)
         in.v[k] = hn::Add(hn::Add(field(k_shading_head + k), hn::Mul(b1, field(k_shading_head + N + k))),
                           hn::Mul(b2, field(k_shading_head + 2 * N + k)));
+    if constexpr (D > 0) {
+        // d(l/q)/dx = (dl/dx - (l/q) dq/dx) / q, as fragment_at.
+        const VF b1x = hn::Mul(hn::Sub(field(sh_dl1dx), hn::Mul(b1, field(sh_dqdx))), w);
+        const VF b1y = hn::Mul(hn::Sub(field(sh_dl1dy), hn::Mul(b1, field(sh_dqdy))), w);
+        const VF b2x = hn::Mul(hn::Sub(field(sh_dl2dx), hn::Mul(b2, field(sh_dqdx))), w);
+        const VF b2y = hn::Mul(hn::Sub(field(sh_dl2dy), hn::Mul(b2, field(sh_dqdy))), w);
+        for (int k = 0; k < D; ++k) {
+            const VF d1 = field(k_shading_head + N + k), d2 = field(k_shading_head + 2 * N + k);
+            in.ddx[k] = hn::Add(hn::Mul(b1x, d1), hn::Mul(b2x, d2));
+            in.ddy[k] = hn::Add(hn::Mul(b1y, d1), hn::Mul(b2y, d2));
+        }
+    }
     in.front_facing = hn::Gt(field(sh_front), hn::Zero(df));
     in.visible = active;
     in.scalar = hn::FirstN(df, 0);

@@ -141,10 +141,13 @@ TEST(CompiledVisiblePass, NormalsMatchesTheSpecificationOnEveryIsa) {
 TEST(CompiledVisiblePass, VertexColourMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::VertexColour>("VertexColour");
 }
+TEST(CompiledVisiblePass, FlatMatchesTheSpecificationOnEveryIsa) {
+    expect_every_isa_matches_the_specification<shaders::Flat>("Flat");
+}
 
 // A type derived from a built-in shader is a different shader, drawn by the generic path.
 static_assert(!detail::CompiledVisiblePass<Wrapped<shaders::Lambert>>::available);
 static_assert(!detail::CompiledVisiblePass<EveryFragment<shaders::Lambert>>::available);
-static_assert(!detail::CompiledVisiblePass<shaders::Flat>::available);
+static_assert(!detail::CompiledVisiblePass<shaders::Textured>::available);
 
 }  // namespace
