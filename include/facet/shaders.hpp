@@ -9,6 +9,8 @@
 //   Mask          unlit white
 //   Textured      BlinnPhong with the material's base-colour texture and alpha (mask / blend)
 //   TextureUnlit  the base-colour texture and material colour, no lighting
+//                 (both also as ...Opaque: no alpha cutoff, so they never discard and the renderer
+//                 shades visible pixels only; the same colours when tex.alpha_cutoff < 0)
 #pragma once
 
 #include <algorithm>
@@ -171,7 +173,12 @@ struct BlinnPhongShader {
 using BlinnPhong = BlinnPhongShader<Albedo::vertex_colours>;
 using BlinnPhongBaseColour = BlinnPhongShader<Albedo::base_colour>;
 
-struct Textured {
+// With AlphaCutoff, a pixel whose albedo alpha is below tex.alpha_cutoff is discarded (a material's
+// AlphaMode::mask). Without, nothing is: a shader that cannot discard is drawn visible-only (depth
+// first, then fragment() once per visible pixel, detail/shade.hpp), which spares the texture lookups
+// and lighting of every pixel drawn over later.
+template <bool AlphaCutoff>
+struct TexturedShader {
     static constexpr int k_varyings = 12;  // uv, normal, world position, colour
     static constexpr int k_derivative_count = 2;  // the uv pair, for mip selection
     MeshArrays mesh;
@@ -184,16 +191,26 @@ struct Textured {
         out.set(8, detail::vertex_colour(mesh, u, i));
         return u.clip_from_object * Vec4(mesh.positions[i], 1);
     }
-    std::optional<Vec4> fragment(const FragmentIn<12>& in) const {
+    auto fragment(const FragmentIn<12>& in) const {
         const Vec4 albedo = detail::albedo(tex, in, 0, in.v.vec4(8));
-        if (albedo.w < tex.alpha_cutoff) return std::nullopt;
+        if constexpr (AlphaCutoff) {
+            if (albedo.w < tex.alpha_cutoff) return std::optional<Vec4>{};
+            return std::optional<Vec4>{lit(in, albedo)};
+        } else {
+            return lit(in, albedo);
+        }
+    }
+    Vec4 lit(const FragmentIn<12>& in, Vec4 albedo) const {
         Vec3 n = normalize(in.v.vec3(2));
         if (!in.front_facing) n = -n;
         return detail::blinn_phong(n, normalize(u.eye - in.v.vec3(5)), albedo, u);
     }
 };
+using Textured = TexturedShader<true>;
+using TexturedOpaque = TexturedShader<false>;
 
-struct TextureUnlit {
+template <bool AlphaCutoff>
+struct TextureUnlitShader {
     static constexpr int k_varyings = 6;  // uv, colour
     static constexpr int k_derivative_count = 2;
     MeshArrays mesh;
@@ -204,12 +221,18 @@ struct TextureUnlit {
         out.set(2, detail::vertex_colour(mesh, u, i));
         return u.clip_from_object * Vec4(mesh.positions[i], 1);
     }
-    std::optional<Vec4> fragment(const FragmentIn<6>& in) const {
+    auto fragment(const FragmentIn<6>& in) const {
         const Vec4 albedo = detail::albedo(tex, in, 0, in.v.vec4(2));
-        if (albedo.w < tex.alpha_cutoff) return std::nullopt;
-        return albedo;
+        if constexpr (AlphaCutoff) {
+            if (albedo.w < tex.alpha_cutoff) return std::optional<Vec4>{};
+            return std::optional<Vec4>{albedo};
+        } else {
+            return albedo;
+        }
     }
 };
+using TextureUnlit = TextureUnlitShader<true>;
+using TextureUnlitOpaque = TextureUnlitShader<false>;
 
 struct Normals {
     static constexpr int k_varyings = 3;

@@ -86,8 +86,8 @@ DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, 
     switch (shading) {
         case Shading::lit:
             if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
-            if (textured || o.material.alpha_mode == AlphaMode::mask)
-                return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex});
+            if (o.material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex});
+            if (textured) return draw_with(r, target, state, o, shaders::TexturedOpaque{arrays, u, tex});
             if (!arrays.colours) return draw_with(r, target, state, o, shaders::BlinnPhongBaseColour{arrays, u});
             return draw_with(r, target, state, o, shaders::BlinnPhong{arrays, u});
         case Shading::lambert:
@@ -97,7 +97,9 @@ DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, 
         case Shading::normals: return draw_with(r, target, state, o, shaders::Normals{arrays, u});
         case Shading::mask: return draw_with(r, target, state, o, shaders::Mask{arrays, u});
         case Shading::vertex_color: return draw_with(r, target, state, o, shaders::VertexColour{arrays, u});
-        case Shading::texture: return draw_with(r, target, state, o, shaders::TextureUnlit{arrays, u, tex});
+        case Shading::texture:
+            if (o.material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::TextureUnlit{arrays, u, tex});
+            return draw_with(r, target, state, o, shaders::TextureUnlitOpaque{arrays, u, tex});
     }
     return {};
 }
