@@ -97,7 +97,11 @@ std::optional<Header> parse_header(std::string_view bytes) {
         }
         if (line.find_first_of("\r\f\v") != std::string_view::npos) return std::nullopt;
         const std::vector<std::string_view> w = words_of(line);
-        if (expect != Expect::magic && !w.empty() && (w[0] == "comment" || w[0] == "obj_info")) continue;
+        // Comments only where assimp reads past them: between the format line and the first element,
+        // and after the face list. (It takes the second line as the format, and one inside an
+        // element's properties ends or garbles its property list.)
+        const bool between = expect == Expect::vertex_element || expect == Expect::end;
+        if (between && !w.empty() && (w[0] == "comment" || w[0] == "obj_info")) continue;
         switch (expect) {
             case Expect::magic:
                 if (line != "ply") return std::nullopt;

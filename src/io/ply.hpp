@@ -6,7 +6,8 @@
 // It takes only this form, ASCII or binary (either byte order):
 //   ply / format ... 1.0 / element vertex N / property lines / element face M /
 //   property list <integer> <integer> vertex_indices (or vertex_index) / end_header
-// with "comment" and "obj_info" lines anywhere in the header; the vertex properties are x, y and z,
+// with "comment" and "obj_info" lines before the first element and after the face list (assimp
+// misreads a property list with one inside); the vertex properties are x, y and z,
 // each float or double, and any of "confidence" and "intensity" (which assimp ignores); every face
 // is a triangle of vertices in range, every coordinate finite, and the file holds exactly the
 // announced data (ASCII: one element per line, values separated by spaces, nothing else but white

@@ -191,6 +191,31 @@ TEST(Regression, PlyPropertyOfAnUnknownTypeIsRefusedBeforeAssimp) {
     }
 }
 
+// Comparing facet's PLY reader with assimp on generated headers: a comment among an element's
+// properties makes assimp 5.2.5 end the property list there and read the rest wrongly (an error,
+// garbled positions, or a minute of work on a 300-byte binary file). load_model refuses such a
+// header with a message naming the element; a comment before the first element or after the last
+// property of one is still read.
+TEST(Regression, PlyCommentAmongPropertiesIsRefusedBeforeAssimp) {
+    const fs::path dir = facet_test::test_temp_dir("facet_regression");
+    const std::string faces = "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    for (const std::string& properties : {std::string("comment c\nproperty float x\nproperty float y\nproperty float z\n"),
+                                          std::string("property float x\nobj_info o\nproperty float y\nproperty float z\n")}) {
+        const std::string path = (dir / "comment.ply").string();
+        write_bytes(path, "ply\nformat ascii 1.0\nelement vertex 3\n" + properties + faces);
+        const auto r = load_model(path);
+        ASSERT_FALSE(r.ok()) << properties;
+        EXPECT_EQ(r.error().code, ErrorCode::bad_format);
+        EXPECT_TRUE(mentions(r.error().message, "comment among the properties of element 'vertex'")) << r.error().message;
+    }
+    const std::string fine = (dir / "fine.ply").string();
+    write_bytes(fine, "ply\nformat ascii 1.0\ncomment a\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      "comment b\n" + faces);
+    const auto ok = load_model(fine);
+    ASSERT_TRUE(ok.ok()) << ok.error().message;
+    EXPECT_EQ(ok->scene.triangle_count(), 1u);
+}
+
 // assimp's MDL reader hands over a skin of height 0 as a "compressed" texture of 65,538 bytes with
 // no format hint, in a buffer it allocated empty; reading it ran off the buffer's end (the CI fuzz
 // run, AddressSanitizer). The input, reduced from the fuzzer's: a 3D GameStudio MDL5 header for 3
