@@ -6,10 +6,12 @@
 // facet. The worker inherits stdout and stderr, so its warnings, errors and the --benchmark line
 // reach the user as they are written, and its exit status is facet's.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 
 #include "facet/io.hpp"
 #include "options.hpp"
@@ -17,6 +19,14 @@
 
 namespace facet::cli {
 namespace {
+
+// OFF and STL files: facet reads nearly all of them itself, and assimp's readers of the others
+// are not among those that read past their buffers (tests/regression/assimp_crashes).
+bool huge_pages_suit(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".off" || ext == ".stl";
+}
 
 using Clock = std::chrono::steady_clock;
 
@@ -146,8 +156,10 @@ int run_render(const std::string& model, const std::string& output, const std::s
     plan->load.threads = options.threads;
     const RenderRequest request{model, output, depth_out, benchmark_frames.value_or(0), *plan, options.threads};
     keep_freed_memory_for_reuse();  // this process, or its worker, renders one file and exits
-    // Only for jobs read by facet's own code: the built-in scene and the formats load_model parses itself.
-    const bool huge_pages = model.empty() || has_own_parser(model);
+    // Only for jobs read by facet's own code (use_huge_pages_for_heap): the built-in scene, OFF and
+    // STL files. Not PLY, which facet also reads itself: many PLY files (normals, colours) are left
+    // to assimp, whose PLY reader reads past its buffers.
+    const bool huge_pages = model.empty() || huge_pages_suit(model);
     if (options.no_isolation) {
         if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
         return render_job(request, WorkerReport{});
