@@ -43,12 +43,7 @@ int main(int argc, char** argv) {
     ViewArgs view_args;
     CLI::App* view = add_view_subcommand(app, view_args);
 
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : k_exit_usage;
-    }
+    if (const std::optional<int> done = parse_command_line(app, argc, argv)) return *done;
     try {
         if (render->parsed()) {
             if (render_options.no_isolation && (render->count("--timeout") > 0 || render->count("--max-memory") > 0)) {

@@ -260,16 +260,21 @@ int run_viewer_executable(char** argv) {
     return k_exit_failed;
 }
 
-std::optional<int> parse_view_command_line(int argc, char** argv, ViewArgs& args, bool& camera_options_given) {
-    CLI::App app{k_app_description};
-    app.require_subcommand(1);
-    CLI::App* view = add_view_subcommand(app, args);
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         const int code = app.exit(e);
         return code == 0 ? 0 : k_exit_usage;
     }
+    return std::nullopt;
+}
+
+std::optional<int> parse_view_command_line(int argc, char** argv, ViewArgs& args, bool& camera_options_given) {
+    CLI::App app{k_app_description};
+    app.require_subcommand(1);
+    CLI::App* view = add_view_subcommand(app, args);
+    if (const std::optional<int> done = parse_command_line(app, argc, argv)) return done;
     camera_options_given = has_camera_options(*view);
     return std::nullopt;
 }

@@ -71,6 +71,10 @@ struct RenderPlan {
 // scene is shown from its designed camera.
 bool has_camera_options(const CLI::App& command);
 
+// Parses the command line into `app`: nullopt when the command is to run, or the exit status when
+// the process is done (--help and friends: 0, printed; a usage error: k_exit_usage, printed to stderr).
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
+
 // Checks and converts the options; the error message names the offending option.
 Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_given);
 
