@@ -4,9 +4,12 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <iomanip>
 #include <iterator>
+#include <sstream>
 
 namespace facet_test {
 
@@ -47,6 +50,19 @@ std::string assimp_models_missing() {
 std::string cgal_meshes_missing() {
     return k_cgal_data.string() +
            " is missing or cannot be unpacked: install Debian's libcgal-demo (scripts/setup does)";
+}
+
+std::string random_number_text(std::mt19937& rng) {
+    auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<std::uint32_t>(n)); };
+    const float v = pick(3) == 0 ? static_cast<float>(pick(3)) : std::ldexp(static_cast<float>(pick(2000)) - 1000.0f, -pick(30));
+    std::ostringstream o;
+    switch (pick(5)) {
+        case 0: o << std::scientific << v; break;
+        case 1: o << std::setprecision(3) << v; break;
+        case 2: o << std::showpos << v; break;
+        default: o << std::setprecision(9) << v; break;
+    }
+    return o.str();
 }
 
 int sweep_size(int n, int minimum) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -38,6 +39,11 @@ std::filesystem::path test_temp_dir(const std::string& prefix);
 // (the kinds, windings and configurations cycle within the first few dozen cases); the release
 // suite keeps the full counts.
 int sweep_size(int n, int minimum = 100);
+
+// A random coordinate as text, for the generated-file tests of the model readers: small integers
+// (which repeat, so positions join), otherwise values from 1000 down to tiny ones, written in
+// scientific, short, signed or 9-digit form.
+std::string random_number_text(std::mt19937& rng);
 // Standard base64 with padding, for data: URIs in generated glTF files.
 std::string base64(const std::string& bytes);
 

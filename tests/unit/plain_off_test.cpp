@@ -132,16 +132,7 @@ TEST(PlainOff, GeneratedFilesMatchAssimp) {
         const int r = pick(100);
         return r < 3 ? end + end : r < 4 ? end + "   " + end : end;
     };
-    auto number = [&] {
-        const float v = pick(3) == 0 ? static_cast<float>(pick(3)) : std::ldexp(static_cast<float>(pick(2000)) - 1000.0f, -pick(30));
-        std::ostringstream o;
-        switch (pick(4)) {
-            case 0: o << std::scientific << v; break;
-            case 1: o << std::setprecision(3) << v; break;
-            default: o << std::setprecision(9) << v; break;
-        }
-        return o.str();
-    };
+    auto number = [&] { return facet_test::random_number_text(rng); };
     int taken = 0;
     const int files = facet_test::sweep_size(600, 120);
     for (int i = 0; i < files; ++i) {

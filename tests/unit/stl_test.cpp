@@ -166,17 +166,7 @@ TEST(Stl, GeneratedFilesMatchAssimp) {
     const char* breaks[] = {"\n", "\r\n", "\n\n", "\n  ", "\n\t"};
     auto space = [&] { return std::string(spaces[pick(4)]); };
     auto line_break = [&] { return std::string(breaks[pick(5)]); };
-    auto number = [&] {
-        const float v = pick(3) == 0 ? static_cast<float>(pick(3)) : std::ldexp(static_cast<float>(pick(2000)) - 1000.0f, -pick(30));
-        std::ostringstream o;
-        switch (pick(5)) {
-            case 0: o << std::scientific << v; break;
-            case 1: o << std::setprecision(3) << v; break;
-            case 2: o << std::showpos << v; break;
-            default: o << std::setprecision(9) << v; break;
-        }
-        return o.str();
-    };
+    auto number = [&] { return facet_test::random_number_text(rng); };
     int taken = 0;
     const int files = facet_test::sweep_size(600, 120);
     for (int i = 0; i < files; ++i) {
