@@ -1,6 +1,7 @@
-// The examples' --window mode: a tiny SDL2 window that shows facet images. Just enough for a demo:
-// upload the picture, present it, stop when the window is closed (or Esc or Q is pressed).
-// Without a display, ok() is false after one line on stderr, and the examples write PNGs instead.
+// What the examples share: their command line (--help, --window, their own arguments) and the
+// --window mode, a tiny SDL2 window that shows facet images. Just enough for a demo: upload the
+// picture, present it, stop when the window is closed (or Esc or Q is pressed). Without a display,
+// ok() is false after one line on stderr, and the examples write PNGs instead.
 #pragma once
 
 #define SDL_MAIN_HANDLED

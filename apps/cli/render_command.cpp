@@ -6,11 +6,9 @@
 // facet. The worker inherits stdout and stderr, so its warnings, errors and the --benchmark line
 // reach the user as they are written, and its exit status is facet's.
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <string>
 
 #include "facet/io.hpp"
@@ -23,9 +21,8 @@ namespace {
 // OFF and STL files: facet reads nearly all of them itself, and assimp's readers of the others
 // are not among those that read past their buffers (tests/regression/assimp_crashes).
 bool huge_pages_suit(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".off" || ext == ".stl";
+    const std::string ext = model_extension(path);
+    return ext == "off" || ext == "stl";
 }
 
 using Clock = std::chrono::steady_clock;

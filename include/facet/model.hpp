@@ -67,6 +67,10 @@ std::string describe_signal(int signal);
 // True when the file name has an extension of a format load_model reads (case-insensitive).
 bool is_supported_model_file(const std::string& path);
 
+// The file name's extension in lower case, without its dot ("" for none): what load_model picks
+// a format by.
+std::string model_extension(const std::string& path);
+
 // True when load_model reads the file with facet's own parser first rather than assimp's (OFF, STL
 // and PLY, by the extension, case-insensitive; a file the parser declines still goes to assimp).
 bool has_own_parser(const std::string& path);

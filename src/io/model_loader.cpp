@@ -92,10 +92,6 @@ std::string lower(std::string s) {
     return s;
 }
 
-std::string extension_of(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    return lower(ext.empty() ? ext : ext.substr(1));
-}
 
 // ---------------------------------------------------------------------------------------------
 // 1. Checks before assimp
@@ -565,7 +561,7 @@ class Converter {
 public:
     Converter(const std::string& path, const aiScene& scene, const LoadOptions& options)
         : path_(path), dir_(fs::path(path).parent_path()), scene_(scene), options_(options) {
-        const std::string ext = extension_of(path);
+        const std::string ext = model_extension(path);
         gltf_ = ext == "gltf" || ext == "glb";
         // STL's normals are per facet (often zero or stale): they are removed on import (see
         // load_model) and creased ones computed; this is a second guard.
@@ -842,13 +838,18 @@ Error out_of_memory(const std::string& path) {
 
 }  // namespace
 
+std::string model_extension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    return lower(ext.empty() ? ext : ext.substr(1));
+}
+
 bool has_own_parser(const std::string& path) {
-    const std::string ext = extension_of(path);
+    const std::string ext = model_extension(path);
     return ext == "off" || ext == "stl" || ext == "ply";
 }
 
 bool is_supported_model_file(const std::string& path) {
-    const std::string ext = extension_of(path);
+    const std::string ext = model_extension(path);
     if (ext.empty()) return false;
     static const Assimp::Importer importer;  // IsExtensionSupported only reads the importer list
     return importer.IsExtensionSupported("." + ext);
@@ -860,7 +861,7 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
     std::uintmax_t size = 0;
     std::string head;
     if (Status s = check_file(path, options, size, head); !s) return s.error();
-    const std::string ext = extension_of(path);
+    const std::string ext = model_extension(path);
     if (!is_supported_model_file(path))
         return fail(ErrorCode::unsupported, path,
                     ext.empty() ? "has no file extension to tell its format" : "'." + ext + "' is not a model format facet reads");
