@@ -1,7 +1,9 @@
 // facet setup: a batch of unclipped triangles set up at once, compiled per ISA by Highway and dispatched
 // at run time. One lane per triangle does what setup_triangle (setup.cpp, the specification) does: area,
-// culling, orientation, bounds, edge functions with the top-left rule and the attribute planes; a scalar
-// loop then writes the records of the lanes that survive, in batch order.
+// culling, orientation, bounds, edge functions with the top-left rule and the attribute planes. The
+// lanes then store each triangle's record already in its byte order, four words at a time
+// (SetupLanes::unit), so the front end writes a record as eight 16-byte copies instead of 32 scalar
+// ones, which were a third of its time.
 //
 // Why the results are the same bits: the integer quantities (area, bounds, A, B, C) are computed in
 // double lanes, where they are exact: snapped coordinates below 2^24 in magnitude (the guard band keeps
@@ -11,7 +13,8 @@
 // arithmetic right shift. A batch with a coordinate outside that range goes to setup_triangle instead.
 // The attribute planes are the same double operations in the same order as set_planes (no FMA: the
 // project builds with -ffp-contract=off and Highway's Mul, Sub and Div round separately), and the
-// conversions to float round to nearest as static_cast does.
+// conversions to float round to nearest as static_cast does. e0 is stored as the two words of an int64,
+// split exactly in double (int64_words).
 #include <cstdint>
 
 #include "setup/setup.hpp"
@@ -29,8 +32,10 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 using D = hn::ScalableTag<double>;
 using DI = hn::Rebind<std::int32_t, D>;
+using DU = hn::Rebind<std::uint32_t, D>;
 using DF = hn::Rebind<float, D>;
 using V = hn::Vec<D>;
+using VU = hn::Vec<DU>;
 using M = hn::Mask<D>;
 
 // Coordinates at or above this magnitude could make an edge constant inexact in double.
@@ -38,22 +43,24 @@ constexpr double k_exact_limit = 16777216.0;  // 2^24
 
 struct Corner {
     V x, y, z, q;
+    VU z_bits, q_bits;  // z and q as stored: the record's z0 and q0 are corner 0's, unchanged
 };
 
 // Corner k of the group's triangles, every field widened to double (exactly).
-Corner load_corner(const ScreenVertex* v) {
+HWY_INLINE Corner load_corner(const ScreenVertex* v) {
     const DI di;
     hn::Vec<DI> x, y, z, q;
     hn::LoadInterleaved4(di, reinterpret_cast<const std::int32_t*>(v), x, y, z, q);
     const D d;
     const DF df;
+    const DU du;
     return {hn::PromoteTo(d, x), hn::PromoteTo(d, y), hn::PromoteTo(d, hn::BitCast(df, z)),
-            hn::PromoteTo(d, hn::BitCast(df, q))};
+            hn::PromoteTo(d, hn::BitCast(df, q)), hn::BitCast(du, z), hn::BitCast(du, q)};
 }
 
-Corner select(M m, const Corner& yes, const Corner& no) {
+HWY_INLINE Corner select(M m, const Corner& yes, const Corner& no) {
     return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z),
-            hn::IfThenElse(m, yes.q, no.q)};
+            hn::IfThenElse(m, yes.q, no.q), yes.z_bits, yes.q_bits};
 }
 
 bool coordinates_exact(const Corner& a, const Corner& b, const Corner& c) {
@@ -69,53 +76,62 @@ std::uint32_t mask_bits(M m) {
     return bits[0];  // at most 8 double lanes
 }
 
+// An integer-valued double lane as the 32-bit word a record stores (|v| < 2^31).
+VU word_of_integer(V v) { return hn::BitCast(DU(), hn::DemoteTo(DI(), v)); }
+VU word_of_float(V v) { return hn::BitCast(DU(), hn::DemoteTo(DF(), v)); }
+
+// The low and high words of an integer-valued double lane as an int64 (|v| < 2^52, two's
+// complement, little-endian): high = floor(v / 2^32) and low = v - high 2^32 in [0, 2^32), all exact.
+HWY_INLINE void int64_words(V v, VU& low, VU& high) {
+    const D d;
+    const V h = hn::Floor(hn::Mul(v, hn::Set(d, 1.0 / 4294967296.0)));
+    const V l = hn::Sub(hn::Sub(v, hn::Mul(h, hn::Set(d, 4294967296.0))), hn::Set(d, 2147483648.0));
+    low = hn::Xor(word_of_integer(l), hn::Set(DU(), 0x80000000u));  // l + 2^31, modulo 2^32
+    high = word_of_integer(h);
+}
+
+// A mask of double lanes as one of 32-bit lanes (RebindMask needs lanes of one size).
+hn::Mask<DU> word_mask(M m) { return hn::MaskFromVec(word_of_integer(hn::IfThenElseZero(m, hn::Set(D(), -1.0)))); }
+
 // first_centre and last_centre of setup.cpp: floor(v / 256) is the arithmetic shift by 8.
 V floor_div_256(V v) { return hn::Floor(hn::Mul(v, hn::Set(D(), 1.0 / k_subpixel_one))); }
 
+struct Edge {
+    VU a, b, e0_low, e0_high;
+    M small;  // as edges_fit_32_bits tests each edge
+};
+
 // Edge a->b as set_edge: A, B, c = floor((C + bias + 128 (A + B)) / 256) and e0 = c + A min_x + B min_y,
-// all exact integers. Returns the lanes where the edge is small, as edges_fit_32_bits tests each.
-M set_edges(const Corner& a, const Corner& b, V min_x, V min_y, int e, int i0, SetupLanes& out) {
+// all exact integers.
+HWY_INLINE Edge set_edge(const Corner& a, const Corner& b, V min_x, V min_y) {
     const D d;
-    const DI di;
     const V zero = hn::Zero(d);
     const V A = hn::Sub(a.y, b.y), B = hn::Sub(b.x, a.x);
     const V C = hn::Neg(hn::Add(hn::Mul(A, a.x), hn::Mul(B, a.y)));
     const M top_left = hn::Or(hn::Gt(A, zero), hn::And(hn::Eq(A, zero), hn::Gt(B, zero)));
     const V bias = hn::IfThenZeroElse(top_left, hn::Set(d, -1.0));
     const V c = hn::Add(hn::Add(C, bias), hn::Mul(hn::Set(d, k_subpixel_one / 2), hn::Add(A, B)));
-    hn::StoreU(hn::DemoteTo(di, A), di, out.a[e] + i0);
-    hn::StoreU(hn::DemoteTo(di, B), di, out.b[e] + i0);
     const V e0 = hn::Add(hn::Add(floor_div_256(c), hn::Mul(A, min_x)), hn::Mul(B, min_y));
-    hn::StoreU(e0, d, out.e0[e] + i0);
+    Edge edge;
+    edge.a = word_of_integer(A);
+    edge.b = word_of_integer(B);
+    int64_words(e0, edge.e0_low, edge.e0_high);
     const V step_limit = hn::Set(d, 1 << 15);
-    return hn::And(hn::And(hn::Le(hn::Abs(A), step_limit), hn::Le(hn::Abs(B), step_limit)),
-                   hn::Lt(hn::Abs(e0), hn::Set(d, 1 << 30)));
+    edge.small = hn::And(hn::And(hn::Le(hn::Abs(A), step_limit), hn::Le(hn::Abs(B), step_limit)),
+                         hn::Lt(hn::Abs(e0), hn::Set(d, 1 << 30)));
+    return edge;
 }
 
+struct Plane {
+    VU dfdx, dfdy;
+};
+
 // One attribute plane as set_planes computes it, from the values f0, f1, f2 at the three vertices.
-void set_plane(V f0, V f1, V f2, V x1, V x2, V y1, V y2, V inv_area, int k, int i0, SetupLanes& out) {
-    const DF df;
+HWY_INLINE Plane set_plane(V f0, V f1, V f2, V x1, V x2, V y1, V y2, V inv_area) {
     const V d1 = hn::Sub(f1, f0), d2 = hn::Sub(f2, f0);
     const V dfdx = hn::Mul(hn::Sub(hn::Mul(d1, y2), hn::Mul(d2, y1)), inv_area);
     const V dfdy = hn::Mul(hn::Sub(hn::Mul(d2, x1), hn::Mul(d1, x2)), inv_area);
-    hn::StoreU(hn::DemoteTo(df, dfdx), df, out.dfdx[k] + i0);
-    hn::StoreU(hn::DemoteTo(df, dfdy), df, out.dfdy[k] + i0);
-}
-
-void set_planes(const Corner& v0, const Corner& v1, const Corner& v2, V area, int i0, SetupLanes& out) {
-    const D d;
-    const DF df;
-    const V x1 = hn::Sub(v1.x, v0.x), x2 = hn::Sub(v2.x, v0.x);
-    const V y1 = hn::Sub(v1.y, v0.y), y2 = hn::Sub(v2.y, v0.y);
-    const V inv_area = hn::Div(hn::Set(d, k_subpixel_one), area);
-    const V zero = hn::Zero(d);
-    set_plane(v0.z, v1.z, v2.z, x1, x2, y1, y2, inv_area, 0, i0, out);
-    set_plane(v0.q, v1.q, v2.q, x1, x2, y1, y2, inv_area, 1, i0, out);
-    set_plane(zero, v1.q, zero, x1, x2, y1, y2, inv_area, 2, i0, out);
-    set_plane(zero, zero, v2.q, x1, x2, y1, y2, inv_area, 3, i0, out);
-    const V scale = hn::Set(d, 1.0 / k_subpixel_one);
-    hn::StoreU(hn::DemoteTo(df, hn::Mul(v0.x, scale)), df, out.x0 + i0);
-    hn::StoreU(hn::DemoteTo(df, hn::Mul(v0.y, scale)), df, out.y0 + i0);
+    return {word_of_float(dfdx), word_of_float(dfdy)};
 }
 
 // Which lanes the draw state culls, given the signed area (see setup_triangle).
@@ -130,16 +146,21 @@ M culled_lanes(V signed_area, M front, const FrontEndParams& p) {
     return zero_area;
 }
 
+// Words 4g..4g+3 of the records of triangles i0.. (see SetupLanes).
+HWY_INLINE void store_unit(SetupLanes& out, int g, int i0, VU w0, VU w1, VU w2, VU w3) {
+    hn::StoreInterleaved4(w0, w1, w2, w3, DU(), out.unit[g][i0].word);
+}
+
 // Returns false, having written nothing useful, when a coordinate is too large for exact doubles.
 bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& out) {
     const D d;
-    const DI di;
+    const DU du;
     const int lanes = static_cast<int>(hn::Lanes(d));
     const V scissor_x0 = hn::Set(d, p.scissor.x0), scissor_y0 = hn::Set(d, p.scissor.y0);
     const V scissor_x1 = hn::Set(d, p.scissor.x1 - 1), scissor_y1 = hn::Set(d, p.scissor.y1 - 1);
     const V half = hn::Set(d, k_subpixel_one / 2);
     const bool ccw_front = p.state.front_face == FrontFace::ccw;
-    out.keep = out.culled = out.flip = out.front = out.small_edges = 0;  // the caller may reuse `out` batch after batch
+    out.keep = out.culled = 0;  // the caller may reuse `out` batch after batch
     for (int i0 = 0; i0 < batch.count; i0 += lanes) {
         const Corner s0 = load_corner(batch.v[0] + i0), s1 = load_corner(batch.v[1] + i0),
                      s2 = load_corner(batch.v[2] + i0);
@@ -162,19 +183,41 @@ bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& 
         out.culled |= mask_bits(culled) << i0;
         if (hn::AllFalse(d, keep)) continue;
         out.keep |= mask_bits(keep) << i0;
-        out.flip |= mask_bits(flip) << i0;
-        out.front |= mask_bits(front) << i0;
-        hn::StoreU(hn::DemoteTo(di, min_x), di, out.min_x + i0);
-        hn::StoreU(hn::DemoteTo(di, max_x), di, out.max_x + i0);
-        hn::StoreU(hn::DemoteTo(di, min_y), di, out.min_y + i0);
-        hn::StoreU(hn::DemoteTo(di, max_y), di, out.max_y + i0);
 
         // Orient so that the inside of every edge is where its function is positive.
         const Corner v1 = select(flip, s2, s1), v2 = select(flip, s1, s2);
-        const M small = hn::And(hn::And(set_edges(s0, v1, min_x, min_y, 0, i0, out), set_edges(v1, v2, min_x, min_y, 1, i0, out)),
-                                set_edges(v2, s0, min_x, min_y, 2, i0, out));
-        out.small_edges |= mask_bits(small) << i0;
-        set_planes(s0, v1, v2, hn::Abs(signed_area), i0, out);
+        const Edge e[3] = {set_edge(s0, v1, min_x, min_y), set_edge(v1, v2, min_x, min_y),
+                           set_edge(v2, s0, min_x, min_y)};
+        // The attribute planes as set_planes.
+        const V x1 = hn::Sub(v1.x, s0.x), x2 = hn::Sub(v2.x, s0.x);
+        const V y1 = hn::Sub(v1.y, s0.y), y2 = hn::Sub(v2.y, s0.y);
+        const V inv_area = hn::Div(hn::Set(d, k_subpixel_one), hn::Abs(signed_area));
+        const V zero = hn::Zero(d);
+        const Plane z = set_plane(s0.z, v1.z, v2.z, x1, x2, y1, y2, inv_area);
+        const Plane q = set_plane(s0.q, v1.q, v2.q, x1, x2, y1, y2, inv_area);
+        const Plane l1 = set_plane(zero, v1.q, zero, x1, x2, y1, y2, inv_area);
+        const Plane l2 = set_plane(zero, zero, v2.q, x1, x2, y1, y2, inv_area);
+        const V scale = hn::Set(d, 1.0 / k_subpixel_one);
+
+        // The vertices' varyings in the record's winding; then front_facing and small_edges, a byte each.
+        const auto flip_u = word_mask(flip);
+        const VU r0 = hn::LoadU(du, batch.ref[0] + i0), r1 = hn::LoadU(du, batch.ref[1] + i0),
+                 r2 = hn::LoadU(du, batch.ref[2] + i0);
+        const M small = hn::And(hn::And(e[0].small, e[1].small), e[2].small);
+        const VU flags = hn::Or(hn::IfThenElseZero(word_mask(front), hn::Set(du, 1u)),
+                                hn::IfThenElseZero(word_mask(small), hn::Set(du, 1u << 8)));
+
+        // The record's 32 words in order (TriangleSetup).
+        store_unit(out, 0, i0, e[0].a, e[1].a, e[2].a, e[0].b);
+        store_unit(out, 1, i0, e[1].b, e[2].b, e[0].e0_low, e[0].e0_high);
+        store_unit(out, 2, i0, e[1].e0_low, e[1].e0_high, e[2].e0_low, e[2].e0_high);
+        store_unit(out, 3, i0, word_of_integer(min_x), word_of_integer(min_y), word_of_integer(max_x),
+                   word_of_integer(max_y));
+        store_unit(out, 4, i0, word_of_float(hn::Mul(s0.x, scale)), word_of_float(hn::Mul(s0.y, scale)), s0.z_bits,
+                   z.dfdx);
+        store_unit(out, 5, i0, z.dfdy, s0.q_bits, q.dfdx, q.dfdy);
+        store_unit(out, 6, i0, l1.dfdx, l1.dfdy, l2.dfdx, l2.dfdy);
+        store_unit(out, 7, i0, r0, hn::IfThenElse(flip_u, r2, r1), hn::IfThenElse(flip_u, r1, r2), flags);
     }
     return true;
 }
@@ -203,33 +246,6 @@ BatchSetupCounts setup_one_by_one(const SetupBatch& batch, const FrontEndParams&
     return counts;
 }
 
-// The record of batch triangle i, field by field as setup_triangle writes it. Plain copies: this file
-// is compiled without GCC's SLP vectoriser (src/CMakeLists.txt), whose shuffles into wider stores
-// made the writer 30% slower.
-void write_record(const SetupBatch& batch, const SetupLanes& lanes, int i, TriangleSetup& t) {
-    for (int e = 0; e < 3; ++e) {
-        t.a[e] = lanes.a[e][i];
-        t.b[e] = lanes.b[e][i];
-        t.e0[e] = static_cast<std::int64_t>(lanes.e0[e][i]);
-    }
-    t.min_x = lanes.min_x[i], t.max_x = lanes.max_x[i];
-    t.min_y = lanes.min_y[i], t.max_y = lanes.max_y[i];
-    t.x0 = lanes.x0[i], t.y0 = lanes.y0[i];
-    t.z0 = batch.v[0][i].z, t.dzdx = lanes.dfdx[0][i], t.dzdy = lanes.dfdy[0][i];
-    t.q0 = batch.v[0][i].q, t.dqdx = lanes.dfdx[1][i], t.dqdy = lanes.dfdy[1][i];
-    t.dl1dx = lanes.dfdx[2][i], t.dl1dy = lanes.dfdy[2][i];
-    t.dl2dx = lanes.dfdx[3][i], t.dl2dy = lanes.dfdy[3][i];
-    const std::uint32_t bit = 1u << i;
-    const bool flip = (lanes.flip & bit) != 0;
-    t.vertex[0] = batch.ref[0][i];
-    t.vertex[1] = batch.ref[flip ? 2 : 1][i];
-    t.vertex[2] = batch.ref[flip ? 1 : 2][i];
-    // Tested in a register: a bit extracted into the record's byte made the compiler mask it in
-    // memory, a read of a record line not yet in the cache (40% of this function's time).
-    t.front_facing = (lanes.front & bit) != 0;
-    t.small_edges = (lanes.small_edges & bit) != 0;
-}
-
 HWY_EXPORT(SetupLanesOf);
 
 bool setup_lanes(const SetupBatch& batch, const FrontEndParams& params, SetupLanes& lanes) {
@@ -241,7 +257,7 @@ BatchSetupCounts setup_triangles(const SetupBatch& batch, const FrontEndParams& 
     if (!setup_lanes(batch, params, lanes)) return setup_one_by_one(batch, params, out);
     int written = 0;
     for (std::uint32_t keep = lanes.keep; keep != 0; keep &= keep - 1)
-        write_record(batch, lanes, std::countr_zero(keep), out[written++]);
+        write_record(lanes, std::countr_zero(keep), out[written++]);
     return {written, std::popcount(lanes.culled)};
 }
 
