@@ -218,7 +218,7 @@ TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
 // A whole bin at once: the kernel lists the triangles that pass somewhere, in order, each owning its
 // pixels under its index in the list, exactly as resolve_triangle_reference one triangle at a time.
 // Many small triangles over one tile (the kernel's rows in groups, the tile's last rows, tiles
-// narrower than a vector) and some large ones that reach far past it.
+// narrower than a vector) and some large ones that reach far past it; depths past [0, 1] and -0.
 TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     IsaGuard guard;
     const int width = 200, height = 130;
@@ -243,7 +243,10 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
                 const double extent = extents[rng() % std::size(extents)];
                 ScreenVertex v[3];
                 random_triangle(rng, near_x(rng), near_y(rng), extent, v);
-                for (ScreenVertex& s : v) s.z = unit(rng);
+                // Mostly inside [0, 1]; some reaching past it (the clamp), some at -0 (which the
+                // clamp keeps, as depth_at does: depths are compared byte for byte).
+                const int depths = coin(rng) ? 0 : 1 + coin(rng) % 2;
+                for (ScreenVertex& s : v) s.z = depths == 0 ? unit(rng) : depths == 1 ? unit(rng) * 1.2f - 0.1f : -0.0f;
                 TriangleSetup t{};
                 if (setup_triangle(v, refs, params, t) == SetupResult::ok) bin.push_back(t);
                 if (coin(rng) == 0) bin.push_back(bin.empty() ? t : bin.back());  // equal depths meet
