@@ -1,12 +1,15 @@
 // The command line's heap set-up for its one-job processes (apps/cli/worker.hpp): the heap's next
 // stretch is advised to use transparent huge pages, as large as asked and no larger than a quarter
-// of the memory cap. Checked in a forked child (the set-up changes the process's heap for good)
+// of the memory cap. Checked in a fresh process (the set-up changes the process's heap for good)
 // through /proc/self/smaps, where an advised region's VmFlags show "hg".
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -32,19 +35,43 @@ std::uint64_t advised_bytes() {
     return total;
 }
 
-// Runs the set-up with `cap` in a child and returns what it advised beyond what was advised before.
+// The set-up and what it advised beyond what was advised before, reported on `fd`.
+[[noreturn]] void measure_setup(std::uint64_t cap, int fd) {
+    const std::uint64_t before = advised_bytes();
+    facet::cli::keep_freed_memory_for_reuse();
+    facet::cli::use_huge_pages_for_heap(cap);
+    const std::uint64_t grown = advised_bytes() - before;
+    (void)!write(fd, &grown, sizeof grown);
+    _exit(0);
+}
+
+// In the process advised_by_setup starts: measure before any test runs, then exit.
+const bool g_measuring_child = [] {
+    const char* spec = std::getenv("FACET_HEAP_TEST_CHILD");
+    unsigned long long cap = 0;
+    int fd = -1;
+    if (spec && std::sscanf(spec, "%llu,%d", &cap, &fd) == 2) measure_setup(cap, fd);
+    return false;
+}();
+
+// Runs the set-up with `cap` in a fresh process (this test binary again, which measures in a static
+// initialiser) and returns what it advised. Fresh, as a job process is: a process that has run other
+// tests has free chunks in its heap large enough for the set-up's block, and then nothing grows.
 std::uint64_t advised_by_setup(std::uint64_t cap) {
     int fds[2];
     if (pipe(fds) != 0) return ~0ull;
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
-        const std::uint64_t before = advised_bytes();
-        facet::cli::keep_freed_memory_for_reuse();
-        facet::cli::use_huge_pages_for_heap(cap);
-        const std::uint64_t grown = advised_bytes() - before;
-        (void)!write(fds[1], &grown, sizeof grown);
-        _exit(0);
+        const std::string spec = std::to_string(cap) + "," + std::to_string(fds[1]);
+        setenv("FACET_HEAP_TEST_CHILD", spec.c_str(), 1);
+        const int null = open("/dev/null", O_WRONLY);
+        dup2(null, STDOUT_FILENO);
+        dup2(null, STDERR_FILENO);
+        char self[] = "/proc/self/exe";
+        char* const args[] = {self, nullptr};
+        execv(self, args);
+        _exit(127);
     }
     close(fds[1]);
     std::uint64_t grown = ~0ull;
