@@ -43,24 +43,24 @@ constexpr double k_exact_limit = 16777216.0;  // 2^24
 
 struct Corner {
     V x, y, z, q;
-    VU z_bits, q_bits;  // z and q as stored: the record's z0 and q0 are corner 0's, unchanged
 };
 
-// Corner k of the group's triangles, every field widened to double (exactly).
-HWY_INLINE Corner load_corner(const ScreenVertex* v) {
+// Corner k of the group's triangles, every field widened to double (exactly). With `bits`, also z
+// and q as stored (the record's z0 and q0 are corner 0's, unchanged).
+HWY_INLINE Corner load_corner(const ScreenVertex* v, VU (*bits)[2] = nullptr) {
     const DI di;
     hn::Vec<DI> x, y, z, q;
     hn::LoadInterleaved4(di, reinterpret_cast<const std::int32_t*>(v), x, y, z, q);
     const D d;
     const DF df;
-    const DU du;
+    if (bits) (*bits)[0] = hn::BitCast(DU(), z), (*bits)[1] = hn::BitCast(DU(), q);
     return {hn::PromoteTo(d, x), hn::PromoteTo(d, y), hn::PromoteTo(d, hn::BitCast(df, z)),
-            hn::PromoteTo(d, hn::BitCast(df, q)), hn::BitCast(du, z), hn::BitCast(du, q)};
+            hn::PromoteTo(d, hn::BitCast(df, q))};
 }
 
 HWY_INLINE Corner select(M m, const Corner& yes, const Corner& no) {
     return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z),
-            hn::IfThenElse(m, yes.q, no.q), yes.z_bits, yes.q_bits};
+            hn::IfThenElse(m, yes.q, no.q)};
 }
 
 bool coordinates_exact(const Corner& a, const Corner& b, const Corner& c) {
@@ -162,7 +162,8 @@ bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& 
     const bool ccw_front = p.state.front_face == FrontFace::ccw;
     out.keep = out.culled = 0;  // the caller may reuse `out` batch after batch
     for (int i0 = 0; i0 < batch.count; i0 += lanes) {
-        const Corner s0 = load_corner(batch.v[0] + i0), s1 = load_corner(batch.v[1] + i0),
+        VU zq0[2];  // corner 0's z and q as stored
+        const Corner s0 = load_corner(batch.v[0] + i0, &zq0), s1 = load_corner(batch.v[1] + i0),
                      s2 = load_corner(batch.v[2] + i0);
         if (!coordinates_exact(s0, s1, s2)) return false;
         const V signed_area = hn::Sub(hn::Mul(hn::Sub(s1.x, s0.x), hn::Sub(s2.y, s0.y)),
@@ -213,9 +214,9 @@ bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& 
         store_unit(out, 2, i0, e[1].e0_low, e[1].e0_high, e[2].e0_low, e[2].e0_high);
         store_unit(out, 3, i0, word_of_integer(min_x), word_of_integer(min_y), word_of_integer(max_x),
                    word_of_integer(max_y));
-        store_unit(out, 4, i0, word_of_float(hn::Mul(s0.x, scale)), word_of_float(hn::Mul(s0.y, scale)), s0.z_bits,
+        store_unit(out, 4, i0, word_of_float(hn::Mul(s0.x, scale)), word_of_float(hn::Mul(s0.y, scale)), zq0[0],
                    z.dfdx);
-        store_unit(out, 5, i0, z.dfdy, s0.q_bits, q.dfdx, q.dfdy);
+        store_unit(out, 5, i0, z.dfdy, zq0[1], q.dfdx, q.dfdy);
         store_unit(out, 6, i0, l1.dfdx, l1.dfdy, l2.dfdx, l2.dfdy);
         store_unit(out, 7, i0, r0, hn::IfThenElse(flip_u, r2, r1), hn::IfThenElse(flip_u, r1, r2), flags);
     }
