@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <optional>
 
 #include "facet/detail/front_end.hpp"
@@ -64,9 +65,10 @@ struct SetupLanes {
 // instead (setup_one_by_one): the scalar ISA is selected, or a coordinate is too large to be exact.
 bool setup_lanes(const SetupBatch& batch, const FrontEndParams& params, SetupLanes& lanes);
 // The record of batch triangle i (a bit of lanes.keep), as setup_triangle writes it.
+// (memcpy, not stores through a Unit*: the record is a TriangleSetup, and its bytes are copied.)
 inline void write_record(const SetupLanes& lanes, int i, TriangleSetup& t) {
-    auto* to = reinterpret_cast<SetupLanes::Unit*>(&t);
-    for (int g = 0; g < SetupLanes::k_units; ++g) to[g] = lanes.unit[g][i];
+    auto* to = reinterpret_cast<unsigned char*>(&t);
+    for (int g = 0; g < SetupLanes::k_units; ++g) std::memcpy(to + 16 * g, lanes.unit[g][i].word, 16);
 }
 // setup_triangle on each triangle of the batch, the survivors written to out[0, written).
 BatchSetupCounts setup_one_by_one(const SetupBatch& batch, const FrontEndParams& params, TriangleSetup* out);
