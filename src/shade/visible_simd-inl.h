@@ -305,6 +305,10 @@ HWY_INLINE void store_block(D d, hn::Vec<D> v, T* p, int stride) {
     }
 }
 
+// GCC 12 cannot see that the runs found from the leaders' bits fill run_record[0, runs) before the
+// blends read it, and warns; the entries read are exactly those written.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 template <class S, class Lanes>
 void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility& vis, PixelRect tile,
                       TargetView target) {
@@ -325,6 +329,26 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
     HWY_ALIGN float column[lane_count], row[lane_count];
     for (int l = 0; l < lane_count; ++l) column[l] = static_cast<float>(l % bw), row[l] = static_cast<float>(l / bw);
     const VF lane_column = hn::Load(df, column), lane_row = hn::Load(df, row), half = hn::Set(df, 0.5f);
+    // Each lane's neighbours in its block: left, up-left, up, up-right (see the runs below).
+    constexpr int k_neighbours = 4;
+    using LaneIndices = decltype(hn::SetTableIndices(du, static_cast<const std::int32_t*>(nullptr)));
+    LaneIndices neighbour[k_neighbours];
+    hn::Mask<DU> has_neighbour[k_neighbours];
+    {
+        constexpr int step[k_neighbours][2] = {{-1, 0}, {-1, -1}, {0, -1}, {1, -1}};  // column, row
+        for (int k = 0; k < k_neighbours; ++k) {
+            HWY_ALIGN std::int32_t index[lane_count];
+            HWY_ALIGN std::uint32_t has[lane_count];
+            for (int l = 0; l < lane_count; ++l) {
+                const int c = l % bw + step[k][0], r = l / bw + step[k][1];
+                const bool inside = c >= 0 && c < bw && r >= 0 && r < bh;
+                index[l] = inside ? r * bw + c : l;
+                has[l] = inside ? 1u : 0u;
+            }
+            neighbour[k] = hn::SetTableIndices(du, index);
+            has_neighbour[k] = hn::Eq(hn::Load(du, has), hn::Set(du, 1u));
+        }
+    }
     const int colour_stride = target.stride;
 
     std::uint64_t redo[k_max_tile_size];  // per row: pixels for the specification
@@ -351,16 +375,33 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
             // The triangles owning the visible lanes: each lane's value of a record field is
             // assembled from one broadcast per triangle. (Gathering values lane by lane was measured
             // 25% slower over a bunny frame, and several times slower when four triangles share a vector.)
+            // A lane's left, up-left, up and up-right neighbours all come before it in the block's row
+            // order, so a triangle's first lane has none of them in the same triangle: the lanes
+            // without such a neighbour (leaders) name every owner, and their runs are found
+            // independently of each other, not one after another by removing each from the rest
+            // (that chain was a third of a 4x4 block with four owners). A triangle whose rows in the
+            // block do not touch may lead twice; its second run blends the same values again.
             HWY_ALIGN std::uint32_t owner_of[lane_count];
             hn::Store(owners, du, owner_of);
             MF run_mask[lane_count];
             const float* run_record[lane_count];
             int runs = 0;
-            for (MF left = visible; !hn::AllFalse(df, left); ++runs) {
-                const std::uint32_t owner = owner_of[hn::FindFirstTrue(df, left)];
-                run_mask[runs] = hn::And(left, hn::RebindMask(df, hn::Eq(owners, hn::Set(du, owner))));
-                run_record[runs] = records + static_cast<std::size_t>(owner) * vis.stride;
-                left = hn::AndNot(run_mask[runs], left);
+            // One owner for every visible lane (large triangles): no leaders to look for.
+            const std::uint32_t first_owner = owner_of[hn::FindFirstTrue(df, visible)];
+            const MF first_run = hn::RebindMask(df, hn::Eq(owners, hn::Set(du, first_owner)));
+            if (hn::AllFalse(df, hn::AndNot(first_run, visible))) {
+                run_record[runs++] = records + static_cast<std::size_t>(first_owner) * vis.stride;
+            } else {
+                auto repeats = hn::FirstN(du, 0);
+                for (int k = 0; k < k_neighbours; ++k)
+                    repeats = hn::Or(repeats, hn::And(has_neighbour[k],
+                                                      hn::Eq(owners, hn::TableLookupLanes(owners, neighbour[k]))));
+                for (std::uint64_t leaders = mask_bits(hn::AndNot(hn::RebindMask(df, repeats), visible));
+                     leaders != 0; leaders &= leaders - 1, ++runs) {
+                    const std::uint32_t owner = owner_of[std::countr_zero(leaders)];
+                    run_mask[runs] = hn::And(visible, hn::RebindMask(df, hn::Eq(owners, hn::Set(du, owner))));
+                    run_record[runs] = records + static_cast<std::size_t>(owner) * vis.stride;
+                }
             }
             hn::Vec<DU> rgba;
             if (runs == 1) {  // one triangle: plain broadcasts
@@ -389,6 +430,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
     for (int r = 0; r < height; ++r)
         if (redo[r]) shade_visible_pixels(shader, vis, tile, target, tile.y0 + r, redo[r]);
 }
+#pragma GCC diagnostic pop
 
 }  // namespace facet::detail::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
