@@ -385,19 +385,20 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
             hn::Store(owners, du, owner_of);
             MF run_mask[lane_count];
             const float* run_record[lane_count];
-            int runs = 0;
-            // One owner for every visible lane (large triangles): no leaders to look for.
+            // Run 0 is the first visible lane's triangle (the first leader): its values are the
+            // base the other runs are blended over, so it needs no mask. When it owns every
+            // visible lane (large triangles) there are no leaders to look for.
             const std::uint32_t first_owner = owner_of[hn::FindFirstTrue(df, visible)];
+            run_record[0] = records + static_cast<std::size_t>(first_owner) * vis.stride;
+            int runs = 1;
             const MF first_run = hn::RebindMask(df, hn::Eq(owners, hn::Set(du, first_owner)));
-            if (hn::AllFalse(df, hn::AndNot(first_run, visible))) {
-                run_record[runs++] = records + static_cast<std::size_t>(first_owner) * vis.stride;
-            } else {
+            if (!hn::AllFalse(df, hn::AndNot(first_run, visible))) {
                 auto repeats = hn::FirstN(du, 0);
                 for (int k = 0; k < k_neighbours; ++k)
                     repeats = hn::Or(repeats, hn::And(has_neighbour[k],
                                                       hn::Eq(owners, hn::TableLookupLanes(owners, neighbour[k]))));
-                for (std::uint64_t leaders = mask_bits(hn::AndNot(hn::RebindMask(df, repeats), visible));
-                     leaders != 0; leaders &= leaders - 1, ++runs) {
+                std::uint64_t leaders = mask_bits(hn::AndNot(hn::RebindMask(df, repeats), visible));
+                for (leaders &= leaders - 1; leaders != 0; leaders &= leaders - 1, ++runs) {
                     const std::uint32_t owner = owner_of[std::countr_zero(leaders)];
                     run_mask[runs] = hn::And(visible, hn::RebindMask(df, hn::Eq(owners, hn::Set(du, owner))));
                     run_record[runs] = records + static_cast<std::size_t>(owner) * vis.stride;
