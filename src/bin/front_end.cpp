@@ -140,6 +140,59 @@ private:
 
 bool finite(Vec4 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w); }
 
+// A triangle that is not wholly inside the clip volume with valid vertices: rejected, or clipped
+// and its pieces emitted. Out of line: most triangles of a mesh never get here.
+[[gnu::noinline]] void assemble_other(const ClipVertices& vertices, const std::uint32_t (&idx)[3], GuardBand guard,
+                                      const FrontEndParams& p, Emitter& emitter, FrontEndChunk& out) {
+    const std::size_t vertex_count = vertices.pos.size();
+    std::uint32_t codes[3];
+    for (int k = 0; k < 3; ++k) {
+        if (idx[k] >= vertex_count || vertices.outcode[idx[k]] == k_outcode_invalid) {
+            ++out.stats.triangles_invalid;
+            return;
+        }
+        codes[k] = vertices.outcode[idx[k]];
+    }
+    if (codes[0] & codes[1] & codes[2]) return;  // wholly outside one plane
+    ++out.stats.triangles_clipped;
+    const ClipVertex tri[3] = {{vertices.pos[idx[0]], idx[0]}, {vertices.pos[idx[1]], idx[1]},
+                               {vertices.pos[idx[2]], idx[2]}};
+    ClipVertex poly[k_max_clip_polygon];
+    const int n = clip_triangle(tri, codes[0] | codes[1] | codes[2], guard, vertices, out.extras, poly);
+    bool poly_finite = true;
+    for (int i = 0; i < n; ++i) poly_finite = poly_finite && finite(poly[i].pos) && poly[i].pos.w > 0;
+    if (!poly_finite) {  // coordinates so large that the intersections overflowed
+        ++out.stats.triangles_invalid;
+        return;
+    }
+    ScreenVertex projected[k_max_clip_polygon];
+    for (int i = 0; i < n; ++i) projected[i] = project(poly[i].pos, p);
+    for (int i = 1; i + 1 < n; ++i) {
+        const ScreenVertex v[3] = {projected[0], projected[i], projected[i + 1]};
+        const std::uint32_t ref[3] = {poly[0].ref, poly[i].ref, poly[i + 1].ref};
+        emitter.emit(v, ref);
+    }
+}
+
+// Triangles [first, end) in order, their vertex indices from `index_of`. A triangle whose three
+// vertices are in range and inside every clip plane (outcode 0; an invalid vertex's is not) joins
+// the set-up batch after one test; the others go to assemble_other.
+template <class IndexOf>
+void assemble(const ClipVertices& vertices, std::size_t first, std::size_t end, const IndexOf& index_of,
+              GuardBand guard, const FrontEndParams& p, Emitter& emitter, FrontEndChunk& out) {
+    const std::size_t vertex_count = vertices.pos.size();
+    const std::uint8_t* outcode = vertices.outcode.data();
+    for (std::size_t t = first; t < end; ++t) {
+        const std::uint32_t idx[3] = {index_of(t, 0), index_of(t, 1), index_of(t, 2)};
+        if (std::max({idx[0], idx[1], idx[2]}) < vertex_count &&
+            (outcode[idx[0]] | outcode[idx[1]] | outcode[idx[2]]) == 0) {
+            emitter.add_unclipped(vertices, idx);
+            continue;
+        }
+        assemble_other(vertices, idx, guard, p, emitter, out);
+    }
+}
+
 }  // namespace
 
 void FrontEndChunk::reset(std::size_t tile_count, int stride) {
@@ -169,48 +222,19 @@ void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, cons
 void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,
                    const FrontEndParams& p, FrontEndChunk& out) {
     const GuardBand guard = guard_band(p);
-    const bool indexed = !input.indices.empty();
-    const std::size_t vertex_count = vertices.pos.size();
     Emitter emitter(p, out);
     out.stats.triangles_in += end - first;
-    for (std::size_t t = first; t < end; ++t) {
-        std::uint32_t idx[3];
-        std::uint32_t codes[3];
-        bool valid = true;
-        for (int k = 0; k < 3; ++k) {
-            const std::size_t i = indexed ? input.indices[t * 3 + k] : t * 3 + k;
-            valid = valid && i < vertex_count && vertices.outcode[i] != k_outcode_invalid;
-            if (!valid) break;
-            idx[k] = static_cast<std::uint32_t>(i);
-            codes[k] = vertices.outcode[i];
-        }
-        if (!valid) {
-            ++out.stats.triangles_invalid;
-            continue;
-        }
-        if (codes[0] & codes[1] & codes[2]) continue;  // wholly outside one plane
-        if ((codes[0] | codes[1] | codes[2]) == 0) {
-            emitter.add_unclipped(vertices, idx);
-            continue;
-        }
-        ++out.stats.triangles_clipped;
-        const ClipVertex tri[3] = {{vertices.pos[idx[0]], idx[0]}, {vertices.pos[idx[1]], idx[1]},
-                                   {vertices.pos[idx[2]], idx[2]}};
-        ClipVertex poly[k_max_clip_polygon];
-        const int n = clip_triangle(tri, codes[0] | codes[1] | codes[2], guard, vertices, out.extras, poly);
-        bool poly_finite = true;
-        for (int i = 0; i < n; ++i) poly_finite = poly_finite && finite(poly[i].pos) && poly[i].pos.w > 0;
-        if (!poly_finite) {  // coordinates so large that the intersections overflowed
-            ++out.stats.triangles_invalid;
-            continue;
-        }
-        ScreenVertex projected[k_max_clip_polygon];
-        for (int i = 0; i < n; ++i) projected[i] = project(poly[i].pos, p);
-        for (int i = 1; i + 1 < n; ++i) {
-            const ScreenVertex v[3] = {projected[0], projected[i], projected[i + 1]};
-            const std::uint32_t ref[3] = {poly[0].ref, poly[i].ref, poly[i + 1].ref};
-            emitter.emit(v, ref);
-        }
+    if (input.indices.empty()) {
+        // Indices past 2^32 - 1 cannot name a vertex (vertex counts are 32-bit): they stay out of range.
+        const auto index_of = [](std::size_t t, int k) {
+            const std::size_t i = t * 3 + static_cast<std::size_t>(k);
+            return i > 0xffffffffu ? 0xffffffffu : static_cast<std::uint32_t>(i);
+        };
+        assemble(vertices, first, end, index_of, guard, p, emitter, out);
+    } else {
+        const std::uint32_t* indices = input.indices.data();
+        const auto index_of = [indices](std::size_t t, int k) { return indices[t * 3 + static_cast<std::size_t>(k)]; };
+        assemble(vertices, first, end, index_of, guard, p, emitter, out);
     }
     emitter.finish();
 }
