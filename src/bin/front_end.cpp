@@ -30,7 +30,7 @@ class Emitter {
 
 public:
     Emitter(const FrontEndParams& p, FrontEndChunk& out)
-        : p_(p), out_(out), tile_shift_(std::countr_zero(static_cast<unsigned>(p.tile_size))) {}
+        : p_(p), out_(out) {}
 
     // A triangle with every vertex inside all clip planes (most of them): set up later with its batch.
     void add_unclipped(const ClipVertices& vertices, const std::uint32_t (&idx)[3]) {
@@ -75,12 +75,15 @@ private:
         }
         culled_ += static_cast<std::uint64_t>(std::popcount(lanes_.culled));
         set_up_ += static_cast<std::uint64_t>(std::popcount(lanes_.keep));
+        // A local copy: the record copies below may write any byte, so what a member holds would be
+        // read again from memory for every triangle.
+        const BinGrid grid = grid_of();
         for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
             const int i = std::countr_zero(keep);
             const std::int32_t* bounds = lanes_.bounds(i);
-            const TileSpan span = tiles_of(bounds[0], bounds[2], bounds[1], bounds[3]);
+            const TileSpan span = grid.tiles_of(bounds[0], bounds[2], bounds[1], bounds[3]);
             if (span.one()) {
-                TriangleSetup& t = bin_of(span.x0, span.y0).emplace_back();
+                TriangleSetup& t = grid.bin(span.x0, span.y0).emplace_back();
                 // The bin's lines a few records on, owned before they are written: a bin is a
                 // stream the hardware has not learnt, and a store that misses waits for its line
                 // (measured 6% of a 1M-triangle frame). Past the allocation, a prefetch does nothing.
@@ -102,17 +105,30 @@ private:
         int x0, x1, y0, y1;
         bool one() const { return x0 == x1 && y0 == y1; }
     };
-    TileSpan tiles_of(int min_x, int max_x, int min_y, int max_y) const {
-        return {min_x >> tile_shift_, max_x >> tile_shift_, min_y >> tile_shift_, max_y >> tile_shift_};
+    // The chunk's bins, and which tiles pixel bounds reach.
+    struct BinGrid {
+        int shift;
+        std::size_t tiles_x;
+        TileBin* bins;
+        TileSpan tiles_of(int min_x, int max_x, int min_y, int max_y) const {
+            return {min_x >> shift, max_x >> shift, min_y >> shift, max_y >> shift};
+        }
+        TileBin& bin(int tx, int ty) const {
+            return bins[static_cast<std::size_t>(ty) * tiles_x + static_cast<std::size_t>(tx)];
+        }
+    };
+    BinGrid grid_of() const {
+        return {std::countr_zero(static_cast<unsigned>(p_.tile_size)), static_cast<std::size_t>(p_.tiles_x),
+                out_.bins.data()};
     }
-    TileBin& bin_of(int tx, int ty) { return out_.bins[static_cast<std::size_t>(ty) * p_.tiles_x + tx]; }
 
     // A triangle inside one tile (most of them) goes to that tile's bin unexamined.
     // Forced inline into the batch loop: as a call, its entry and exit were a third of its samples.
     [[gnu::always_inline]] void bin(const TriangleSetup& t) {
-        const TileSpan span = tiles_of(t.min_x, t.max_x, t.min_y, t.max_y);
+        const BinGrid grid = grid_of();
+        const TileSpan span = grid.tiles_of(t.min_x, t.max_x, t.min_y, t.max_y);
         if (span.one()) {
-            bin_of(span.x0, span.y0).push_back(t);
+            grid.bin(span.x0, span.y0).push_back(t);
             return;
         }
         bin_across_tiles(t, span);
@@ -121,18 +137,18 @@ private:
     // Out of line: few triangles span tiles, and the batch loop stays small without this one.
     [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, TileSpan span) {
         const int s = p_.tile_size;
+        const BinGrid grid = grid_of();
         for (int ty = span.y0; ty <= span.y1; ++ty)
             for (int tx = span.x0; tx <= span.x1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
                 if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
-                bin_of(tx, ty).push_back(t);
+                grid.bin(tx, ty).push_back(t);
             }
     }
 
     const FrontEndParams& p_;
     FrontEndChunk& out_;
     std::uint64_t set_up_ = 0, culled_ = 0;
-    int tile_shift_;
     SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
     SetupLanes lanes_;
     TriangleSetup scratch_[SetupBatch::k_capacity];
