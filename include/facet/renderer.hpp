@@ -18,6 +18,7 @@
 #include "facet/detail/front_end.hpp"
 #include "facet/detail/shade.hpp"
 #include "facet/detail/thread_pool.hpp"
+#include "facet/detail/vertex_stage.hpp"
 #include "facet/detail/visible_pass.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
@@ -232,14 +233,20 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
     vertices_.resize(input.vertex_count, N);
     const std::size_t blocks = (input.vertex_count + detail::k_vertex_block - 1) / detail::k_vertex_block;
     pool_.parallel_for(blocks, [&](std::size_t block) {
-        const std::size_t end = std::min<std::size_t>(input.vertex_count, (block + 1) * detail::k_vertex_block);
-        Varyings<N> out;
-        for (std::size_t i = block * detail::k_vertex_block; i < end; ++i) {
-            vertices_.pos[i] = shader.vertex(static_cast<std::uint32_t>(i), out);
-            float* dst = vertices_.varyings.data() + i * N;
-            for (int k = 0; k < N; ++k) dst[k] = out[k];
+        const std::size_t begin = block * detail::k_vertex_block;
+        const std::size_t end = std::min<std::size_t>(input.vertex_count, begin + detail::k_vertex_block);
+        if constexpr (detail::CompiledVertexStage<S>::available) {
+            detail::CompiledVertexStage<S>::run(shader, begin, end, vertices_.pos.data() + begin,
+                                                vertices_.varyings.data() + begin * N);
+        } else {
+            Varyings<N> out;
+            for (std::size_t i = begin; i < end; ++i) {
+                vertices_.pos[i] = shader.vertex(static_cast<std::uint32_t>(i), out);
+                float* dst = vertices_.varyings.data() + i * N;
+                for (int k = 0; k < N; ++k) dst[k] = out[k];
+            }
         }
-        detail::project_vertices(vertices_, block * detail::k_vertex_block, end, plan.params);
+        detail::project_vertices(vertices_, begin, end, plan.params);
     });
 
     // Tiles, drawn in order: depth writes and blending become template parameters once here (the

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "facet/detail/vertex_stage.hpp"
 #include "facet/detail/visible_pass.hpp"
 #include "facet/math/portable_pow.hpp"
 #include "facet/mesh.hpp"
@@ -275,5 +276,37 @@ FACET_COMPILED_VISIBLE_PASS(Normals)
 FACET_COMPILED_VISIBLE_PASS(VertexColour)
 FACET_COMPILED_VISIBLE_PASS(Flat)
 #undef FACET_COMPILED_VISIBLE_PASS
+
+// The built-in shaders whose vertex() is the clip position plus the world normal and/or the vertex
+// colour: their vertex stage in SIMD (src/vertex/transform_simd.cpp), the same bytes as vertex().
+// Vertices [begin, end): clip[j] and varyings[j * N ..] belong to vertex begin + j.
+template <int N, int NormalAt, int ColourAt>  // where each varying starts; -1: the shader has none
+void run_vertex_stage(const MeshArrays& mesh, const ShadingUniforms& u, std::size_t begin, std::size_t end,
+                      Vec4* clip, float* varyings) {
+    const std::size_t n = end - begin;
+    transform_points(u.clip_from_object, mesh.positions + begin, n, clip);
+    if constexpr (NormalAt >= 0)
+        transform_directions(u.normal_to_world, mesh.normals ? mesh.normals + begin : nullptr, n,
+                             varyings + NormalAt, N);
+    if constexpr (ColourAt >= 0)
+        for (std::size_t j = 0; j < n; ++j) {
+            const Vec4 c = shaders::detail::vertex_colour(mesh, u, static_cast<std::uint32_t>(begin + j));
+            for (int k = 0; k < 4; ++k) varyings[j * N + static_cast<std::size_t>(ColourAt + k)] = c[static_cast<std::size_t>(k)];
+        }
+}
+#define FACET_COMPILED_VERTEX_STAGE(S, NormalAt, ColourAt)                                           \
+    template <>                                                                                     \
+    struct CompiledVertexStage<shaders::S> {                                                        \
+        static constexpr bool available = true;                                                     \
+        static void run(const shaders::S& s, std::size_t begin, std::size_t end, Vec4* clip, float* varyings) { \
+            run_vertex_stage<shaders::S::k_varyings, NormalAt, ColourAt>(s.mesh, s.u, begin, end, clip, varyings); \
+        }                                                                                           \
+    };
+FACET_COMPILED_VERTEX_STAGE(Lambert, 0, 3)
+FACET_COMPILED_VERTEX_STAGE(LambertBaseColour, 0, -1)
+FACET_COMPILED_VERTEX_STAGE(Normals, 0, -1)
+FACET_COMPILED_VERTEX_STAGE(VertexColour, -1, 0)
+FACET_COMPILED_VERTEX_STAGE(Mask, -1, -1)
+#undef FACET_COMPILED_VERTEX_STAGE
 }  // namespace detail
 }  // namespace facet

@@ -1,8 +1,9 @@
 // The SIMD kernels against their scalar specification, on every ISA this CPU runs: coverage of
 // random triangles of every size (from sub-pixel to the edge of the guard band, where the 32-bit
 // form of the edge functions is tightest) must be the reference's bit for bit, so must the fused
-// coverage-and-depth pass (depth buffer, owners, covered pixels) on tiles of every width, and the
-// ISA switch itself must do what it says.
+// coverage-and-depth pass (depth buffer, owners, covered pixels) on tiles of every width, so must the
+// compiled vertex stages of the built-in shaders against their vertex(), and the ISA switch itself
+// must do what it says.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include "facet/detail/front_end.hpp"
 #include "facet/detail/shade.hpp"
 #include "facet/isa.hpp"
+#include "facet/shaders.hpp"
 #include "setup/setup.hpp"
 
 namespace {
@@ -356,6 +358,77 @@ TEST(Isa, TileStoreWithCoverageEqualsTheSpecificationOnEveryIsa) {
         }
     }
     EXPECT_GT(streamed_tiles, 100);
+}
+
+// The same float, or both NaN: which NaN an operation returns when both of its operands are NaN
+// depends on their order, which the compiler may swap; no output can tell NaNs apart.
+bool same_float(float a, float b) {
+    return std::memcmp(&a, &b, sizeof(float)) == 0 || (std::isnan(a) && std::isnan(b));
+}
+
+// What CompiledVertexStage<S>::run writes for vertices [0, n), in blocks of uneven sizes (every
+// kernel's tail), must be what S::vertex() returns and writes for each vertex.
+template <class S>
+int expect_vertex_stage_is_vertex(const S& shader, std::size_t n, const std::string& isa) {
+    constexpr int N = S::k_varyings;
+    static_assert(detail::CompiledVertexStage<S>::available);
+    std::vector<Vec4> clip(n);
+    std::vector<float> varyings(n * N + 1);
+    for (std::size_t begin = 0; begin < n; begin += 997) {
+        const std::size_t end = std::min(n, begin + 997);
+        detail::CompiledVertexStage<S>::run(shader, begin, end, clip.data() + begin, varyings.data() + begin * N);
+    }
+    int compared = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        Varyings<N> out;
+        const Vec4 expected = shader.vertex(static_cast<std::uint32_t>(i), out);
+        for (std::size_t k = 0; k < 4; ++k)
+            EXPECT_TRUE(same_float(clip[i][k], expected[k])) << isa << ": vertex " << i << ", clip[" << k << "] "
+                                                               << clip[i][k] << " != " << expected[k];
+        for (int k = 0; k < N; ++k)
+            EXPECT_TRUE(same_float(varyings[i * N + k], out[k])) << isa << ": vertex " << i << ", varying " << k;
+        ++compared;
+    }
+    return compared;
+}
+
+TEST(Isa, CompiledVertexStagesEqualTheShadersVertexOnEveryIsa) {
+    IsaGuard guard;
+    const float specials[] = {0.0f, -0.0f, 1e-40f, 1e30f, -1e38f, std::numeric_limits<float>::infinity(),
+                              -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN()};
+    std::mt19937 rng(20261122);
+    std::uniform_real_distribution<float> any(-3.0f, 3.0f);
+    std::uniform_int_distribution<int> kind(0, 19);
+    auto value = [&] { return kind(rng) == 0 ? specials[rng() % std::size(specials)] : any(rng); };
+    const std::size_t n = 5003;  // not a multiple of any vector
+    Mesh mesh;
+    for (std::size_t i = 0; i < n; ++i) {
+        mesh.positions.push_back({value(), value(), value()});
+        mesh.normals.push_back({value(), value(), value()});
+        mesh.colours.push_back({any(rng), any(rng), any(rng), any(rng)});
+    }
+    Mesh bare;  // positions alone: no normals (a zero normal) and no colours (the base colour)
+    bare.positions = mesh.positions;
+    ShadingUniforms u;
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) u.clip_from_object(r, c) = any(rng);
+    u.clip_from_object(1, 2) = -0.0f;
+    for (int c = 0; c < 3; ++c) u.normal_to_world.col[c] = {any(rng), any(rng), any(rng)};
+    u.base_colour = {0.25f, 0.5f, 0.75f, 1.0f};
+    int compared = 0;
+    for (const std::string& isa : available_isas()) {
+        ASSERT_TRUE(select_isa(isa));
+        for (const Mesh* m : {&mesh, &bare}) {
+            const MeshArrays arrays = MeshArrays::of(*m);
+            compared += expect_vertex_stage_is_vertex(shaders::Lambert{arrays, u}, n, isa);
+            compared += expect_vertex_stage_is_vertex(shaders::LambertBaseColour{arrays, u}, n, isa);
+            compared += expect_vertex_stage_is_vertex(shaders::Normals{arrays, u}, n, isa);
+            compared += expect_vertex_stage_is_vertex(shaders::VertexColour{arrays, u}, n, isa);
+            compared += expect_vertex_stage_is_vertex(shaders::Mask{arrays, u}, n, isa);
+        }
+        if (HasFailure()) return;
+    }
+    EXPECT_EQ(compared, static_cast<int>(available_isas().size() * 10 * n));
 }
 
 }  // namespace
