@@ -11,6 +11,8 @@
 // and B min_y, with bounds inside the target, are below 2^40), inside the 53-bit mantissa,
 // so each double operation gives the integer the scalar code computes, and floor(c / 256) is its
 // arithmetic right shift. A batch with a coordinate outside that range goes to setup_triangle instead.
+// Batches of triangles under 64 pixels across (nearly all of a dense mesh's) take a shorter path:
+// the integers in 32-bit lanes, twice as many per vector, exact for the reasons at SetUpGroupIn32Bits.
 // The attribute planes are the same double operations in the same order as set_planes (no FMA: the
 // project builds with -ffp-contract=off and Highway's Mul, Sub and Div round separately), and the
 // conversions to float round to nearest as static_cast does. e0 is stored as the two words of an int64,
@@ -134,10 +136,10 @@ HWY_INLINE Plane set_plane(V f0, V f1, V f2, V x1, V x2, V y1, V y2, V inv_area)
     return {word_of_float(dfdx), word_of_float(dfdy)};
 }
 
-// Which lanes the draw state culls, given the signed area (see setup_triangle).
-M culled_lanes(V signed_area, M front, const FrontEndParams& p) {
-    const D d;
-    const M zero_area = hn::Eq(signed_area, hn::Zero(d));
+// Which lanes the draw state culls, given the signed area (see setup_triangle): double or int32 lanes.
+template <class Tag>
+hn::Mask<Tag> culled_lanes(Tag t, hn::Vec<Tag> signed_area, hn::Mask<Tag> front, const FrontEndParams& p) {
+    const hn::Mask<Tag> zero_area = hn::Eq(signed_area, hn::Zero(t));
     switch (p.state.cull) {
         case CullMode::back: return hn::Or(zero_area, hn::Not(front));
         case CullMode::front: return hn::Or(zero_area, front);
@@ -151,75 +153,249 @@ HWY_INLINE void store_unit(SetupLanes& out, int g, int i0, VU w0, VU w1, VU w2, 
     hn::StoreInterleaved4(w0, w1, w2, w3, DU(), out.unit[g][i0].word);
 }
 
-// Returns false, having written nothing useful, when a coordinate is too large for exact doubles.
-bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& out) {
+// Triangles i0 .. i0 + Lanes(D) - 1 of the batch in double lanes, exact for every coordinate below
+// 2^24. False, having written nothing useful, when a coordinate is larger.
+bool SetUpGroupInDouble(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& out, int i0) {
     const D d;
     const DU du;
-    const int lanes = static_cast<int>(hn::Lanes(d));
     const V scissor_x0 = hn::Set(d, p.scissor.x0), scissor_y0 = hn::Set(d, p.scissor.y0);
     const V scissor_x1 = hn::Set(d, p.scissor.x1 - 1), scissor_y1 = hn::Set(d, p.scissor.y1 - 1);
     const V half = hn::Set(d, k_subpixel_one / 2);
     const bool ccw_front = p.state.front_face == FrontFace::ccw;
-    out.keep = out.culled = 0;  // the caller may reuse `out` batch after batch
-    for (int i0 = 0; i0 < batch.count; i0 += lanes) {
-        VU zq0[2];  // corner 0's z and q as stored
-        const Corner s0 = load_corner(batch.v[0] + i0, &zq0), s1 = load_corner(batch.v[1] + i0),
-                     s2 = load_corner(batch.v[2] + i0);
-        if (!coordinates_exact(s0, s1, s2)) return false;
-        const V signed_area = hn::Sub(hn::Mul(hn::Sub(s1.x, s0.x), hn::Sub(s2.y, s0.y)),
-                                      hn::Mul(hn::Sub(s2.x, s0.x), hn::Sub(s1.y, s0.y)));
-        const M flip = hn::Lt(signed_area, hn::Zero(d));  // viewer sees it counter-clockwise
-        const M front = ccw_front ? flip : hn::Not(flip);
-        const M culled = hn::And(culled_lanes(signed_area, front, p), hn::FirstN(d, batch.count - i0));
+    VU zq0[2];  // corner 0's z and q as stored
+    const Corner s0 = load_corner(batch.v[0] + i0, &zq0), s1 = load_corner(batch.v[1] + i0),
+                 s2 = load_corner(batch.v[2] + i0);
+    if (!coordinates_exact(s0, s1, s2)) return false;
+    const V signed_area = hn::Sub(hn::Mul(hn::Sub(s1.x, s0.x), hn::Sub(s2.y, s0.y)),
+                                  hn::Mul(hn::Sub(s2.x, s0.x), hn::Sub(s1.y, s0.y)));
+    const M flip = hn::Lt(signed_area, hn::Zero(d));  // viewer sees it counter-clockwise
+    const M front = ccw_front ? flip : hn::Not(flip);
+    const M culled = hn::And(culled_lanes(d, signed_area, front, p), hn::FirstN(d, batch.count - i0));
 
-        const V lo_x = hn::Min(s0.x, hn::Min(s1.x, s2.x)), hi_x = hn::Max(s0.x, hn::Max(s1.x, s2.x));
-        const V lo_y = hn::Min(s0.y, hn::Min(s1.y, s2.y)), hi_y = hn::Max(s0.y, hn::Max(s1.y, s2.y));
-        const V min_x = hn::Max(hn::Neg(floor_div_256(hn::Sub(half, lo_x))), scissor_x0);
-        const V max_x = hn::Min(floor_div_256(hn::Sub(hi_x, half)), scissor_x1);
-        const V min_y = hn::Max(hn::Neg(floor_div_256(hn::Sub(half, lo_y))), scissor_y0);
-        const V max_y = hn::Min(floor_div_256(hn::Sub(hi_y, half)), scissor_y1);
-        const M empty = hn::Or(hn::Gt(min_x, max_x), hn::Gt(min_y, max_y));
-        const M keep = hn::AndNot(hn::Or(culled, empty), hn::FirstN(d, batch.count - i0));
+    const V lo_x = hn::Min(s0.x, hn::Min(s1.x, s2.x)), hi_x = hn::Max(s0.x, hn::Max(s1.x, s2.x));
+    const V lo_y = hn::Min(s0.y, hn::Min(s1.y, s2.y)), hi_y = hn::Max(s0.y, hn::Max(s1.y, s2.y));
+    const V min_x = hn::Max(hn::Neg(floor_div_256(hn::Sub(half, lo_x))), scissor_x0);
+    const V max_x = hn::Min(floor_div_256(hn::Sub(hi_x, half)), scissor_x1);
+    const V min_y = hn::Max(hn::Neg(floor_div_256(hn::Sub(half, lo_y))), scissor_y0);
+    const V max_y = hn::Min(floor_div_256(hn::Sub(hi_y, half)), scissor_y1);
+    const M empty = hn::Or(hn::Gt(min_x, max_x), hn::Gt(min_y, max_y));
+    const M keep = hn::AndNot(hn::Or(culled, empty), hn::FirstN(d, batch.count - i0));
 
-        out.culled |= mask_bits(culled) << i0;
-        if (hn::AllFalse(d, keep)) continue;
-        out.keep |= mask_bits(keep) << i0;
+    out.culled |= mask_bits(culled) << i0;
+    if (hn::AllFalse(d, keep)) return true;
+    out.keep |= mask_bits(keep) << i0;
 
-        // Orient so that the inside of every edge is where its function is positive.
-        const Corner v1 = select(flip, s2, s1), v2 = select(flip, s1, s2);
-        const Edge e[3] = {set_edge(s0, v1, min_x, min_y), set_edge(v1, v2, min_x, min_y),
-                           set_edge(v2, s0, min_x, min_y)};
-        // The attribute planes as set_planes.
-        const V x1 = hn::Sub(v1.x, s0.x), x2 = hn::Sub(v2.x, s0.x);
-        const V y1 = hn::Sub(v1.y, s0.y), y2 = hn::Sub(v2.y, s0.y);
-        const V inv_area = hn::Div(hn::Set(d, k_subpixel_one), hn::Abs(signed_area));
-        const V zero = hn::Zero(d);
-        const Plane z = set_plane(s0.z, v1.z, v2.z, x1, x2, y1, y2, inv_area);
-        const Plane q = set_plane(s0.q, v1.q, v2.q, x1, x2, y1, y2, inv_area);
-        const Plane l1 = set_plane(zero, v1.q, zero, x1, x2, y1, y2, inv_area);
-        const Plane l2 = set_plane(zero, zero, v2.q, x1, x2, y1, y2, inv_area);
-        const V scale = hn::Set(d, 1.0 / k_subpixel_one);
+    // Orient so that the inside of every edge is where its function is positive.
+    const Corner v1 = select(flip, s2, s1), v2 = select(flip, s1, s2);
+    const Edge e[3] = {set_edge(s0, v1, min_x, min_y), set_edge(v1, v2, min_x, min_y),
+                       set_edge(v2, s0, min_x, min_y)};
+    // The attribute planes as set_planes.
+    const V x1 = hn::Sub(v1.x, s0.x), x2 = hn::Sub(v2.x, s0.x);
+    const V y1 = hn::Sub(v1.y, s0.y), y2 = hn::Sub(v2.y, s0.y);
+    const V inv_area = hn::Div(hn::Set(d, k_subpixel_one), hn::Abs(signed_area));
+    const V zero = hn::Zero(d);
+    const Plane z = set_plane(s0.z, v1.z, v2.z, x1, x2, y1, y2, inv_area);
+    const Plane q = set_plane(s0.q, v1.q, v2.q, x1, x2, y1, y2, inv_area);
+    const Plane l1 = set_plane(zero, v1.q, zero, x1, x2, y1, y2, inv_area);
+    const Plane l2 = set_plane(zero, zero, v2.q, x1, x2, y1, y2, inv_area);
+    const V scale = hn::Set(d, 1.0 / k_subpixel_one);
 
-        // The vertices' varyings in the record's winding; then front_facing and small_edges, a byte each.
-        const auto flip_u = word_mask(flip);
-        const VU r0 = hn::LoadU(du, batch.ref[0] + i0), r1 = hn::LoadU(du, batch.ref[1] + i0),
-                 r2 = hn::LoadU(du, batch.ref[2] + i0);
-        const M small = hn::And(hn::And(e[0].small, e[1].small), e[2].small);
-        const VU flags = hn::Or(hn::IfThenElseZero(word_mask(front), hn::Set(du, 1u)),
-                                hn::IfThenElseZero(word_mask(small), hn::Set(du, 1u << 8)));
+    // The vertices' varyings in the record's winding; then front_facing and small_edges, a byte each.
+    const auto flip_u = word_mask(flip);
+    const VU r0 = hn::LoadU(du, batch.ref[0] + i0), r1 = hn::LoadU(du, batch.ref[1] + i0),
+             r2 = hn::LoadU(du, batch.ref[2] + i0);
+    const M small = hn::And(hn::And(e[0].small, e[1].small), e[2].small);
+    const VU flags = hn::Or(hn::IfThenElseZero(word_mask(front), hn::Set(du, 1u)),
+                            hn::IfThenElseZero(word_mask(small), hn::Set(du, 1u << 8)));
 
-        // The record's 32 words in order (TriangleSetup).
-        store_unit(out, 0, i0, e[0].a, e[1].a, e[2].a, e[0].b);
-        store_unit(out, 1, i0, e[1].b, e[2].b, e[0].e0_low, e[0].e0_high);
-        store_unit(out, 2, i0, e[1].e0_low, e[1].e0_high, e[2].e0_low, e[2].e0_high);
-        store_unit(out, 3, i0, word_of_integer(min_x), word_of_integer(min_y), word_of_integer(max_x),
-                   word_of_integer(max_y));
-        store_unit(out, 4, i0, word_of_float(hn::Mul(s0.x, scale)), word_of_float(hn::Mul(s0.y, scale)), zq0[0],
-                   z.dfdx);
-        store_unit(out, 5, i0, z.dfdy, zq0[1], q.dfdx, q.dfdy);
-        store_unit(out, 6, i0, l1.dfdx, l1.dfdy, l2.dfdx, l2.dfdy);
-        store_unit(out, 7, i0, r0, hn::IfThenElse(flip_u, r2, r1), hn::IfThenElse(flip_u, r1, r2), flags);
+    // The record's 32 words in order (TriangleSetup).
+    store_unit(out, 0, i0, e[0].a, e[1].a, e[2].a, e[0].b);
+    store_unit(out, 1, i0, e[1].b, e[2].b, e[0].e0_low, e[0].e0_high);
+    store_unit(out, 2, i0, e[1].e0_low, e[1].e0_high, e[2].e0_low, e[2].e0_high);
+    store_unit(out, 3, i0, word_of_integer(min_x), word_of_integer(min_y), word_of_integer(max_x),
+               word_of_integer(max_y));
+    store_unit(out, 4, i0, word_of_float(hn::Mul(s0.x, scale)), word_of_float(hn::Mul(s0.y, scale)), zq0[0], z.dfdx);
+    store_unit(out, 5, i0, z.dfdy, zq0[1], q.dfdx, q.dfdy);
+    store_unit(out, 6, i0, l1.dfdx, l1.dfdy, l2.dfdx, l2.dfdy);
+    store_unit(out, 7, i0, r0, hn::IfThenElse(flip_u, r2, r1), hn::IfThenElse(flip_u, r1, r2), flags);
+    return true;
+}
+
+#if HWY_TARGET != HWY_SCALAR
+// The common case in 32-bit lanes, twice as many per vector: batches of triangles less than 2^14
+// (64 pixels) wide and tall, i.e. nearly every batch of a dense mesh. Then every integer of the
+// record fits 32 bits, exactly:
+//  - the signed area's products of differences below 2^14 are below 2^28;
+//  - (cx, cy) = 256 (min_x, min_y) + 128, the centre of the bounds' corner pixel, lies within the
+//    vertices' range on each axis when the triangle is kept: cx >= lo_x as min_x >= first_centre(lo_x),
+//    and cx <= hi_x as min_x <= max_x <= last_centre(hi_x), scissor or not. So every vertex is
+//    within 2^14 of it, and setup_triangle's e0 = floor((C + bias + 128 (A + B)) / 256) + A min_x
+//    + B min_y equals floor((bias - A (ax - cx) - B (ay - cy)) / 256) (the integer A min_x + B min_y
+//    moves inside the floor as 256 times itself), whose products are below 2^28: the arithmetic
+//    shift by 8 of a 32-bit integer is that floor. e0's high word is its sign;
+//  - |A|, |B| < 2^14 and |e0| < 2^21 make every edge small (edges_fit_32_bits).
+// The attribute planes stay in double, each half of the lanes in one double vector, with the
+// operations of SetUpGroupInDouble. False, having written nothing, when a triangle of the group
+// does not qualify: the caller sets the group up in double instead.
+constexpr std::int32_t k_extent_limit = 1 << 14;
+
+using DI32 = hn::ScalableTag<std::int32_t>;
+using DU32 = hn::RebindToUnsigned<DI32>;
+using VI32 = hn::Vec<DI32>;
+using MI32 = hn::Mask<DI32>;
+static_assert(hn::MaxLanes(hn::Half<DI32>()) == hn::MaxLanes(D()), "half an int32 vector per double vector");
+
+struct Corner32 {
+    VI32 x, y, z, q;  // z and q: the float's bits
+};
+
+HWY_INLINE Corner32 load_corner32(const ScreenVertex* v) {
+    Corner32 c;
+    hn::LoadInterleaved4(DI32(), reinterpret_cast<const std::int32_t*>(v), c.x, c.y, c.z, c.q);
+    return c;
+}
+
+HWY_INLINE Corner32 select32(MI32 m, const Corner32& yes, const Corner32& no) {
+    return {hn::IfThenElse(m, yes.x, no.x), hn::IfThenElse(m, yes.y, no.y), hn::IfThenElse(m, yes.z, no.z),
+            hn::IfThenElse(m, yes.q, no.q)};
+}
+
+std::uint32_t mask_bits32(MI32 m) {
+    std::uint8_t bits[8] = {};
+    hn::StoreMaskBits(DI32(), m, bits);
+    return bits[0] | static_cast<std::uint32_t>(bits[1]) << 8;  // at most 16 lanes
+}
+
+// Lanes [half * Lanes(D), ...) of an int32 vector, or of the floats whose bits it holds, as doubles.
+HWY_INLINE V half_to_double(VI32 v, int half) {
+    const hn::Half<DI32> dh;
+    return hn::PromoteTo(D(), half == 0 ? hn::LowerHalf(dh, v) : hn::UpperHalf(dh, v));
+}
+HWY_INLINE V half_float_to_double(VI32 bits, int half) {
+    const hn::Half<DI32> dh;
+    const hn::Rebind<float, D> dfh;
+    return hn::PromoteTo(D(), hn::BitCast(dfh, half == 0 ? hn::LowerHalf(dh, bits) : hn::UpperHalf(dh, bits)));
+}
+// Two halves' words (each a DU vector) as one vector of words.
+HWY_INLINE hn::Vec<DU32> join(VU lower, VU upper) { return hn::Combine(DU32(), upper, lower); }
+
+struct Edge32 {
+    VI32 a, b, e0, e0_high;
+};
+
+HWY_INLINE Edge32 set_edge32(const Corner32& a, const Corner32& b, VI32 cx, VI32 cy) {
+    const DI32 di;
+    const VI32 zero = hn::Zero(di);
+    const VI32 A = hn::Sub(a.y, b.y), B = hn::Sub(b.x, a.x);
+    const MI32 top_left = hn::Or(hn::Gt(A, zero), hn::And(hn::Eq(A, zero), hn::Gt(B, zero)));
+    const VI32 bias = hn::IfThenZeroElse(top_left, hn::Set(di, -1));
+    const VI32 t = hn::Add(hn::Mul(A, hn::Sub(a.x, cx)), hn::Mul(B, hn::Sub(a.y, cy)));
+    const VI32 e0 = hn::ShiftRight<k_subpixel_bits>(hn::Sub(bias, t));
+    return {A, B, e0, hn::ShiftRight<31>(e0)};
+}
+
+HWY_INLINE void store_unit32(SetupLanes& out, int g, int i0, VI32 w0, VI32 w1, VI32 w2, VI32 w3) {
+    const DU32 du;
+    hn::StoreInterleaved4(hn::BitCast(du, w0), hn::BitCast(du, w1), hn::BitCast(du, w2), hn::BitCast(du, w3), du,
+                          out.unit[g][i0].word);
+}
+
+bool SetUpGroupIn32Bits(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& out, int i0) {
+    const DI32 di;
+    const DU32 du;
+    const Corner32 s0 = load_corner32(batch.v[0] + i0), s1 = load_corner32(batch.v[1] + i0),
+                   s2 = load_corner32(batch.v[2] + i0);
+    const MI32 valid = hn::FirstN(di, batch.count - i0);
+    const VI32 lo_x = hn::Min(s0.x, hn::Min(s1.x, s2.x)), hi_x = hn::Max(s0.x, hn::Max(s1.x, s2.x));
+    const VI32 lo_y = hn::Min(s0.y, hn::Min(s1.y, s2.y)), hi_y = hn::Max(s0.y, hn::Max(s1.y, s2.y));
+    // Inside +-2^24 first (as the double path requires), so that the differences cannot overflow.
+    const VI32 coordinate_limit = hn::Set(di, 1 << 24), extent_limit = hn::Set(di, k_extent_limit);
+    const MI32 in_range = hn::And(hn::And(hn::Gt(lo_x, hn::Neg(coordinate_limit)), hn::Lt(hi_x, coordinate_limit)),
+                                  hn::And(hn::Gt(lo_y, hn::Neg(coordinate_limit)), hn::Lt(hi_y, coordinate_limit)));
+    const MI32 narrow = hn::And(hn::Lt(hn::Sub(hi_x, lo_x), extent_limit), hn::Lt(hn::Sub(hi_y, lo_y), extent_limit));
+    if (!hn::AllFalse(di, hn::AndNot(hn::And(in_range, narrow), valid))) return false;
+
+    const VI32 signed_area = hn::Sub(hn::Mul(hn::Sub(s1.x, s0.x), hn::Sub(s2.y, s0.y)),
+                                     hn::Mul(hn::Sub(s2.x, s0.x), hn::Sub(s1.y, s0.y)));
+    const MI32 flip = hn::Lt(signed_area, hn::Zero(di));  // viewer sees it counter-clockwise
+    const MI32 front = p.state.front_face == FrontFace::ccw ? flip : hn::Not(flip);
+    const MI32 culled = hn::And(culled_lanes(di, signed_area, front, p), valid);
+
+    // first_centre and last_centre of setup.cpp, then the scissor.
+    const VI32 half = hn::Set(di, k_subpixel_one / 2);
+    const VI32 min_x = hn::Max(hn::Neg(hn::ShiftRight<k_subpixel_bits>(hn::Sub(half, lo_x))), hn::Set(di, p.scissor.x0));
+    const VI32 min_y = hn::Max(hn::Neg(hn::ShiftRight<k_subpixel_bits>(hn::Sub(half, lo_y))), hn::Set(di, p.scissor.y0));
+    const VI32 max_x = hn::Min(hn::ShiftRight<k_subpixel_bits>(hn::Sub(hi_x, half)), hn::Set(di, p.scissor.x1 - 1));
+    const VI32 max_y = hn::Min(hn::ShiftRight<k_subpixel_bits>(hn::Sub(hi_y, half)), hn::Set(di, p.scissor.y1 - 1));
+    const MI32 empty = hn::Or(hn::Gt(min_x, max_x), hn::Gt(min_y, max_y));
+    const MI32 keep = hn::AndNot(hn::Or(culled, empty), valid);
+
+    out.culled |= mask_bits32(culled) << i0;
+    if (hn::AllFalse(di, keep)) return true;
+    out.keep |= mask_bits32(keep) << i0;
+
+    const Corner32 v1 = select32(flip, s2, s1), v2 = select32(flip, s1, s2);
+    const VI32 cx = hn::Add(hn::ShiftLeft<k_subpixel_bits>(min_x), half);
+    const VI32 cy = hn::Add(hn::ShiftLeft<k_subpixel_bits>(min_y), half);
+    const Edge32 e[3] = {set_edge32(s0, v1, cx, cy), set_edge32(v1, v2, cx, cy), set_edge32(v2, s0, cx, cy)};
+    // front_facing, and small_edges always set (see above).
+    const VI32 flags = hn::Or(hn::IfThenElseZero(front, hn::Set(di, 1)), hn::Set(di, 1 << 8));
+    const VI32 r0 = hn::BitCast(di, hn::LoadU(du, batch.ref[0] + i0));
+    const VI32 r1 = hn::BitCast(di, hn::LoadU(du, batch.ref[1] + i0));
+    const VI32 r2 = hn::BitCast(di, hn::LoadU(du, batch.ref[2] + i0));
+    store_unit32(out, 0, i0, e[0].a, e[1].a, e[2].a, e[0].b);
+    store_unit32(out, 1, i0, e[1].b, e[2].b, e[0].e0, e[0].e0_high);
+    store_unit32(out, 2, i0, e[1].e0, e[1].e0_high, e[2].e0, e[2].e0_high);
+    store_unit32(out, 3, i0, min_x, min_y, max_x, max_y);
+    store_unit32(out, 7, i0, r0, hn::IfThenElse(flip, r2, r1), hn::IfThenElse(flip, r1, r2), flags);
+
+    // The attribute planes as SetUpGroupInDouble computes them, half of the lanes at a time.
+    const VI32 x1 = hn::Sub(v1.x, s0.x), x2 = hn::Sub(v2.x, s0.x);
+    const VI32 y1 = hn::Sub(v1.y, s0.y), y2 = hn::Sub(v2.y, s0.y);
+    const VI32 area = hn::Abs(signed_area);
+    const D d;
+    const V zero = hn::Zero(d), scale = hn::Set(d, 1.0 / k_subpixel_one);
+    VU words[2][10];
+    for (int h = 0; h < 2; ++h) {
+        const V dx1 = half_to_double(x1, h), dx2 = half_to_double(x2, h);
+        const V dy1 = half_to_double(y1, h), dy2 = half_to_double(y2, h);
+        const V inv_area = hn::Div(hn::Set(d, k_subpixel_one), half_to_double(area, h));
+        const V z0 = half_float_to_double(s0.z, h), q0 = half_float_to_double(s0.q, h);
+        const V z1 = half_float_to_double(v1.z, h), q1 = half_float_to_double(v1.q, h);
+        const V z2 = half_float_to_double(v2.z, h), q2 = half_float_to_double(v2.q, h);
+        const Plane z = set_plane(z0, z1, z2, dx1, dx2, dy1, dy2, inv_area);
+        const Plane q = set_plane(q0, q1, q2, dx1, dx2, dy1, dy2, inv_area);
+        const Plane l1 = set_plane(zero, q1, zero, dx1, dx2, dy1, dy2, inv_area);
+        const Plane l2 = set_plane(zero, zero, q2, dx1, dx2, dy1, dy2, inv_area);
+        VU* w = words[h];
+        w[0] = word_of_float(hn::Mul(half_to_double(s0.x, h), scale));
+        w[1] = word_of_float(hn::Mul(half_to_double(s0.y, h), scale));
+        w[2] = z.dfdx, w[3] = z.dfdy, w[4] = q.dfdx, w[5] = q.dfdy;
+        w[6] = l1.dfdx, w[7] = l1.dfdy, w[8] = l2.dfdx, w[9] = l2.dfdy;
     }
+    auto joined = [&](int k) { return hn::BitCast(di, join(words[0][k], words[1][k])); };
+    store_unit32(out, 4, i0, joined(0), joined(1), s0.z, joined(2));
+    store_unit32(out, 5, i0, joined(3), s0.q, joined(4), joined(5));
+    store_unit32(out, 6, i0, joined(6), joined(7), joined(8), joined(9));
+    return true;
+}
+#endif
+
+// Returns false, having written nothing useful, when a coordinate is too large for exact doubles.
+bool SetupLanesOf(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& out) {
+    out.keep = out.culled = 0;  // the caller may reuse `out` batch after batch
+    const int lanes = static_cast<int>(hn::Lanes(D()));
+#if HWY_TARGET != HWY_SCALAR
+    const int lanes32 = static_cast<int>(hn::Lanes(DI32()));
+    for (int i0 = 0; i0 < batch.count; i0 += lanes32) {
+        if (SetUpGroupIn32Bits(batch, p, out, i0)) continue;
+        for (int h = i0; h < i0 + lanes32 && h < batch.count; h += lanes)
+            if (!SetUpGroupInDouble(batch, p, out, h)) return false;
+    }
+#else
+    for (int i0 = 0; i0 < batch.count; i0 += lanes)
+        if (!SetUpGroupInDouble(batch, p, out, i0)) return false;
+#endif
     return true;
 }
 

@@ -3,7 +3,8 @@
 // both sides, so padding compares too), in the same order, and the same culled count. Random triangles
 // of every size and adversarial ones: zero area, every cull mode and winding, edges through pixel
 // centres (the top-left rule), the guard band's extremes, coordinates too large for the kernel's exact
-// doubles (its fallback), subnormal and huge q, scissors that leave nothing, partly filled batches.
+// doubles (its fallback), subnormal and huge q, scissors that leave nothing, partly filled batches,
+// and batches of small triangles only (the kernel's 32-bit path).
 // Also the front end as a whole: the same chunk (records, bins, statistics) on every ISA.
 #include <gtest/gtest.h>
 
@@ -103,6 +104,43 @@ public:
         }
     }
 
+    // Mostly triangles less than 64 pixels wide and tall (the kernel's 32-bit path takes batches of
+    // those): pixel-sized ones near the scissor (sometimes cut by it), ones on pixel centres, zero
+    // areas and mesh-like ones, in every winding; and a few up to 256 pixels across, past that
+    // path's limit, where 32 bits would overflow.
+    void small_triangle(ScreenVertex (&v)[3]) {
+        if (pick(64) == 0) {
+            const std::int32_t cx = coordinate(1000 * k_subpixel_one), cy = coordinate(1000 * k_subpixel_one);
+            for (ScreenVertex& s : v) s = vertex(cx + coordinate(1 << 15), cy + coordinate(1 << 15));
+            return;
+        }
+        switch (pick(4)) {
+            case 0: {
+                const std::int32_t cx = coordinate(700 * k_subpixel_one), cy = coordinate(700 * k_subpixel_one);
+                const std::int32_t r = 1 + pick(16 * k_subpixel_one);
+                for (ScreenVertex& s : v) s = vertex(cx + coordinate(r), cy + coordinate(r));
+                break;
+            }
+            case 1: {
+                for (ScreenVertex& s : v) s = vertex(128 * (coordinate(60) + 8), 128 * (coordinate(60) + 8));
+                break;
+            }
+            case 2: {
+                v[0] = vertex(coordinate(k_guard / 64), coordinate(k_guard / 64));
+                v[1] = vertex(v[0].x + coordinate(4000), v[0].y + coordinate(4000));
+                v[2] = pick(2) ? v[1] : v[0];
+                break;
+            }
+            default: {
+                const std::int32_t cx = coordinate(1000 * k_subpixel_one) + 960 * k_subpixel_one;
+                const std::int32_t cy = coordinate(600 * k_subpixel_one) + 540 * k_subpixel_one;
+                const std::int32_t r = pick(2) ? 1500 : 4000;  // 4000: up to 31 pixels across
+                for (ScreenVertex& s : v) s = vertex(cx + coordinate(r), cy + coordinate(r));
+                break;
+            }
+        }
+    }
+
     std::uint32_t ref() { return static_cast<std::uint32_t>(rng_()); }
 
 private:
@@ -178,9 +216,14 @@ TEST(SetupBatch, EveryIsaWritesTheRecordsOfSetupTriangle) {
             // Mostly full batches; some partly filled ones over stale lanes of earlier batches.
             batch.count = round % 5 == 0 ? 1 + static_cast<int>(gen.ref() % SetupBatch::k_capacity)
                                          : SetupBatch::k_capacity;
+            // Every third batch only small triangles, as a dense mesh gives them.
+            const bool small_only = round % 3 == 1;
             for (int i = 0; i < batch.count; ++i) {
                 ScreenVertex v[3];
-                gen.triangle(v);
+                if (small_only)
+                    gen.small_triangle(v);
+                else
+                    gen.triangle(v);
                 for (int k = 0; k < 3; ++k) batch.v[k][i] = v[k], batch.ref[k][i] = gen.ref();
             }
             const Result want = set_up_one_by_one(batch, p);
