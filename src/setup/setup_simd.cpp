@@ -233,7 +233,7 @@ bool SetUpGroupInDouble(const SetupBatch& batch, const FrontEndParams& p, SetupL
 //    + B min_y equals floor((bias - A (ax - cx) - B (ay - cy)) / 256) (the integer A min_x + B min_y
 //    moves inside the floor as 256 times itself), whose products are below 2^28: the arithmetic
 //    shift by 8 of a 32-bit integer is that floor. e0's high word is its sign;
-//  - |A|, |B| < 2^14 and |e0| < 2^21 make every edge small (edges_fit_32_bits).
+//  - |A|, |B| < 2^14 and |e0| <= 2^21 make every edge small (edges_fit_32_bits).
 // The attribute planes stay in double, each half of the lanes in one double vector, with the
 // operations of SetUpGroupInDouble. False, having written nothing, when a triangle of the group
 // does not qualify: the caller sets the group up in double instead.
