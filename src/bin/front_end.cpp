@@ -82,7 +82,7 @@ private:
             const int i = std::countr_zero(keep);
             const std::int32_t* bounds = lanes_.bounds(i);
             if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
-                TriangleSetup& t = grid.bin(bounds[0] >> grid.shift, bounds[1] >> grid.shift).emplace_back();
+                TriangleSetup& t = grid.bin_of_pixel(bounds[0], bounds[1]).emplace_back();
                 // The bin's lines a few records on, owned before they are written: a bin is a
                 // stream the hardware has not learnt, and a store that misses waits for its line
                 // (measured 6% of a 1M-triangle frame). Past the allocation, a prefetch does nothing.
@@ -119,6 +119,7 @@ private:
         TileBin& bin(int tx, int ty) const {
             return bins[static_cast<std::size_t>(ty) * tiles_x + static_cast<std::size_t>(tx)];
         }
+        TileBin& bin_of_pixel(int x, int y) const { return bin(x >> shift, y >> shift); }
     };
     BinGrid grid_of() const {
         return {std::countr_zero(static_cast<unsigned>(p_.tile_size)), static_cast<std::size_t>(p_.tiles_x),
@@ -130,7 +131,7 @@ private:
     [[gnu::always_inline]] void bin(const TriangleSetup& t) {
         const BinGrid grid = grid_of();
         if (grid.one_tile(t.min_x, t.max_x, t.min_y, t.max_y)) {
-            grid.bin(t.min_x >> grid.shift, t.min_y >> grid.shift).push_back(t);
+            grid.bin_of_pixel(t.min_x, t.min_y).push_back(t);
             return;
         }
         bin_across_tiles(t, grid.tiles_of(t.min_x, t.max_x, t.min_y, t.max_y));

@@ -136,6 +136,17 @@ HWY_INLINE Plane set_plane(V f0, V f1, V f2, V x1, V x2, V y1, V y2, V inv_area)
     return {word_of_float(dfdx), word_of_float(dfdy)};
 }
 
+// The four planes of set_planes: depth, q, and the barycentrics b1 q and b2 q (q1 at vertex 1 and
+// q2 at vertex 2, 0 elsewhere), from the corners' depths and q and their offsets from corner 0.
+struct Planes {
+    Plane z, q, l1, l2;
+};
+HWY_INLINE Planes set_planes(V z0, V z1, V z2, V q0, V q1, V q2, V x1, V x2, V y1, V y2, V inv_area) {
+    const V zero = hn::Zero(D());
+    return {set_plane(z0, z1, z2, x1, x2, y1, y2, inv_area), set_plane(q0, q1, q2, x1, x2, y1, y2, inv_area),
+            set_plane(zero, q1, zero, x1, x2, y1, y2, inv_area), set_plane(zero, zero, q2, x1, x2, y1, y2, inv_area)};
+}
+
 // Which lanes the draw state culls, given the signed area (see setup_triangle): double or int32 lanes.
 template <class Tag>
 hn::Mask<Tag> culled_lanes(Tag t, hn::Vec<Tag> signed_area, hn::Mask<Tag> front, const FrontEndParams& p) {
@@ -193,11 +204,7 @@ bool SetUpGroupInDouble(const SetupBatch& batch, const FrontEndParams& p, SetupL
     const V x1 = hn::Sub(v1.x, s0.x), x2 = hn::Sub(v2.x, s0.x);
     const V y1 = hn::Sub(v1.y, s0.y), y2 = hn::Sub(v2.y, s0.y);
     const V inv_area = hn::Div(hn::Set(d, k_subpixel_one), hn::Abs(signed_area));
-    const V zero = hn::Zero(d);
-    const Plane z = set_plane(s0.z, v1.z, v2.z, x1, x2, y1, y2, inv_area);
-    const Plane q = set_plane(s0.q, v1.q, v2.q, x1, x2, y1, y2, inv_area);
-    const Plane l1 = set_plane(zero, v1.q, zero, x1, x2, y1, y2, inv_area);
-    const Plane l2 = set_plane(zero, zero, v2.q, x1, x2, y1, y2, inv_area);
+    const auto [z, q, l1, l2] = set_planes(s0.z, v1.z, v2.z, s0.q, v1.q, v2.q, x1, x2, y1, y2, inv_area);
     const V scale = hn::Set(d, 1.0 / k_subpixel_one);
 
     // The vertices' varyings in the record's winding; then front_facing and small_edges, a byte each.
@@ -354,7 +361,7 @@ bool SetUpGroupIn32Bits(const SetupBatch& batch, const FrontEndParams& p, SetupL
     const VI32 y1 = hn::Sub(v1.y, s0.y), y2 = hn::Sub(v2.y, s0.y);
     const VI32 area = hn::Abs(signed_area);
     const D d;
-    const V zero = hn::Zero(d), scale = hn::Set(d, 1.0 / k_subpixel_one);
+    const V scale = hn::Set(d, 1.0 / k_subpixel_one);
     VU words[2][10];
     for (int h = 0; h < 2; ++h) {
         const V dx1 = half_to_double(x1, h), dx2 = half_to_double(x2, h);
@@ -363,10 +370,7 @@ bool SetUpGroupIn32Bits(const SetupBatch& batch, const FrontEndParams& p, SetupL
         const V z0 = half_float_to_double(s0.z, h), q0 = half_float_to_double(s0.q, h);
         const V z1 = half_float_to_double(v1.z, h), q1 = half_float_to_double(v1.q, h);
         const V z2 = half_float_to_double(v2.z, h), q2 = half_float_to_double(v2.q, h);
-        const Plane z = set_plane(z0, z1, z2, dx1, dx2, dy1, dy2, inv_area);
-        const Plane q = set_plane(q0, q1, q2, dx1, dx2, dy1, dy2, inv_area);
-        const Plane l1 = set_plane(zero, q1, zero, dx1, dx2, dy1, dy2, inv_area);
-        const Plane l2 = set_plane(zero, zero, q2, dx1, dx2, dy1, dy2, inv_area);
+        const auto [z, q, l1, l2] = set_planes(z0, z1, z2, q0, q1, q2, dx1, dx2, dy1, dy2, inv_area);
         VU* w = words[h];
         w[0] = word_of_float(hn::Mul(half_to_double(s0.x, h), scale));
         w[1] = word_of_float(hn::Mul(half_to_double(s0.y, h), scale));

@@ -13,19 +13,45 @@
 
 #include "facet/detail/vertex_stage.hpp"
 
+#ifndef FACET_VERTEX_TRANSFORM_SIMD_ONCE
+#define FACET_VERTEX_TRANSFORM_SIMD_ONCE
+namespace facet::detail {
+
+// The scalar code the kernels match, for vertices [first, n): the "scalar" ISA and the kernels' tails.
+inline void transform_points_from(std::size_t first, const Mat4& m, const Vec3* points, std::size_t n, Vec4* out) {
+    for (std::size_t i = first; i < n; ++i) out[i] = m * Vec4(points[i], 1);
+}
+inline void transform_directions_from(std::size_t first, const Mat3& m, const Vec3* directions, std::size_t n,
+                                      float* out, std::size_t stride) {
+    for (std::size_t i = first; i < n; ++i) {
+        const Vec3 v = m * directions[i];
+        std::memcpy(out + i * stride, &v, sizeof(v));
+    }
+}
+
+}  // namespace facet::detail
+#endif
+
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 static_assert(sizeof(Vec3) == 3 * sizeof(float) && sizeof(Vec4) == 4 * sizeof(float), "packed vectors");
 
+// Each element of a matrix (Mat4 or Mat3) broadcast: c[column][row].
+template <int Size, class Matrix, class VF>
+HWY_INLINE void broadcast_elements(const Matrix& m, VF (&c)[Size][Size]) {
+    const hn::ScalableTag<float> df;
+    for (int col = 0; col < Size; ++col)
+        for (int row = 0; row < Size; ++row) c[col][row] = hn::Set(df, m.col[col][static_cast<std::size_t>(row)]);
+}
+
 void TransformPoints(const Mat4& m, const Vec3* points, std::size_t n, Vec4* out) {
     const hn::ScalableTag<float> df;
     using VF = hn::Vec<decltype(df)>;
     const std::size_t lanes = hn::Lanes(df);
-    VF c[4][4];  // c[column][row], broadcast
-    for (int col = 0; col < 4; ++col)
-        for (int row = 0; row < 4; ++row) c[col][row] = hn::Set(df, m.col[col][static_cast<std::size_t>(row)]);
+    VF c[4][4];
+    broadcast_elements<4>(m, c);
     const VF one = hn::Set(df, 1.0f);
     std::size_t i = 0;
     for (; i + lanes <= n; i += lanes) {
@@ -37,7 +63,7 @@ void TransformPoints(const Mat4& m, const Vec3* points, std::size_t n, Vec4* out
                              hn::Mul(c[3][row], one));
         hn::StoreInterleaved4(r[0], r[1], r[2], r[3], df, reinterpret_cast<float*>(out + i));
     }
-    for (; i < n; ++i) out[i] = m * Vec4(points[i], 1);
+    transform_points_from(i, m, points, n, out);
 }
 
 void TransformDirections(const Mat3& m, const Vec3* directions, std::size_t n, float* out, std::size_t stride) {
@@ -45,8 +71,7 @@ void TransformDirections(const Mat3& m, const Vec3* directions, std::size_t n, f
     using VF = hn::Vec<decltype(df)>;
     const std::size_t lanes = hn::Lanes(df);
     VF c[3][3];
-    for (int col = 0; col < 3; ++col)
-        for (int row = 0; row < 3; ++row) c[col][row] = hn::Set(df, m.col[col][static_cast<std::size_t>(row)]);
+    broadcast_elements<3>(m, c);
     // Where out is not packed (other varyings follow each normal), the lanes' results go through
     // a packed block and are copied into place.
     HWY_ALIGN float packed[3 * HWY_MAX_BYTES / sizeof(float)];
@@ -64,10 +89,7 @@ void TransformDirections(const Mat3& m, const Vec3* directions, std::size_t n, f
         hn::StoreInterleaved3(r[0], r[1], r[2], df, packed);
         for (std::size_t k = 0; k < lanes; ++k) std::memcpy(out + (i + k) * stride, packed + 3 * k, 3 * sizeof(float));
     }
-    for (; i < n; ++i) {
-        const Vec3 v = m * directions[i];
-        std::memcpy(out + i * stride, &v, sizeof(v));
-    }
+    transform_directions_from(i, m, directions, n, out, stride);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE
@@ -83,7 +105,7 @@ HWY_EXPORT(TransformDirections);
 
 void transform_points(const Mat4& m, const Vec3* points, std::size_t n, Vec4* out) {
     if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(TransformPoints)(m, points, n, out);
-    for (std::size_t i = 0; i < n; ++i) out[i] = m * Vec4(points[i], 1);
+    transform_points_from(0, m, points, n, out);
 }
 
 void transform_directions(const Mat3& m, const Vec3* directions, std::size_t n, float* out, std::size_t stride) {
@@ -92,10 +114,7 @@ void transform_directions(const Mat3& m, const Vec3* directions, std::size_t n, 
         return;
     }
     if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(TransformDirections)(m, directions, n, out, stride);
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3 v = m * directions[i];
-        std::memcpy(out + i * stride, &v, sizeof(v));
-    }
+    transform_directions_from(0, m, directions, n, out, stride);
 }
 
 }  // namespace facet::detail
