@@ -6,11 +6,14 @@
 // a warm-up; the ratio llvmpipe_ms / facet_ms (> 1: facet is faster).
 //
 // llvmpipe reads LP_NUM_THREADS once per process, so its side runs in a child process per thread
-// count: this program re-executes itself (/proc/self/exe) with --llvmpipe-worker T, and the child
-// prints one line per measurement on stdout for the parent to read. Peak memory (VmHWM) of the 1M
-// sphere at 1920x1080 is measured the same way, in fresh child processes (--memory-worker).
+// count: this program re-executes itself (/proc/self/exe) with --llvmpipe-worker T and sends it one
+// command per measurement on its stdin; the child answers on its stdout. The two renderers take
+// turns on each case, in rounds (--rounds, the order swapped every round), so that a machine whose
+// speed drifts from minute to minute (a shared one) slows both alike; each median is over all the
+// rounds' frames. Peak memory (VmHWM) of the 1M sphere at 1920x1080 is measured in fresh child
+// processes (--memory-worker).
 //
-//   facet_bench_scenes [--frames N] [--warmup N] [--threads 1,2] [--sizes 1920x1080,512x512]
+//   facet_bench_scenes [--frames N] [--rounds R] [--warmup N] [--threads 1,2] [--sizes 1920x1080,512x512]
 //                      [--scenes bunny,armadillo,elephant,sphere1m,quads64] [--markdown FILE]
 //                      [--no-memory] [--no-agreement]
 #include <spawn.h>
@@ -52,7 +55,7 @@ struct Size {
 };
 
 struct Options {
-    int frames = 21, warmup = 3;
+    int frames = 11, rounds = 3, warmup = 3;
     std::vector<int> threads{1, 2};
     std::vector<Size> sizes{{1920, 1080}, {512, 512}};
     std::vector<std::string> scenes{"bunny", "armadillo", "elephant", "sphere1m", "quads64"};
@@ -72,14 +75,17 @@ std::vector<std::string> split(const std::string& s, char sep) {
 }
 
 constexpr const char* k_usage =
-    "usage: facet_bench_scenes [--frames N] [--warmup N] [--threads 1,2] [--sizes WxH,...]\n"
+    "usage: facet_bench_scenes [--frames N] [--rounds R] [--warmup N] [--threads 1,2] [--sizes WxH,...]\n"
     "                          [--scenes bunny,armadillo,elephant,sphere1m,quads64] [--markdown FILE]\n"
     "                          [--no-memory] [--no-agreement]\n"
     "Renders each scene with facet and with Mesa llvmpipe (EGL, surfaceless) on the same camera, size,\n"
     "shading and thread count, and prints both median frame times and their ratio (llvmpipe / facet),\n"
-    "then the peak memory of the 1M-triangle sphere and how far the two images agree.\n"
-    "  --frames N        frames measured per case (median), default 21\n"
-    "  --warmup N        frames drawn first and not measured, default 3\n"
+    "then the peak memory of the 1M-triangle sphere and how far the two images agree. The two take\n"
+    "turns on each case, R rounds of N frames each (the order swapped every round); the medians are\n"
+    "over all R x N frames.\n"
+    "  --frames N        frames per renderer, case and round, default 11\n"
+    "  --rounds R        rounds per case, default 3\n"
+    "  --warmup N        frames drawn first and not measured, default 3 (and 1 before every round)\n"
     "  --threads LIST    facet thread counts, default 1,2 (llvmpipe: LP_NUM_THREADS 0 for 1, else the same)\n"
     "  --sizes LIST      render sizes, WxH each, default 1920x1080,512x512\n"
     "  --scenes LIST     which scenes, default all five\n"
@@ -105,6 +111,7 @@ Options parse(int argc, char** argv) {
             std::exit(0);
         }
         if (a == "--frames") o.frames = std::max(1, std::atoi(value(i).c_str()));
+        else if (a == "--rounds") o.rounds = std::max(1, std::atoi(value(i).c_str()));
         else if (a == "--warmup") o.warmup = std::max(0, std::atoi(value(i).c_str()));
         else if (a == "--threads") {
             o.threads.clear();
@@ -201,6 +208,30 @@ double process_cpu_ms() {
 
 // ---- child: llvmpipe at one thread count ----
 
+// Frames drawn and timed as one measurement of one renderer: wall times, and the process's CPU time.
+struct Timed {
+    std::vector<double> ms;
+    double cpu_ms = 0;
+};
+
+template <class Draw>
+Timed time_frames(int warmup, int frames, const Draw& draw) {
+    for (int i = 0; i < warmup; ++i) draw();
+    Timed t;
+    const double cpu0 = process_cpu_ms();
+    for (int i = 0; i < frames; ++i) {
+        const auto t0 = Clock::now();
+        draw();
+        t.ms.push_back(ms_since(t0));
+    }
+    t.cpu_ms = process_cpu_ms() - cpu0;
+    return t;
+}
+
+// Serves the parent's commands on stdin, one per line; the answer to each ends with a DONE line:
+//   MEASURE scene WxH warmup frames agree  ->  RESULT scene WxH cpu_ms t1 ... tn, and with agree = 1
+//                                             an AGREE line (facet's image against llvmpipe's)
+// It starts with INFO lines and READY; ERROR lines say what went wrong.
 int run_llvmpipe_worker(const Options& o) {
     const int lp = llvmpipe_threads_for(o.llvmpipe_worker);
     auto created = GlOracle::create({.llvmpipe_threads = lp});
@@ -210,60 +241,63 @@ int run_llvmpipe_worker(const Options& o) {
     }
     GlOracle& gl = **created;
     std::cout << "INFO renderer " << gl.renderer() << "\nINFO version " << gl.version() << "\nINFO clip_control "
-              << (gl.has_clip_control() ? 1 : 0) << "\nINFO lp_num_threads " << gl.llvmpipe_threads() << std::endl;
+              << (gl.has_clip_control() ? 1 : 0) << "\nINFO lp_num_threads " << gl.llvmpipe_threads() << "\nREADY"
+              << std::endl;
     Renderer agreement_renderer(RendererConfig{.threads = 1});
     SceneCache cache;
-    for (const std::string& name : o.scenes) {
-        for (const Size& size : o.sizes) {
-            auto b = cache.get(name, size);
-            if (!b) {
-                std::cout << "ERROR " << b.error().message << std::endl;
-                return 1;
-            }
-            if (Status s = gl.load((*b)->scene); !s) {
-                std::cout << "ERROR " << s.error().message << std::endl;
-                return 1;
-            }
-            if (Status s = gl.resize(size.w, size.h); !s) {
-                std::cout << "ERROR " << s.error().message << std::endl;
-                return 1;
-            }
-            const Camera camera = (*b)->camera_for(size);
-            for (int i = 0; i < o.warmup; ++i) {
-                gl.draw(camera, k_background);
-                gl.finish();
-            }
-            std::vector<double> times;
-            const double cpu0 = process_cpu_ms();
-            for (int i = 0; i < o.frames; ++i) {
-                const auto t0 = Clock::now();
-                gl.draw(camera, k_background);
-                gl.finish();
-                times.push_back(ms_since(t0));
-            }
-            const double cpu_per_frame = (process_cpu_ms() - cpu0) / o.frames;
-            if (const std::string e = gl.gl_error(); !e.empty()) {
-                std::cout << "ERROR GL error " << e << std::endl;
-                return 1;
-            }
-            std::cout << "RESULT " << name << " " << size.str() << " " << median(times) << " "
-                      << *std::min_element(times.begin(), times.end()) << " " << cpu_per_frame << std::endl;
-            if (o.agreement) {
-                const GlFrame frame = gl.read();
-                Framebuffer fb(size.w, size.h);
-                RenderSettings settings;
-                settings.shading = Shading::lambert;
-                settings.background = k_background;
-                render_scene(agreement_renderer, fb, (*b)->scene, camera, settings);
-                const Agreement a = compare(fb.colour_data(), fb.depth_data(), frame);
-                const DepthOutliers d = explain_depth_outliers((*b)->scene, camera, fb, frame, 1e-4);
-                for (const std::string& line : d.explained_details) std::cerr << "  sliver: " << name << " " << size.str() << " " << line << "\n";
-                if (!d.unexplained.empty()) std::cerr << "  UNEXPLAINED depth difference: " << name << " " << size.str() << " " << d.unexplained << "\n";
-                std::cout << "AGREE " << name << " " << size.str() << " " << a.coverage_agreement * 100 << " "
-                          << a.only_facet << " " << a.only_gl << " " << a.max_depth_diff << " " << a.depth_over_1e4
-                          << " " << a.max_colour_diff << " " << a.mean_colour_diff << " " << a.covered_union << " " << d.explained << std::endl;
-            }
+    std::string loaded;  // the scene and size the GL objects hold
+    for (std::string line; std::getline(std::cin, line);) {
+        std::istringstream in(line);
+        std::string command, name, size_text;
+        int warmup = 0, frames = 0, agree = 0;
+        Size size{};
+        in >> command >> name >> size_text >> warmup >> frames >> agree;
+        if (command != "MEASURE" || std::sscanf(size_text.c_str(), "%dx%d", &size.w, &size.h) != 2) {
+            std::cout << "ERROR bad command: " << line << "\nDONE" << std::endl;
+            continue;
         }
+        auto b = cache.get(name, size);
+        if (!b) {
+            std::cout << "ERROR " << b.error().message << "\nDONE" << std::endl;
+            continue;
+        }
+        if (loaded != name + " " + size_text) {
+            Status s = gl.load((*b)->scene);
+            if (s) s = gl.resize(size.w, size.h);
+            if (!s) {
+                std::cout << "ERROR " << s.error().message << "\nDONE" << std::endl;
+                continue;
+            }
+            loaded = name + " " + size_text;
+        }
+        const Camera camera = (*b)->camera_for(size);
+        const Timed t = time_frames(warmup, frames, [&] {
+            gl.draw(camera, k_background);
+            gl.finish();
+        });
+        if (const std::string e = gl.gl_error(); !e.empty()) {
+            std::cout << "ERROR GL error " << e << "\nDONE" << std::endl;
+            continue;
+        }
+        std::cout << "RESULT " << name << " " << size_text << " " << t.cpu_ms;
+        for (double ms : t.ms) std::cout << " " << ms;
+        std::cout << std::endl;
+        if (agree) {
+            const GlFrame frame = gl.read();
+            Framebuffer fb(size.w, size.h);
+            RenderSettings settings;
+            settings.shading = Shading::lambert;
+            settings.background = k_background;
+            render_scene(agreement_renderer, fb, (*b)->scene, camera, settings);
+            const Agreement a = compare(fb.colour_data(), fb.depth_data(), frame);
+            const DepthOutliers d = explain_depth_outliers((*b)->scene, camera, fb, frame, 1e-4);
+            for (const std::string& l : d.explained_details) std::cerr << "  sliver: " << name << " " << size_text << " " << l << "\n";
+            if (!d.unexplained.empty()) std::cerr << "  UNEXPLAINED depth difference: " << name << " " << size_text << " " << d.unexplained << "\n";
+            std::cout << "AGREE " << name << " " << size_text << " " << a.coverage_agreement * 100 << " "
+                      << a.only_facet << " " << a.only_gl << " " << a.max_depth_diff << " " << a.depth_over_1e4
+                      << " " << a.max_colour_diff << " " << a.mean_colour_diff << " " << a.covered_union << " " << d.explained << std::endl;
+        }
+        std::cout << "DONE" << std::endl;
     }
     return 0;
 }
@@ -347,12 +381,6 @@ std::vector<std::string> run_child(const std::vector<std::string>& args, int& st
     return lines;
 }
 
-std::string join(const std::vector<std::string>& v, const char* sep) {
-    std::string s;
-    for (const auto& x : v) s += (s.empty() ? "" : sep) + x;
-    return s;
-}
-
 std::string fixed(double v, int digits) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.*f", digits, v);
@@ -377,21 +405,122 @@ struct Row {
     double facet_cpu = 0, gl_cpu = 0;  // mean process CPU time per frame, all threads
 };
 
-int run_parent(const Options& o) {
-    std::vector<std::string> common{"--frames", std::to_string(o.frames), "--warmup", std::to_string(o.warmup)};
-    std::vector<std::string> size_list;
-    for (const Size& s : o.sizes) size_list.push_back(s.str());
-    common.insert(common.end(), {"--sizes", join(size_list, ","), "--scenes", join(o.scenes, ",")});
+// A child process of this program with pipes to its stdin and from its stdout (stderr passes
+// through): the llvmpipe worker, sent one command at a time.
+class Child {
+public:
+    explicit Child(const std::vector<std::string>& args) {
+        int to[2], from[2];
+        if (pipe(to) != 0) return;
+        if (pipe(from) != 0) {
+            close(to[0]), close(to[1]);
+            return;
+        }
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_adddup2(&actions, to[0], STDIN_FILENO);
+        posix_spawn_file_actions_adddup2(&actions, from[1], STDOUT_FILENO);
+        for (int fd : {to[0], to[1], from[0], from[1]}) posix_spawn_file_actions_addclose(&actions, fd);
+        std::vector<std::string> full{"/proc/self/exe"};
+        full.insert(full.end(), args.begin(), args.end());
+        std::vector<char*> argv;
+        for (std::string& x : full) argv.push_back(x.data());
+        argv.push_back(nullptr);
+        const int err = posix_spawn(&pid_, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
+        posix_spawn_file_actions_destroy(&actions);
+        close(to[0]), close(from[1]);
+        if (err != 0) {
+            close(to[1]), close(from[0]);
+            pid_ = -1;
+            return;
+        }
+        in_ = fdopen(to[1], "w");
+        out_ = fdopen(from[0], "r");
+    }
+    ~Child() { finish(); }
+    Child(const Child&) = delete;
+    Child& operator=(const Child&) = delete;
 
+    bool running() const { return in_ && out_; }
+    // Its output lines up to and excluding `last` (or to its end, when it exits first).
+    std::vector<std::string> read_until(const std::string& last) {
+        std::vector<std::string> lines;
+        char buffer[1 << 16];
+        while (out_ && std::fgets(buffer, sizeof buffer, out_)) {
+            std::string line(buffer);
+            while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+            if (line == last) return lines;
+            lines.push_back(line);
+        }
+        lines.push_back("ERROR the llvmpipe worker ended early");
+        return lines;
+    }
+    std::vector<std::string> ask(const std::string& command) {
+        if (!running()) return {"ERROR the llvmpipe worker is not running"};
+        std::fprintf(in_, "%s\n", command.c_str());
+        std::fflush(in_);
+        return read_until("DONE");
+    }
+    // Closes its stdin (it exits) and returns its exit status.
+    int finish() {
+        if (in_) std::fclose(in_), in_ = nullptr;
+        if (out_) std::fclose(out_), out_ = nullptr;
+        if (pid_ <= 0) return pid_ == 0 ? 0 : -1;
+        int wstatus = 0;
+        waitpid(pid_, &wstatus, 0);
+        pid_ = 0;
+        status_ = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : -1;
+        return status_;
+    }
+    int status() const { return status_; }
+
+private:
+    pid_t pid_ = -1;
+    FILE* in_ = nullptr;
+    FILE* out_ = nullptr;
+    int status_ = 0;
+};
+
+// All the frames of one renderer on one case, over the rounds.
+struct Samples {
+    std::vector<double> ms;
+    double cpu_ms = 0;
+    void add(const Timed& t) {
+        ms.insert(ms.end(), t.ms.begin(), t.ms.end());
+        cpu_ms += t.cpu_ms;
+    }
+};
+
+int run_parent(const Options& o) {
     std::map<std::string, Row> rows;  // key: scene|size|threads
     auto key = [](const std::string& scene, const std::string& size, int threads) {
         return scene + "|" + size + "|" + std::to_string(threads);
     };
 
-    // facet, in this process.
+    // Per thread count: facet in this process, llvmpipe in a worker, taking turns on every case.
+    std::map<std::string, std::string> info;
+    std::vector<std::string> agreement_lines;
+    bool gl_ok = true;
     SceneCache cache;
-    for (int t : o.threads) {
+    for (std::size_t ti = 0; ti < o.threads.size(); ++ti) {
+        const int t = o.threads[ti];
         Renderer renderer(RendererConfig{.threads = t});
+        Child worker({"--llvmpipe-worker", std::to_string(t)});
+        bool worker_ok = worker.running();
+        for (const std::string& line : worker.read_until("READY")) {
+            std::istringstream in(line);
+            std::string tag, k, rest;
+            in >> tag;
+            if (tag == "INFO") {
+                in >> k;
+                std::getline(in, rest);
+                info[k + (k == "lp_num_threads" ? std::to_string(t) : "")] = rest.empty() ? rest : rest.substr(1);
+            } else if (tag == "ERROR") {
+                std::cerr << "facet_bench_scenes: llvmpipe: " << line.substr(6) << "\n";
+                worker_ok = false;
+            }
+        }
+        gl_ok = gl_ok && worker_ok;
         for (const std::string& name : o.scenes)
             for (const Size& size : o.sizes) {
                 auto b = cache.get(name, size);
@@ -404,65 +533,61 @@ int run_parent(const Options& o) {
                 settings.shading = Shading::lambert;
                 settings.background = k_background;
                 const Camera camera = (*b)->camera_for(size);
-                for (int i = 0; i < o.warmup; ++i) render_scene(renderer, fb, (*b)->scene, camera, settings);
-                std::vector<double> times;
-                const double cpu0 = process_cpu_ms();
-                for (int i = 0; i < o.frames; ++i) {
-                    const auto t0 = Clock::now();
-                    render_scene(renderer, fb, (*b)->scene, camera, settings);
-                    times.push_back(ms_since(t0));
+                const auto draw_facet = [&] { render_scene(renderer, fb, (*b)->scene, camera, settings); };
+                Samples facet, gl;
+                bool have_gl = worker_ok;
+                // llvmpipe's side of one round; the agreement once, with the last round's frame.
+                auto gl_round = [&](int round, int warmup) {
+                    if (!have_gl) return;
+                    const bool agree = o.agreement && ti == 0 && round == o.rounds - 1;
+                    const std::string command = "MEASURE " + name + " " + size.str() + " " + std::to_string(warmup) + " " +
+                                                std::to_string(o.frames) + " " + (agree ? "1" : "0");
+                    bool got = false;
+                    for (const std::string& line : worker.ask(command)) {
+                        std::istringstream in(line);
+                        std::string tag, n, sz;
+                        in >> tag;
+                        if (tag == "RESULT") {
+                            Timed r;
+                            in >> n >> sz >> r.cpu_ms;
+                            for (double ms; in >> ms;) r.ms.push_back(ms);
+                            gl.add(r);
+                            got = !r.ms.empty();
+                        } else if (tag == "AGREE") {
+                            agreement_lines.push_back(line.substr(6));
+                        } else if (tag == "ERROR") {
+                            std::cerr << "facet_bench_scenes: llvmpipe: " << line.substr(6) << "\n";
+                        }
+                    }
+                    if (!got) have_gl = false, gl_ok = false;
+                };
+                for (int round = 0; round < o.rounds; ++round) {
+                    // The first round warms up with --warmup frames, later ones with one frame each,
+                    // since the other renderer has just had the caches.
+                    const int warmup = round == 0 ? o.warmup : 1;
+                    if (round % 2 == 1) gl_round(round, warmup);
+                    facet.add(time_frames(warmup, o.frames, draw_facet));
+                    if (round % 2 == 0) gl_round(round, warmup);
                 }
-                const double cpu_per_frame = (process_cpu_ms() - cpu0) / o.frames;
                 Row r;
                 r.scene = name;
                 r.label = (*b)->label;
                 r.triangles = (*b)->scene.triangle_count();
                 r.size = size;
                 r.threads = t;
-                r.facet_ms = median(times);
-                r.facet_min = *std::min_element(times.begin(), times.end());
-                r.facet_cpu = cpu_per_frame;
-                const std::string k = key(name, size.str(), t);
-                rows[k] = r;
-                std::cerr << "facet    " << name << " " << size.str() << " threads " << t << ": " << fixed(r.facet_ms, 2)
-                          << " ms\n";
+                r.facet_ms = median(facet.ms);
+                r.facet_min = *std::min_element(facet.ms.begin(), facet.ms.end());
+                r.facet_cpu = facet.cpu_ms / static_cast<double>(facet.ms.size());
+                if (have_gl) {
+                    r.gl_ms = median(gl.ms);
+                    r.gl_min = *std::min_element(gl.ms.begin(), gl.ms.end());
+                    r.gl_cpu = gl.cpu_ms / static_cast<double>(gl.ms.size());
+                }
+                rows[key(name, size.str(), t)] = r;
+                std::cerr << name << " " << size.str() << " threads " << t << ": facet " << fixed(r.facet_ms, 2)
+                          << " ms, llvmpipe " << (have_gl ? fixed(r.gl_ms, 2) : "-") << " ms\n";
             }
-    }
-
-    // llvmpipe, one child per thread count.
-    std::map<std::string, std::string> info;
-    std::vector<std::string> agreement_lines;
-    bool gl_ok = true;
-    for (std::size_t ti = 0; ti < o.threads.size(); ++ti) {
-        const int t = o.threads[ti];
-        std::vector<std::string> args{"--llvmpipe-worker", std::to_string(t)};
-        args.insert(args.end(), common.begin(), common.end());
-        if (!o.agreement || ti > 0) args.push_back("--no-agreement");
-        int status = 0;
-        for (const std::string& line : run_child(args, status)) {
-            std::istringstream in(line);
-            std::string tag;
-            in >> tag;
-            if (tag == "RESULT") {
-                std::string name, size;
-                double med = 0, mn = 0, cpu = 0;
-                in >> name >> size >> med >> mn >> cpu;
-                auto it = rows.find(key(name, size, t));
-                if (it != rows.end()) it->second.gl_ms = med, it->second.gl_min = mn, it->second.gl_cpu = cpu;
-                std::cerr << "llvmpipe " << name << " " << size << " threads " << t << ": " << fixed(med, 2) << " ms\n";
-            } else if (tag == "INFO") {
-                std::string k, rest;
-                in >> k;
-                std::getline(in, rest);
-                info[k + (k == "lp_num_threads" ? std::to_string(t) : "")] = rest.empty() ? rest : rest.substr(1);
-            } else if (tag == "AGREE") {
-                agreement_lines.push_back(line.substr(6));
-            } else if (tag == "ERROR") {
-                std::cerr << "facet_bench_scenes: llvmpipe: " << line.substr(6) << "\n";
-                gl_ok = false;
-            }
-        }
-        if (status != 0) {
+        if (const int status = worker.finish(); status != 0) {
             std::cerr << "facet_bench_scenes: the llvmpipe worker for " << t << " thread(s) exited with " << status << "\n";
             gl_ok = false;
         }
@@ -484,8 +609,9 @@ int run_parent(const Options& o) {
     std::ostringstream md;
     md << "Renderer: facet " << "(this build) vs " << info["renderer"] << ", " << info["version"]
        << (info["clip_control"] == "1" ? ", glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)" : "") << ".  \n";
-    md << "Frames: median of " << o.frames << " after " << o.warmup
-       << " warm-up frames. facet frame = render_scene (clear + Renderer::draw); llvmpipe frame = glClear + glDrawElements + glFinish.  \n";
+    md << "Frames: median of " << o.rounds * o.frames << " per renderer and case: " << o.rounds << " rounds of " << o.frames
+       << ", the two renderers taking turns (the order swapped every round), after " << o.warmup
+       << " warm-up frames (1 before each later round). facet frame = render_scene (clear + Renderer::draw); llvmpipe frame = glClear + glDrawElements + glFinish.  \n";
     md << "Threads: facet `--threads T`; llvmpipe LP_NUM_THREADS = " << llvmpipe_threads_for(1) << " for T = 1, T for T >= 2";
     for (int t : o.threads) md << " (T=" << t << ": driver saw " << info["lp_num_threads" + std::to_string(t)] << ")";
     md << ".\n\n";
