@@ -105,8 +105,8 @@ constexpr int k_row_group = 2;
 // One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
 // (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
 // lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors. A row
-// past the rectangle (in the last group) is loaded and stored unchanged, or, past the tile's arrays,
-// the arrays' last row is.
+// past the rectangle (in the last group) is loaded and stored unchanged, past the tile in the
+// arrays' spare row (TileVisibility::k_rows).
 template <DepthTest D, bool DepthWrite, class DF>
 HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileVisibility& vis,
                               std::uint32_t id, const EdgeRect& r, int start, int lo, int hi) {
@@ -126,7 +126,9 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
     const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
     const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
     const auto owner_id = hn::Set(du, id);
-    const int i = start - tile.x0;
+    static_assert(k_row_group - 1 <= TileVisibility::k_rows - k_max_tile_size, "a group's rows past the tile are in the arrays");
+    float* depth = vis.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
+    std::uint32_t* owner = vis.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     auto passed = hn::FirstN(df, 0);
     for (int y = r.y0; y <= r.y1; y += k_row_group) {
         const VI rows_left = hn::Set(di, r.y1 - y + 1);
@@ -140,14 +142,12 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
             const float dy = (static_cast<float>(y + g) + 0.5f) - t.y0;
             auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
             z = clamp_depth(df, z);
-            const int row = std::min(y + g - tile.y0, k_max_tile_size - 1);
-            float* depth = vis.depth + row * k_max_tile_size + i;
             const auto stored = hn::Load(df, depth);
             const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
             if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
-            std::uint32_t* owner = vis.owner + row * k_max_tile_size + i;
             hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), owner_id, hn::Load(du, owner)), du, owner);
             passed = hn::Or(passed, pass);
+            depth += k_max_tile_size, owner += k_max_tile_size;
         }
     }
     return !hn::AllFalse(df, passed);
@@ -165,7 +165,7 @@ HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileVisibili
     if (!edge_rect(t, tile, r)) return false;
     bool any = false;
     for (int x = r.x0; x <= r.x1;) {
-        const int start = tile.x0 + (x - tile.x0) / lanes * lanes;
+        const int start = tile.x0 + ((x - tile.x0) & -lanes);  // x >= tile.x0; lanes is a power of two
         const int end = std::min(r.x1, start + lanes - 1);
         any |= resolve_strip<D, DepthWrite>(df, t, tile, vis, id, r, start, x - start, end - start);
         x = end + 1;

@@ -277,15 +277,19 @@ struct TileVisibility {
     // vertices are in the cache, so the shading pass reads them from here, not from scattered vertices.
     std::vector<float> planes;
     int stride = 0;
+    // Rows of owner and depth: one more than the largest tile, never inside a triangle, so that the
+    // depth pass, which draws rows in pairs, can load and store back unchanged the second row of a
+    // pair that lies past the tile (its values are never read otherwise) instead of testing for it.
+    static constexpr int k_rows = k_max_tile_size + 1;
     // triangles index per pixel, row-major, or k_none where no triangle passed the depth test (set
     // for the whole tile by begin(), so the depth pass need not track which pixels it touched first).
-    alignas(64) std::uint32_t owner[k_max_tile_size * k_max_tile_size];
+    alignas(64) std::uint32_t owner[k_rows * k_max_tile_size];
     // The tile's depth buffer during the depth pass, laid out like owner: loaded by begin(), stored
     // back by end(). Rows that start on a cache line and are 64 wide whatever the tile let the SIMD
     // kernel load and store aligned whole vectors: no split cache lines, no tile-edge special case,
     // and a load of a vector the previous triangle stored is forwarded from the store whole
     // (unaligned vectors overlapping it partly wait for the store; measured: ~10% of the pass).
-    alignas(64) float depth[k_max_tile_size * k_max_tile_size];
+    alignas(64) float depth[k_rows * k_max_tile_size];
     // The tile's colour while it is drawn, when the draw clears it (DrawState::clear): the shading
     // pass writes its covered pixels (colour_view), and store_colour() writes the finished tile to
     // the target in whole cache lines, streamed past the caches, with the clear colour where no
