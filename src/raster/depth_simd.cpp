@@ -163,6 +163,18 @@ HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileVisibili
     static_assert(k_max_tile_size % (HWY_MAX_BYTES / sizeof(float)) == 0, "a row is whole vectors");
     EdgeRect r;
     if (!edge_rect(t, tile, r)) return false;
+    // A rectangle within 8 aligned columns in half-width vectors when full ones are wider: on CPUs
+    // that run a 512-bit operation as two 256-bit halves (AMD's Zen 4) that halves the work of the
+    // most common triangles of dense meshes (the 1M sphere's frame 3-4% faster at 1 thread); where a
+    // 512-bit operation costs what a 256-bit one does, the narrow one costs no more.
+    constexpr int k_narrow = 8;
+    if constexpr (hn::MaxLanes(df) > k_narrow) {
+        const int start = tile.x0 + ((r.x0 - tile.x0) & -k_narrow);
+        if (r.x1 < start + k_narrow) {
+            const hn::CappedTag<float, k_narrow> narrow;
+            return resolve_strip<D, DepthWrite>(narrow, t, tile, vis, id, r, start, r.x0 - start, r.x1 - start);
+        }
+    }
     bool any = false;
     for (int x = r.x0; x <= r.x1;) {
         const int start = tile.x0 + ((x - tile.x0) & -lanes);  // x >= tile.x0; lanes is a power of two
