@@ -108,6 +108,35 @@ void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t fir
         for (std::size_t c = 0; c < plan.chunk_count; ++c) n += chunks_[c].bins[tile].size();
         plan.max_tile_triangles = std::max(plan.max_tile_triangles, n);
     }
+    order_tiles(plan);
+}
+
+void Renderer::order_tiles(const Plan& plan) {
+    const std::size_t tiles = static_cast<std::size_t>(plan.params.tiles_x) * plan.params.tiles_y;
+    auto busy = [&](std::size_t tile) {
+        for (std::size_t c = 0; c < plan.chunk_count; ++c)
+            if (!chunks_[c].bins[tile].empty()) return true;
+        return false;
+    };
+    // Busy tiles first in the array and empty ones after, each in index order; then merged.
+    tile_order_.resize(2 * tiles);
+    std::uint32_t* const order = tile_order_.data();
+    std::uint32_t* const empty = order + tiles;
+    std::size_t busy_count = 0, empty_count = 0;
+    for (std::size_t tile = 0; tile < tiles; ++tile) {
+        if (busy(tile)) order[busy_count++] = static_cast<std::uint32_t>(tile);
+        else empty[empty_count++] = static_cast<std::uint32_t>(tile);
+    }
+    // Merged in place from the back: after busy tile k come the empty tiles up to
+    // (k + 1) * empty_count / busy_count (all of them before the first when none is busy).
+    std::size_t out = tiles, e = empty_count;
+    for (std::size_t k = busy_count; k-- > 0;) {
+        const std::size_t keep = k * empty_count / busy_count;  // empty tiles that go before busy tile k
+        while (e > keep) order[--out] = empty[--e];
+        order[--out] = order[k];
+    }
+    while (e > 0) order[--out] = empty[--e];
+    tile_order_.resize(tiles);
 }
 
 void Renderer::add_stats(const Plan& plan, DrawStats& total) const {

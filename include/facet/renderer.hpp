@@ -64,6 +64,8 @@ private:
         float clear_depth = 1.0f;
     };
     Plan plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input, int stride);
+    // tile_order_ for the bins of the current batch (see there).
+    void order_tiles(const Plan& plan);
     void run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end);
     void add_stats(const Plan& plan, DrawStats& total) const;
 
@@ -89,6 +91,12 @@ private:
     std::size_t batch_size_;  // triangles per batch, all threads together
     detail::ClipVertices vertices_;
     std::vector<detail::FrontEndChunk> chunks_;
+    // The order in which walk_tiles hands out the tiles of the current batch: the tiles with
+    // triangles in index order, and the empty ones spread evenly between them, so that every
+    // worker's queue of empty tiles to clear (DeferredFills) grows with the work during which it
+    // writes them, rather than one worker being handed the rows above a model and another the
+    // model. The image does not depend on the order.
+    std::vector<std::uint32_t> tile_order_;
     std::vector<std::unique_ptr<detail::TileVisibility>> tile_scratch_;  // one per pool worker
 };
 
@@ -131,7 +139,8 @@ inline void fill_rect(TargetView target, PixelRect r, Rgba8 colour, float depth,
 template <bool ContextClears, class Begin, class Each, class End>
 void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each, const End& end) {
     const detail::FrontEndParams& p = plan.params;
-    pool_.parallel_for(static_cast<std::size_t>(p.tiles_x) * p.tiles_y, [&](std::size_t tile_index, int worker) {
+    pool_.parallel_for(tile_order_.size(), [&](std::size_t n, int worker) {
+        const std::size_t tile_index = tile_order_[n];
         const int tx = static_cast<int>(tile_index % p.tiles_x), ty = static_cast<int>(tile_index / p.tiles_x);
         const detail::PixelRect whole{tx * p.tile_size, ty * p.tile_size, std::min((tx + 1) * p.tile_size, plan.target_width),
                                       std::min((ty + 1) * p.tile_size, plan.target_height)};
@@ -147,8 +156,13 @@ void Renderer::walk_tiles(const Plan& plan, const Begin& begin, const Each& each
         const bool context_clears = ContextClears && plan.clear_tiles && any && whole.x0 == tile.x0 &&
                                     whole.y0 == tile.y0 && whole.x1 == tile.x1 && whole.y1 == tile.y1;
         // Streamed when no triangle of this draw reaches the tile; the others read it right after.
-        if (plan.clear_tiles && !context_clears)
-            detail::fill_rect(plan.clear_target, whole, plan.clear_colour, plan.clear_depth, !any);
+        // With contexts (TileVisibility) such a tile joins the worker's deferred fills instead.
+        if (plan.clear_tiles && !context_clears) {
+            if (ContextClears && !any && detail::DeferredFills::fits(plan.clear_target, whole))
+                tile_scratch_[static_cast<std::size_t>(worker)]->fills.add(plan.clear_target, whole);
+            else
+                detail::fill_rect(plan.clear_target, whole, plan.clear_colour, plan.clear_depth, !any);
+        }
         if (!any) return;
         auto&& context = begin(tile, worker, context_clears);
         for (std::size_t c = 0; c < plan.chunk_count; ++c) {
@@ -196,7 +210,12 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
     const detail::TileVisibility::Clear clear{plan.clear_colour, plan.clear_depth};
     // Every worker's lists sized for the fullest tile now: after the first draw of a scene they no
     // longer grow, whichever tiles each worker is given.
-    for (const auto& vis : tile_scratch_) vis->reserve(plan.max_tile_triangles, S::k_varyings);
+    const std::size_t tiles = tile_order_.size();
+    for (const auto& vis : tile_scratch_) {
+        vis->reserve(plan.max_tile_triangles, S::k_varyings);
+        vis->fills.tiles.reserve(tiles);
+        vis->fills.start(plan.clear_target, plan.clear_colour, plan.clear_depth);
+    }
     walk_tiles<true>(
         plan,
         [&](detail::PixelRect tile, int worker, bool clear_tile) -> detail::TileVisibility& {
@@ -220,7 +239,12 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
             else
                 detail::shade_visible(shader, vis, tile, colour);
             vis.store_colour(tile, view);
+            detail::fence_fills(vis.fills);
         });
+    // The empty tiles the kernels did not get to, before the next batch reads the target.
+    bool pending = false;
+    for (const auto& vis : tile_scratch_) pending |= vis->fills.pending();
+    if (pending) pool_.parallel_for(tile_scratch_.size(), [&](std::size_t w) { detail::drain_fills(tile_scratch_[w]->fills); });
 }
 
 template <Shader S>

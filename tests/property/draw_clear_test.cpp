@@ -1,7 +1,8 @@
 // Property: DrawState::clear draws exactly what Framebuffer::clear followed by the same draw draws,
 // colour and depth, byte for byte: over the whole target even when the viewport is smaller, with
 // several batches, for both drawing orders (visible-only and one pass with blending), for a draw
-// with no triangles and one whose depth test passes nothing, on 1 and 3 threads and several tiles.
+// with no triangles and one whose depth test passes nothing, on 1 and 3 threads and several tiles,
+// and on a target whose empty tiles are cleared between the kernels' work (DeferredFills).
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -30,9 +31,10 @@ struct Triangles {
     std::vector<Vec3> colour;
 };
 
-Triangles random_triangles(int count) {
+// Triangles with corners in [lo, hi] in x and y (clip space, w = 1).
+Triangles random_triangles(int count, float lo = -1.2f, float hi = 1.2f) {
     std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(-1.2f, 1.2f), unit(0.0f, 1.0f);
+    std::uniform_real_distribution<float> u(lo, hi), unit(0.0f, 1.0f);
     Triangles t;
     for (int i = 0; i < count * 3; ++i) {
         t.pos.push_back(Vec4{u(rng), u(rng), unit(rng), 1.0f});
@@ -46,8 +48,12 @@ struct Output {
     std::vector<float> depth;
 };
 
-Output draw(const Triangles& tris, DrawState state, RendererConfig config, bool clear_in_draw) {
-    Framebuffer fb(150, 110);
+struct Size {
+    int width, height;
+};
+
+Output draw(const Triangles& tris, DrawState state, RendererConfig config, bool clear_in_draw, Size size = {150, 110}) {
+    Framebuffer fb(size.width, size.height);
     fb.clear(Vec4{0.9f, 0.1f, 0.5f, 1.0f}, 0.25f);  // what a clear must replace everywhere
     const ClearValues clear{Vec4{0.2f, 0.3f, 0.4f, 1.0f}, 0.8f};
     if (clear_in_draw)
@@ -57,7 +63,8 @@ Output draw(const Triangles& tris, DrawState state, RendererConfig config, bool 
     Renderer renderer(config);
     renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(tris.pos.size()), {}},
                   ColourShader{&tris.pos, &tris.colour});
-    return {{fb.colour_data(), fb.colour_data() + 150 * 110}, {fb.depth_data(), fb.depth_data() + 150 * 110}};
+    const std::size_t n = static_cast<std::size_t>(size.width) * static_cast<std::size_t>(size.height);
+    return {{fb.colour_data(), fb.colour_data() + n}, {fb.depth_data(), fb.depth_data() + n}};
 }
 
 bool same(const Output& a, const Output& b) {
@@ -94,6 +101,37 @@ TEST(DrawClear, EqualsFramebufferClearThenDraw) {
     int cleared = 0, drawn = 0;
     for (std::size_t i = 0; i < out.depth.size(); ++i) (out.depth[i] == 0.8f ? cleared : drawn)++;
     EXPECT_GT(cleared, 100);
+    EXPECT_GT(drawn, 1000);
+}
+
+// Tiles that no triangle reaches are cleared between the kernels' work (DeferredFills) when every
+// row of them is whole aligned cache lines: a target 16-pixel aligned, with triangles in one corner
+// so that most tiles are empty, and batches so small that every batch's fills must be done before
+// the next batch reads the target.
+TEST(DrawClear, EmptyTilesAreClearedWhereverTheTrianglesAre) {
+    const Triangles corner = random_triangles(300, -0.95f, -0.2f);
+    const Triangles spread = random_triangles(300);
+    const Size size{256, 192};
+    for (DepthTest test : {DepthTest::less, DepthTest::lequal})
+        for (int threads : {1, 2, 3})
+            for (int tile : {16, 32, 64})
+                for (int batch : {0, 40})
+                    for (const Triangles* t : {&corner, &spread}) {
+                        DrawState state;
+                        state.cull = CullMode::none;
+                        state.depth_test = test;
+                        const RendererConfig config{.threads = threads, .tile_size = tile, .batch_triangles = batch};
+                        EXPECT_TRUE(same(draw(*t, state, config, true, size), draw(*t, state, config, false, size)))
+                            << "test " << static_cast<int>(test) << ", threads " << threads << ", tile " << tile
+                            << ", batch " << batch << ", triangles in the corner " << (t == &corner);
+                    }
+    // Most of the target is empty tiles, and the triangles show.
+    DrawState state;
+    state.cull = CullMode::none;
+    const Output out = draw(corner, state, {.threads = 1}, true, size);
+    int cleared = 0, drawn = 0;
+    for (std::size_t i = 0; i < out.depth.size(); ++i) (out.depth[i] == 0.8f ? cleared : drawn)++;
+    EXPECT_GT(cleared, size.width * size.height / 2);
     EXPECT_GT(drawn, 1000);
 }
 

@@ -261,6 +261,77 @@ inline void store_tile_row_reference(const std::uint32_t* from, const std::uint6
     for (int i = 0; i < width; ++i) to[i] = (*covered >> i) & 1 ? from[i] : fill;
 }
 
+// Tiles of the target that the draw clears and no triangle reaches, to be filled with the clear
+// colour and depth by streaming stores a row at a time, between the tile kernels' own work, instead
+// of all at once. A core writes memory past its caches at a limited rate (about 40 GB/s, measured),
+// and a run of such fills leaves it waiting for every line: at 1920x1080 the empty tiles around a
+// model are 13 MB a frame, 0.45 ms or 11% of a mesh's frame at one thread. Written a row at a time
+// between the triangles of pass one (take(), then stream_fill_row in src/raster/depth_simd.cpp), the
+// same stores make pass one about 0.2 ms slower. One queue per pool worker (in TileVisibility): the
+// empty tiles a worker is handed join its queue, and what is left when the tiles are done is written
+// by drain_fills. Only tiles whose every row is whole aligned cache lines are queued; the image does
+// not depend on when they are written.
+struct DeferredFills {
+    struct Tile {
+        std::uint32_t* colour;  // the tile's first colour and depth pixels in the target
+        std::uint32_t* depth;
+        int width, height;
+    };
+    // One row to write: `width` words of value `word` from `to`, 64-byte aligned, width a multiple of 16.
+    struct Row {
+        std::uint32_t* to;
+        int width;
+        std::uint32_t word;
+    };
+    std::vector<Tile> tiles;
+    std::size_t next = 0;  // tiles[next] is being written, row `row` of colour then of depth
+    int row = 0;
+    int stride = 0;        // the target's row, in pixels
+    std::uint32_t colour = 0, depth = 0;  // the clear values' bits
+    bool streamed = false;  // rows were taken since the last fence
+
+    // Empties the queue (it must have been drained) for a draw that clears to `c` and `z`.
+    void start(TargetView target, Rgba8 c, float z) {
+        tiles.clear();
+        next = 0, row = 0;
+        stride = target.stride;
+        std::memcpy(&colour, &c, sizeof(colour));
+        std::memcpy(&depth, &z, sizeof(depth));
+    }
+    // Whether `tile` of the target can be queued: every row whole aligned cache lines.
+    static bool fits(TargetView target, PixelRect tile) {
+        constexpr int k_line = 64 / sizeof(std::uint32_t);
+        return (tile.x1 - tile.x0) % k_line == 0 && target.stride % k_line == 0 &&
+               reinterpret_cast<std::uintptr_t>(target.colour + target.at(tile.x0, tile.y0)) % 64 == 0 &&
+               reinterpret_cast<std::uintptr_t>(target.depth + target.at(tile.x0, tile.y0)) % 64 == 0;
+    }
+    void add(TargetView target, PixelRect tile) {
+        tiles.push_back({reinterpret_cast<std::uint32_t*>(target.colour + target.at(tile.x0, tile.y0)),
+                         reinterpret_cast<std::uint32_t*>(target.depth + target.at(tile.x0, tile.y0)),
+                         tile.x1 - tile.x0, tile.y1 - tile.y0});
+    }
+    bool pending() const { return next < tiles.size(); }
+    // The next row of the queue (a tile's colour rows, then its depth rows), if any, for the caller
+    // to write with streaming stores (stream_fill_row).
+    [[gnu::always_inline]] bool take(Row& out) {
+        if (!pending()) return false;
+        const Tile& t = tiles[next];
+        const bool is_colour = row < t.height;
+        const int r = is_colour ? row : row - t.height;
+        out = {(is_colour ? t.colour : t.depth) + static_cast<std::size_t>(r) * static_cast<std::size_t>(stride),
+               t.width, is_colour ? colour : depth};
+        streamed = true;
+        if (++row == 2 * t.height) row = 0, ++next;
+        return true;
+    }
+};
+// Writes one row of deferred fills with streaming stores (the widest the CPU has: narrower ones
+// cost more per line), and all that is left of a queue, each followed by a fence when streamed:
+// streaming stores are weakly ordered, so they are made visible before the work that wrote them is
+// reported done (fence_fills, at the end of each tile).
+void drain_fills(DeferredFills& fills);
+void fence_fills(DeferredFills& fills);
+
 struct TileVisibility;
 // Sets TileVisibility::covered from the owners, with the ISA selected in facet/isa.hpp (a SIMD kernel
 // in src/raster/depth_simd.cpp, or find_owned_pixels_reference).
@@ -277,10 +348,11 @@ struct TileVisibility {
     // vertices are in the cache, so the shading pass reads them from here, not from scattered vertices.
     std::vector<float> planes;
     int stride = 0;
-    // Rows of owner and depth: one more than the largest tile, never inside a triangle, so that the
-    // depth pass, which draws rows in pairs, can load and store back unchanged the second row of a
-    // pair that lies past the tile (its values are never read otherwise) instead of testing for it.
-    static constexpr int k_rows = k_max_tile_size + 1;
+    // Rows of owner and depth: three more than the largest tile, never inside a triangle, so that the
+    // depth pass, which draws rows in groups of two (four for narrow rectangles), can load and store
+    // back unchanged the rows of a group that lie past the tile (their values are never read
+    // otherwise) instead of testing for them.
+    static constexpr int k_rows = k_max_tile_size + 3;
     // triangles index per pixel, row-major, or k_none where no triangle passed the depth test (set
     // for the whole tile by begin(), so the depth pass need not track which pixels it touched first).
     alignas(64) std::uint32_t owner[k_rows * k_max_tile_size];
@@ -302,6 +374,8 @@ struct TileVisibility {
     // Per row, the pixels some triangle owns: set by end() from `owner`, once per tile, rather than
     // by the depth pass for every row of every triangle.
     std::uint64_t covered[k_max_tile_size];
+    // Empty tiles this worker was handed, written between the triangles of pass one.
+    DeferredFills fills;
 
     // Room for `count` triangles with `varyings` each, so that drawing a tile of that many allocates
     // nothing.
