@@ -92,11 +92,27 @@ HWY_INLINE VF dot(const Vec3Lanes& a, const Vec3Lanes& b) {
     return hn::Add(hn::Add(hn::Add(hn::Zero(df), hn::Mul(a.x, b.x)), hn::Mul(a.y, b.y)), hn::Mul(a.z, b.z));
 }
 
-// std::max(v, 0.0f): v unless v < 0 (so NaN stays NaN).
-HWY_INLINE VF max_zero(VF v) {
-    const DF df;
-    return hn::IfThenElse(hn::Lt(v, hn::Zero(df)), hn::Zero(df), v);
+// x86's max and min return their second operand unless the first is greater (max) or less (min):
+// a NaN in either, or two equal values (-0 and 0), give the second. So Max(a, b) is exactly
+// a > b ? a : b, and Min(a, b) a < b ? a : b, in one instruction instead of a compare and a select.
+// Highway's portable Max and Min do not promise that: other targets compare and select.
+HWY_INLINE VF greater_or_second(VF a, VF b) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
+    return hn::Max(a, b);
+#else
+    return hn::IfThenElse(hn::Gt(a, b), a, b);
+#endif
 }
+HWY_INLINE VF less_or_second(VF a, VF b) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
+    return hn::Min(a, b);
+#else
+    return hn::IfThenElse(hn::Lt(a, b), a, b);
+#endif
+}
+
+// std::max(v, 0.0f): v unless v < 0, i.e. unless 0 > v (so NaN stays NaN).
+HWY_INLINE VF max_zero(VF v) { return greater_or_second(hn::Zero(DF()), v); }
 
 // facet::normalize's common case, a / length(a). Lanes where the length is zero, infinite or NaN
 // need normalize_rare: they are added to `scalar`, whose pixels are shaded again by the specification.
@@ -221,8 +237,8 @@ HWY_INLINE hn::Vec<DI> truncate_in_range(VF v) {
 // to_rgba8 of one channel, as an integer in [0, 255]: clamp to [0, 1] (NaN to 0), scale, round.
 HWY_INLINE hn::Vec<DU> unorm8(VF v) {
     const DF df;
-    v = hn::IfThenElse(hn::Gt(v, hn::Zero(df)), v, hn::Zero(df));
-    v = hn::IfThenElse(hn::Lt(v, hn::Set(df, 1.0f)), v, hn::Set(df, 1.0f));
+    v = greater_or_second(v, hn::Zero(df));
+    v = less_or_second(v, hn::Set(df, 1.0f));
     return hn::BitCast(DU(), truncate_in_range(hn::Add(hn::Mul(v, hn::Set(df, 255.0f)), hn::Set(df, 0.5f))));
 }
 

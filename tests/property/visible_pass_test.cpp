@@ -2,8 +2,9 @@
 // bytes of the scalar specification (detail::shade_visible: fragment() once per visible pixel, what
 // "scalar" runs) on every ISA the CPU runs.
 // The mesh is random and adversarial for the shaders' arithmetic: normals of every length including
-// zero, huge and NaN ones, colours outside [0, 1], triangles of every size, facing both ways, seen in
-// perspective; targets whose width is not a multiple of a vector; tiles narrower than a vector.
+// zero, huge and NaN ones, colours outside [0, 1], infinite and NaN ones, triangles of every size,
+// facing both ways, seen in perspective; targets whose width is not a multiple of a vector; tiles
+// narrower than a vector; and lights whose direction is NaN.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -40,14 +41,24 @@ Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
                 default: break;
             }
             m.normals.push_back(n);
-            m.colours.push_back(Vec4{unit(rng) * 1.4f - 0.2f, unit(rng), unit(rng), unit(rng)});
+            Vec4 c{unit(rng) * 1.4f - 0.2f, unit(rng), unit(rng), unit(rng)};
+            switch ((t * 3 + k) % 89) {
+                case 0: c.x = std::numeric_limits<float>::quiet_NaN(); break;  // to_rgba8 maps NaN to 0
+                case 1: c.y = std::numeric_limits<float>::infinity(); break;
+                case 2: c.z = -std::numeric_limits<float>::infinity(); break;
+                case 3: c.w = -0.0f; break;
+                default: break;
+            }
+            m.colours.push_back(c);
         }
     }
     for (std::uint32_t i = 0; i < m.positions.size(); ++i) m.indices.push_back(i);
     return m;
 }
 
-ShadingUniforms uniforms(int width, int height, float shininess) {
+enum class Lights { ordinary, nan_fill };
+
+ShadingUniforms uniforms(int width, int height, float shininess, Lights lights = Lights::ordinary) {
     Camera camera;
     camera.position = {0.4f, 0.7f, 3.2f};
     camera.target = {0, 0, 0};
@@ -59,6 +70,8 @@ ShadingUniforms uniforms(int width, int height, float shininess) {
     u.specular = 0.35f;
     u.base_colour = {0.9f, 0.7f, 1.3f, 0.8f};
     u.shininess = shininess;
+    // max(dot(n, l), 0) of a NaN is NaN (and the colour 0), not 0: the lanes' max must keep it.
+    if (lights == Lights::nan_fill) u.fill.direction.y = std::numeric_limits<float>::quiet_NaN();
     return u;
 }
 
@@ -71,13 +84,14 @@ struct EveryFragment : S {
 constexpr int k_width = 203, k_height = 157;
 
 template <class S>
-std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config, float shininess = 40.0f) {
+std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config, float shininess = 40.0f,
+                          Lights lights = Lights::ordinary) {
     Renderer renderer(config);
     Framebuffer fb(k_width, k_height);
     fb.clear(Vec4{0.1f, 0.2f, 0.3f, 1.0f}, 1.0f);
     DrawState state;
     state.cull = CullMode::none;
-    const S shader{MeshArrays::of(mesh), uniforms(k_width, k_height, shininess)};
+    const S shader{MeshArrays::of(mesh), uniforms(k_width, k_height, shininess, lights)};
     renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(mesh.positions.size()), mesh.indices}, shader);
     return {fb.colour_data(), fb.colour_data() + k_width * k_height};
 }
@@ -101,7 +115,8 @@ template <class S>
 struct Wrapped : S {};
 
 template <class S>
-void expect_every_isa_matches_the_specification(const char* name, float shininess = 40.0f) {
+void expect_every_isa_matches_the_specification(const char* name, float shininess = 40.0f,
+                                                Lights lights = Lights::ordinary) {
     static_assert(detail::CompiledVisiblePass<S>::available);
     IsaGuard guard;
     const Mesh mesh = adversarial_mesh(7, 1500);
@@ -109,14 +124,14 @@ void expect_every_isa_matches_the_specification(const char* name, float shinines
     // (That it draws what the one-pass order draws is Determinism's business; rendering the one-pass
     // order here too would instantiate it for every shader, a minute of compile time under ASan.)
     ASSERT_TRUE(select_isa("scalar"));
-    const std::vector<Rgba8> reference = render<S>(mesh, {.threads = 1, .tile_size = 64}, shininess);
+    const std::vector<Rgba8> reference = render<S>(mesh, {.threads = 1, .tile_size = 64}, shininess, lights);
     std::size_t drawn = 0;
     for (const Rgba8 c : reference) drawn += !(c.r == 26 && c.g == 51 && c.b == 77);
     EXPECT_GT(drawn, static_cast<std::size_t>(k_width * k_height / 2)) << name << ": the scene covers the image";
     for (const std::string& isa : available_isas()) {
         ASSERT_TRUE(select_isa(isa));
         for (int tile : {8, 16, 64}) {
-            const std::vector<Rgba8> out = render<S>(mesh, {.threads = 2, .tile_size = tile}, shininess);
+            const std::vector<Rgba8> out = render<S>(mesh, {.threads = 2, .tile_size = tile}, shininess, lights);
             EXPECT_TRUE(out == reference) << name << " on " << isa << ", tile " << tile << ": "
                                           << first_difference(out, reference);
         }
@@ -125,6 +140,7 @@ void expect_every_isa_matches_the_specification(const char* name, float shinines
 
 TEST(CompiledVisiblePass, LambertMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::Lambert>("Lambert");
+    expect_every_isa_matches_the_specification<shaders::Lambert>("Lambert, NaN fill light", 40.0f, Lights::nan_fill);
 }
 TEST(CompiledVisiblePass, BlinnPhongMatchesTheSpecificationOnEveryIsa) {
     // Every branch of portable_pow: x^0, moderate, and exponents that underflow and overflow.
