@@ -19,6 +19,7 @@
 #include <cstring>
 
 #include "facet/detail/shade.hpp"
+#include "raster/stream_fill-inl.h"
 
 #ifndef FACET_RASTER_DEPTH_SIMD_ONCE
 #define FACET_RASTER_DEPTH_SIMD_ONCE
@@ -265,21 +266,13 @@ bool ResolveTriangleFor(const DepthJob& job) {
     return resolve_one<D, DepthWrite>(*job.setup, job.tile, *job.vis, job.id);
 }
 
-// One row of deferred fills (DeferredFills::take), in whole vectors streamed past the caches.
-HWY_INLINE void stream_fill_row(const DeferredFills::Row& row) {
-    const hn::ScalableTag<std::uint32_t> du;
-    const auto word = hn::Set(du, row.word);
-    for (int i = 0; i < row.width; i += static_cast<int>(hn::Lanes(du))) hn::Stream(word, du, row.to + i);
-}
-
 void FenceFills(DeferredFills& fills) {
     if (fills.streamed) hwy::FlushStream();
     fills.streamed = false;
 }
 
 void DrainFills(DeferredFills& fills) {
-    DeferredFills::Row row;
-    while (fills.take(row)) stream_fill_row(row);
+    while (fills.pending()) stream_fill_rows(fills, k_max_tile_size);
     FenceFills(fills);
 }
 
@@ -296,8 +289,6 @@ void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect ti
     for (std::size_t n = 0; n < count; ++n) {
         if (n + k_distance < count) prefetch_record(records + n + k_distance);
         const TriangleSetup& t = records[n];
-        // A row of the worker's empty tiles, if any, between triangles (DeferredFills).
-        if (DeferredFills::Row row; vis.fills.take(row)) stream_fill_row(row);
         const bool any = resolve_one<D, DepthWrite>(t, tile, vis, id);
         listed[id - first] = &t;
         id += any;

@@ -265,12 +265,13 @@ inline void store_tile_row_reference(const std::uint32_t* from, const std::uint6
 // colour and depth by streaming stores a row at a time, between the tile kernels' own work, instead
 // of all at once. A core writes memory past its caches at a limited rate (about 40 GB/s, measured),
 // and a run of such fills leaves it waiting for every line: at 1920x1080 the empty tiles around a
-// model are 13 MB a frame, 0.45 ms or 11% of a mesh's frame at one thread. Written a row at a time
-// between the triangles of pass one (take(), then stream_fill_row in src/raster/depth_simd.cpp), the
-// same stores make pass one about 0.2 ms slower. One queue per pool worker (in TileVisibility): the
-// empty tiles a worker is handed join its queue, and what is left when the tiles are done is written
-// by drain_fills. Only tiles whose every row is whole aligned cache lines are queued; the image does
-// not depend on when they are written.
+// model are 13 MB a frame, 0.45 ms or 11% of a mesh's frame at one thread. Written a few rows at a
+// time between the blocks of the compiled shading pass (take(), then stream_fill_rows in
+// src/raster/stream_fill-inl.h), they cost a fraction of that. One queue per pool worker (in
+// TileVisibility): the empty tiles a worker is handed join its queue, and what is left when the
+// tiles are done is written by drain_fills (all of it for shaders without a compiled pass). Only
+// tiles whose every row is whole aligned cache lines are queued; the image does not depend on when
+// they are written.
 struct DeferredFills {
     struct Tile {
         std::uint32_t* colour;  // the tile's first colour and depth pixels in the target
@@ -374,8 +375,9 @@ struct TileVisibility {
     // Per row, the pixels some triangle owns: set by end() from `owner`, once per tile, rather than
     // by the depth pass for every row of every triangle.
     std::uint64_t covered[k_max_tile_size];
-    // Empty tiles this worker was handed, written between the triangles of pass one.
-    DeferredFills fills;
+    // Empty tiles this worker was handed, written between the blocks of the shading pass; mutable,
+    // as that pass only reads the tile's visibility.
+    mutable DeferredFills fills;
 
     // Room for `count` triangles with `varyings` each, so that drawing a tile of that many allocates
     // nothing.
