@@ -102,29 +102,23 @@ void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t fir
         chunks_[c].reset(tiles, plan.stride);
         detail::run_front_end(vertices_, input, chunk_first, chunk_end, plan.params, chunks_[c]);
     });
-    plan.max_tile_triangles = 0;
-    for (std::size_t tile = 0; tile < tiles; ++tile) {
-        std::size_t n = 0;
-        for (std::size_t c = 0; c < plan.chunk_count; ++c) n += chunks_[c].bins[tile].size();
-        plan.max_tile_triangles = std::max(plan.max_tile_triangles, n);
-    }
-    order_tiles(plan);
+    plan_tiles(plan);
 }
 
-void Renderer::order_tiles(const Plan& plan) {
+void Renderer::plan_tiles(Plan& plan) {
     const std::size_t tiles = static_cast<std::size_t>(plan.params.tiles_x) * plan.params.tiles_y;
-    auto busy = [&](std::size_t tile) {
-        for (std::size_t c = 0; c < plan.chunk_count; ++c)
-            if (!chunks_[c].bins[tile].empty()) return true;
-        return false;
-    };
-    // Busy tiles first in the array and empty ones after, each in index order; then merged.
+    // One pass over the bins: each tile's triangles counted, the fullest kept, and the busy tiles
+    // put first in the array and the empty ones after it, each in index order; then merged.
+    plan.max_tile_triangles = 0;
     tile_order_.resize(2 * tiles);
     std::uint32_t* const order = tile_order_.data();
     std::uint32_t* const empty = order + tiles;
     std::size_t busy_count = 0, empty_count = 0;
     for (std::size_t tile = 0; tile < tiles; ++tile) {
-        if (busy(tile)) order[busy_count++] = static_cast<std::uint32_t>(tile);
+        std::size_t n = 0;
+        for (std::size_t c = 0; c < plan.chunk_count; ++c) n += chunks_[c].bins[tile].size();
+        plan.max_tile_triangles = std::max(plan.max_tile_triangles, n);
+        if (n > 0) order[busy_count++] = static_cast<std::uint32_t>(tile);
         else empty[empty_count++] = static_cast<std::uint32_t>(tile);
     }
     // Merged in place from the back: after busy tile k come the empty tiles up to

@@ -64,8 +64,8 @@ private:
         float clear_depth = 1.0f;
     };
     Plan plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input, int stride);
-    // tile_order_ for the bins of the current batch (see there).
-    void order_tiles(const Plan& plan);
+    // From the bins of the current batch: plan.max_tile_triangles and tile_order_ (see there).
+    void plan_tiles(Plan& plan);
     void run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end);
     void add_stats(const Plan& plan, DrawStats& total) const;
 
@@ -210,11 +210,9 @@ void Renderer::run_tiles_visible_only(Framebuffer& target, const Plan& plan, con
     const detail::TileVisibility::Clear clear{plan.clear_colour, plan.clear_depth};
     // Every worker's lists sized for the fullest tile now: after the first draw of a scene they no
     // longer grow, whichever tiles each worker is given.
-    const std::size_t tiles = tile_order_.size();
     for (const auto& vis : tile_scratch_) {
         vis->reserve(plan.max_tile_triangles, S::k_varyings);
-        vis->fills.tiles.reserve(tiles);
-        vis->fills.start(plan.clear_target, plan.clear_colour, plan.clear_depth);
+        vis->fills.start(plan.clear_target, plan.clear_colour, plan.clear_depth, tile_order_.size());
     }
     walk_tiles<true>(
         plan,

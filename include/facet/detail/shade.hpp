@@ -291,9 +291,11 @@ struct DeferredFills {
     std::uint32_t colour = 0, depth = 0;  // the clear values' bits
     bool streamed = false;  // rows were taken since the last fence
 
-    // Empties the queue (it must have been drained) for a draw that clears to `c` and `z`.
-    void start(TargetView target, Rgba8 c, float z) {
+    // Empties the queue (it must have been drained) for a draw that clears to `c` and `z`, with room
+    // for all `tile_count` tiles of the target: queueing them allocates nothing.
+    void start(TargetView target, Rgba8 c, float z, std::size_t tile_count) {
         tiles.clear();
+        tiles.reserve(tile_count);
         next = 0, row = 0;
         stride = target.stride;
         std::memcpy(&colour, &c, sizeof(colour));
@@ -326,10 +328,9 @@ struct DeferredFills {
         return true;
     }
 };
-// Writes one row of deferred fills with streaming stores (the widest the CPU has: narrower ones
-// cost more per line), and all that is left of a queue, each followed by a fence when streamed:
-// streaming stores are weakly ordered, so they are made visible before the work that wrote them is
-// reported done (fence_fills, at the end of each tile).
+// drain_fills writes all that is left of a queue; both end with a fence when the queue's rows were
+// streamed since the last one: streaming stores are weakly ordered, so they are made visible before
+// the work that wrote them is reported done (fence_fills, at the end of each tile).
 void drain_fills(DeferredFills& fills);
 void fence_fills(DeferredFills& fills);
 
