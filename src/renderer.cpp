@@ -2,6 +2,8 @@
 // chunks), running the front end over chunks of triangles, and adding up statistics.
 #include "facet/renderer.hpp"
 
+#include "facet/defaults.hpp"
+
 #include <string>
 
 namespace facet {
@@ -10,26 +12,6 @@ namespace {
 // Triangles per front-end task: enough work to amortize scheduling. The split does not change the
 // output (bins keep submission order), only the balance between threads.
 constexpr std::size_t k_min_chunk_triangles = 2048;
-
-// Triangles per batch and thread, and per batch at least: bounds the set-up records held at once
-// (128 bytes each: 128 MB for a batch of 2^20, 16 MB more per thread past eight) however large the
-// draw. Not smaller: every batch revisits the tiles it touches, re-reading their colour and depth
-// from memory and shading into the target rather than into the tile, which costs more than the
-// set-up records' cache misses saved by a batch that fits the caches. Measured: 8192 per thread
-// made the bunny at 1920x1080 30% slower; on the 1M-triangle sphere (whose two halves, front and
-// back, cover the same tiles from different parts of the mesh) one batch of 2^20 instead of 131072
-// per thread made frames 8% faster at one and at two threads, 2^19 3% faster, and raised the peak
-// memory of the benchmark's sphere by 7 MB (the bins of a mesh drawn in spatial order reach about
-// the same size either way).
-constexpr std::size_t k_batch_triangles_per_thread = 131072;
-constexpr std::size_t k_min_batch_triangles = std::size_t{1} << 20;
-
-// Triangles per batch: as configured per thread, or the defaults above.
-std::size_t batch_size_for(int configured_per_thread, int threads) {
-    const auto t = static_cast<std::size_t>(threads);
-    if (configured_per_thread > 0) return static_cast<std::size_t>(configured_per_thread) * t;
-    return std::max(k_batch_triangles_per_thread * t, k_min_batch_triangles);
-}
 
 // Throws invalid_argument with message() unless ok. The message is built only on failure: draw()
 // checks its arguments every call, and must not allocate when they are fine.
@@ -43,7 +25,7 @@ void require(bool ok, const Message& message) {
 Renderer::Renderer(RendererConfig config)
     : pool_(config.threads),
       tile_size_(config.tile_size),
-      batch_size_(batch_size_for(config.batch_triangles, pool_.size())) {
+      batch_size_(resolve_batch_triangles(config.batch_triangles, pool_.size())) {
     const int s = config.tile_size;
     require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
             [&] { return "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s); });

@@ -1,7 +1,8 @@
 // facet command line: subcommands `render` (one model to a PNG), `thumbs` (many models to
-// thumbnails) and `view` (an interactive window: the executable apps/viewer builds, which this one
-// becomes after checking the command line). Errors go to stderr; exit codes: 0 ok, 1 a file failed,
-// 2 bad command line.
+// thumbnails), `view` (an interactive window: the executable apps/viewer builds, which this one
+// becomes after checking the command line) and `diff` (two images compared). Errors go to stderr;
+// exit codes: 0 ok, 1 a file failed (diff: the images differ), 2 bad command line (diff: or a file
+// that cannot be read).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -9,6 +10,13 @@
 #include <string>
 
 #include "options.hpp"
+
+namespace {
+const char* const k_threshold_help =
+    "Comparison thresholds, any of diff=N (per-channel difference that does not count), pixels=N or P% (how many "
+    "may differ by more), ssim=S, psnr=DB, comma-separated; default exact (diff=0,pixels=0); only ssim and/or psnr: "
+    "pixels are not counted";
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace facet::cli;
@@ -26,11 +34,14 @@ int main(int argc, char** argv) {
     render->add_option("--benchmark", benchmark, "Render N timed frames after a warm-up; print one JSON line");
     add_render_options(*render, render_options);
     add_worker_options(*render, render_options, /*in_process_option=*/true);
+    ReferenceCheck reference;
+    render->add_option("--reference", reference.reference,
+                       "Compare the output with this PNG: exit 1 and write OUTPUT.diff.png when they differ");
+    render->add_option("--threshold", reference.threshold, k_threshold_help);
+    render->add_flag("--update-reference", reference.update,
+                     "Write the --reference PNG when it is missing or differs (and say so) instead of failing");
 
-    RenderOptions thumbs_options;
-    thumbs_options.size = "256";
-    thumbs_options.azimuth = 35;
-    thumbs_options.elevation = 25;
+    RenderOptions thumbs_options = thumbnail_options();
     std::vector<std::string> inputs;
     std::string out_dir;
     CLI::App* thumbs = app.add_subcommand("thumbs", "Render a thumbnail PNG of every model in files and directories");
@@ -43,6 +54,15 @@ int main(int argc, char** argv) {
     ViewArgs view_args;
     CLI::App* view = add_view_subcommand(app, view_args);
 
+    std::string diff_a, diff_b;
+    DiffOptions diff_options;
+    CLI::App* diff = app.add_subcommand("diff", "Compare two PNG images: exit 0 when within the thresholds, 1 when not, 2 on an error");
+    diff->add_option("a", diff_a, "First image (the diff image dims a copy of it)")->required();
+    diff->add_option("b", diff_b, "Second image")->required();
+    diff->add_option("--threshold", diff_options.threshold, k_threshold_help);
+    diff->add_option("--diff-image", diff_options.diff_image, "Write where they differ (red) over a dimmed copy of A to this PNG");
+    diff->add_flag("--json", diff_options.json, "Print the comparison as one JSON object instead of the summary line");
+
     if (const std::optional<int> done = parse_command_line(app, argc, argv)) return *done;
     try {
         if (render->parsed()) {
@@ -51,9 +71,12 @@ int main(int argc, char** argv) {
                                      "--no-isolation does without\n");
                 return k_exit_usage;
             }
-            return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render));
+            return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render), reference);
         }
         if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options);
+        if (diff->parsed()) return run_diff(diff_a, diff_b, diff_options);
+        if (view->parsed() && view_args.options.print_config)
+            return print_view_config(view_args, has_camera_options(*view));
         if (view->parsed()) return run_viewer_executable(argv);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "facet: %s\n", e.what());

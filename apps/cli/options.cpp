@@ -76,6 +76,16 @@ Result<Vec4> parse_background(const std::string& value) {
 
 }  // namespace
 
+std::string size_text(int width, int height) { return std::to_string(width) + "x" + std::to_string(height); }
+
+RenderOptions thumbnail_options() {
+    RenderOptions o;
+    o.size = std::to_string(defaults::k_thumbnail_size);
+    o.azimuth = defaults::k_thumbnail_azimuth_degrees;
+    o.elevation = defaults::k_thumbnail_elevation_degrees;
+    return o;
+}
+
 void add_render_options(CLI::App& c, RenderOptions& o) {
     // An empty value would read as "not given" below; a script passing --eye "$EYE" with EYE unset
     // should hear about it instead of getting the automatic camera.
@@ -109,6 +119,9 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--max-texture-size", o.max_texture_size,
                  "Largest texture side in pixels (and at most N*N, 64 Mpixels by default); larger ones are not used")
         ->capture_default_str();
+    c.add_flag("--print-config", o.print_config,
+               "Print the settings this run would use, every default resolved, as 'key = value' lines, and exit "
+               "without rendering");
 }
 
 void add_worker_options(CLI::App& c, RenderOptions& o, bool in_process_option) {
@@ -125,8 +138,7 @@ void add_worker_options(CLI::App& c, RenderOptions& o, bool in_process_option) {
 }
 
 Result<WorkerLimits> make_worker_limits(const RenderOptions& o, unsigned workers) {
-    // Below this the worker cannot even start its libraries and threads.
-    constexpr std::uint64_t k_min_memory = std::uint64_t{64} << 20;
+    constexpr std::uint64_t k_min_memory = defaults::k_min_memory_bytes;
     WorkerLimits limits;
     if (!(o.timeout >= 0 && std::isfinite(o.timeout))) return usage("--timeout must be 0 (no limit) or a number of seconds");
     limits.timeout_seconds = o.timeout;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "facet/compare.hpp"
 #include "facet/error.hpp"
 #include "facet/model.hpp"
 #include "facet/scene.hpp"
@@ -24,27 +25,36 @@ constexpr int k_exit_ok = 0;
 constexpr int k_exit_failed = 1;     // a file could not be loaded, rendered or written
 constexpr int k_exit_usage = 2;      // bad command line
 
+// "WxH".
+std::string size_text(int width, int height);
+
+// Every default comes from facet/defaults.hpp; thumbnail_options() are thumbs' own.
 struct RenderOptions {
-    std::string size = "800x600";
-    float azimuth = 0, elevation = 0, fov = 45;
+    std::string size = size_text(defaults::k_image_width, defaults::k_image_height);
+    float azimuth = defaults::k_azimuth_degrees, elevation = defaults::k_elevation_degrees;
+    float fov = defaults::k_fov_degrees;
     std::string eye, target, up;
     std::optional<float> near, far;
     std::string up_axis = "y";
     bool ortho = false;
     std::string shading = "lit";
     std::string background = "";  // default: the built-in dark grey
-    int ssaa = 1;
-    int threads = 0;
+    int ssaa = defaults::k_ssaa;
+    int threads = defaults::k_threads;
     std::string isa = "best";  // instruction set of the SIMD kernels (facet/isa.hpp)
-    float crease_angle = 40;
+    float crease_angle = defaults::k_crease_angle_degrees;
     // Resource limits for loading (LoadOptions, TextureLimits): checked before anything is allocated.
-    long long max_triangles = static_cast<long long>(LoadOptions{}.max_triangles);  // signed: -1 is an error, not 2^64 - 1
-    int max_texture_size = TextureLimits{}.max_size;
+    long long max_triangles = static_cast<long long>(defaults::k_max_triangles);  // signed: -1 is an error, not 2^64 - 1
+    int max_texture_size = defaults::k_max_texture_size;
     // The worker process each file is loaded and rendered in (render, thumbs; worker.hpp).
-    double timeout = 60;     // seconds a file may take (load, render, write) before it is abandoned; 0: no limit
+    double timeout = defaults::k_timeout_seconds;  // seconds a file may take (load, render, write); 0: no limit
     std::string max_memory;  // the worker's memory cap (parse_memory_size); empty: the default
     bool no_isolation = false;  // render: load and render in this process (debugging)
+    bool print_config = false;  // print the resolved settings and exit (print_config.cpp)
 };
+
+// `facet thumbs`' defaults: square thumbnails seen from above and to the right.
+RenderOptions thumbnail_options();
 
 // Adds the options above to a subcommand.
 void add_render_options(CLI::App& command, RenderOptions& options);
@@ -86,6 +96,26 @@ Camera plan_camera(const Scene& scene, const RenderPlan& plan);
 DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
                       Framebuffer& target, Image& colour, std::vector<float>* depth);
 
+// --print-config (print_config.cpp): the settings a run resolves to, one `key = value` line each in
+// a fixed order, after a `#` comment line; README, "Printing the settings", lists the keys. Values
+// read as the options take them (degrees, WxH, colours in 0..1, memory in M), positions and clip
+// planes exact to the float, so that a line passed back as its option gives the same image.
+class ConfigText {
+public:
+    ConfigText(const char* command);
+    void add(const std::string& key, const std::string& value);
+    const std::string& str() const { return text_; }
+
+private:
+    std::string text_;
+};
+
+// Everything after the command's own lines: image, camera, lights, loading, renderer, worker.
+// `camera` is plan_camera's for the loaded scene, or null where a run frames each model it loads
+// (thumbs, view): the values that depend on the model then read "per model".
+void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera, const Renderer& renderer,
+                  const WorkerLimits& limits, bool isolated);
+
 // The default scene, or the model at `path`; warnings go to stderr prefixed with `command`.
 Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command);
 
@@ -98,6 +128,10 @@ struct ViewArgs {
     bool spin = false;
     RenderOptions options;
 };
+
+// `facet view --print-config`, in the `facet` binary: the viewer's initial settings (the camera
+// framed per model, as the viewer frames it once loaded). Returns the exit status.
+int print_view_config(const ViewArgs& args, bool camera_options_given);
 
 // facet's description in --help, the same in both executables.
 extern const char* const k_app_description;
@@ -117,9 +151,42 @@ int run_viewer_executable(char** argv);
 // reported on stderr). Here so that the viewer's main() does not compile CLI11 again.
 std::optional<int> parse_view_command_line(int argc, char** argv, ViewArgs& args, bool& camera_options_given);
 
+// Image comparison (diff_command.cpp): `facet diff` and `facet render --reference`.
+// --threshold: "diff=N,pixels=N|P%,ssim=S,psnr=DB", any of them, comma-separated; none: exact.
+// diff is the per-channel difference that does not count, pixels how many (or what share) may
+// differ by more; given only ssim or psnr, the pixels are not counted (images of other renderers).
+Result<CompareThresholds> parse_thresholds(const std::string& spec);
+std::string describe_thresholds(const CompareThresholds& thresholds);
+// One line: "A vs B: WxH, N of M pixels differ by more than T (largest difference R . G . B . A .),
+// PSNR . dB, SSIM .: match" or "...: MISMATCH (why)".
+std::string comparison_summary(const std::string& a, const std::string& b, const ImageComparison& c, bool pass,
+                               const std::string& why);
+// Where a failed reference check writes its difference image: OUT.png -> OUT.diff.png.
+std::string diff_image_path(const std::string& output);
+
+struct DiffOptions {
+    std::string threshold;
+    std::string diff_image;  // empty: none
+    bool json = false;
+};
+int run_diff(const std::string& a, const std::string& b, const DiffOptions& options);
+
+// `facet render --reference REF.png [--threshold ...] [--update-reference]`.
+struct ReferenceCheck {
+    std::string reference;  // empty: no check
+    std::string threshold;
+    bool update = false;  // write REF when it is missing or differs, and say so
+};
+// Before rendering: false (after saying why) when the options cannot work: a bad --threshold, or
+// a missing reference without --update-reference.
+bool reference_usable(const ReferenceCheck& check, const char* command);
+// After the output is written: compares it with the reference; returns the exit status.
+int check_reference(const std::string& output, const ReferenceCheck& check);
+
 // `benchmark_frames`: --benchmark N if given.
 int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
-               std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given);
+               std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given,
+               const ReferenceCheck& reference);
 int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options);
 
 }  // namespace facet::cli

@@ -61,7 +61,27 @@ struct RenderRequest {
     int benchmark_frames = 0;  // 0: no benchmark
     RenderPlan plan;
     int threads = 0;
+    bool print_config = false;  // print the settings once the model is loaded, render nothing
+    WorkerLimits limits;
+    bool isolated = true;
+    ReferenceCheck reference;
 };
+
+void print_config(const RenderRequest& r, const Scene& scene, const Renderer& renderer) {
+    ConfigText out("render");
+    out.add("model", r.model.empty() ? "(the built-in default scene)" : r.model);
+    out.add("output", r.output);
+    if (!r.depth_out.empty()) out.add("depth-out", r.depth_out);
+    if (r.benchmark_frames > 0) out.add("benchmark", std::to_string(r.benchmark_frames));
+    if (!r.reference.reference.empty()) {
+        out.add("reference", r.reference.reference);
+        out.add("threshold", describe_thresholds(*parse_thresholds(r.reference.threshold)));
+        out.add("update-reference", r.reference.update ? "on" : "off");
+    }
+    const Camera camera = plan_camera(scene, r.plan);
+    describe_run(out, r.plan, &camera, renderer, r.limits, r.isolated);
+    std::fputs(out.str().c_str(), stdout);
+}
 
 // Load, render, write, printing its own messages; returns the exit status.
 int render_job(const RenderRequest& r, const WorkerReport& report) {
@@ -77,6 +97,10 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
 
     report.phase(WorkerPhase::rendering);
     Renderer renderer({.threads = r.threads});
+    if (r.print_config) {
+        print_config(r, *scene, renderer);
+        return k_exit_ok;
+    }
     Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
     Image colour;
     std::vector<float> depth;
@@ -134,7 +158,8 @@ void clean_up_after(const WorkerOutcome& outcome, const RenderRequest& r) {
 }  // namespace
 
 int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
-               std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given) {
+               std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given,
+               const ReferenceCheck& reference) {
     Result<RenderPlan> plan = make_plan(options, camera_options_given || !model.empty());
     if (!plan) {
         std::fprintf(stderr, "facet render: %s\n", plan.error().message.c_str());
@@ -149,9 +174,25 @@ int run_render(const std::string& model, const std::string& output, const std::s
         std::fprintf(stderr, "facet render: %s\n", limits.error().message.c_str());
         return k_exit_usage;
     }
+    if (!reference_usable(reference, "facet render")) return k_exit_usage;
     // One job: the load's normals may use the threads the render will (thumbs runs one per worker).
     plan->load.threads = options.threads;
-    const RenderRequest request{model, output, depth_out, benchmark_frames.value_or(0), *plan, options.threads};
+    const RenderRequest request{.model = model,
+                                .output = output,
+                                .depth_out = depth_out,
+                                .benchmark_frames = benchmark_frames.value_or(0),
+                                .plan = *plan,
+                                .threads = options.threads,
+                                .print_config = options.print_config,
+                                .limits = *limits,
+                                .isolated = !options.no_isolation,
+                                .reference = reference};
+    // The reference check reads what the job wrote, after it (in this process either way).
+    auto then_check = [&](int status) {
+        return status == k_exit_ok && !options.print_config && !reference.reference.empty()
+                   ? check_reference(output, reference)
+                   : status;
+    };
     keep_freed_memory_for_reuse();  // this process, or its worker, renders one file and exits
     // Only for jobs read by facet's own code (use_huge_pages_for_heap): the built-in scene, OFF and
     // STL files. Not PLY, which facet also reads itself: many PLY files (normals, colours) are left
@@ -159,7 +200,7 @@ int run_render(const std::string& model, const std::string& output, const std::s
     const bool huge_pages = model.empty() || huge_pages_suit(model);
     if (options.no_isolation) {
         if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
-        return render_job(request, WorkerReport{});
+        return then_check(render_job(request, WorkerReport{}));
     }
 
     // Nothing has started a thread yet (the Renderer is made in the worker), so forking is safe.
@@ -171,7 +212,7 @@ int run_render(const std::string& model, const std::string& output, const std::s
         },
         *limits);
     // The worker has printed its own messages for the statuses it chose.
-    if (exited(outcome) && (outcome.status == k_exit_ok || outcome.status == k_exit_failed)) return outcome.status;
+    if (exited(outcome) && (outcome.status == k_exit_ok || outcome.status == k_exit_failed)) return then_check(outcome.status);
     clean_up_after(outcome, request);
     const std::string input = model.empty() ? "the default scene" : model;
     std::fprintf(stderr, "facet render: %s\n", describe_abnormal_end(outcome, input, *limits).c_str());

@@ -17,7 +17,6 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
-#include <thread>
 
 #include "facet/io.hpp"
 #include "options.hpp"
@@ -102,6 +101,9 @@ private:
     bool tty_;
 };
 
+// Each worker's renderer: loading is single-threaded, so one process per file keeps every core busy.
+constexpr int k_worker_threads = 1;
+
 // Renders one model to its thumbnail; fills job.error on failure.
 void render_job(Job& job, const RenderPlan& plan, Renderer& renderer, Framebuffer& target, Image& colour,
                 const WorkerReport& report) {
@@ -125,7 +127,7 @@ void render_job(Job& job, const RenderPlan& plan, Renderer& renderer, Framebuffe
 // The worker's side: load, render, write; an error goes to the parent through the report.
 int thumbnail_job(Job job, const RenderPlan& plan, const WorkerReport& report) {
     test_hook_sleep(job.input.string());
-    Renderer renderer({.threads = 1});
+    Renderer renderer({.threads = k_worker_threads});
     Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
     Image colour;
     render_job(job, plan, renderer, target, colour, report);
@@ -185,13 +187,22 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
     std::vector<Job> jobs = collect_jobs(inputs, output_dir, failed);
     // Files in parallel, one process each drawing with one thread: loading is single-threaded, so
     // this keeps every core busy.
-    const unsigned cores = options.threads > 0 ? static_cast<unsigned>(options.threads)
-                                               : std::max(1u, std::thread::hardware_concurrency());
+    const auto cores = static_cast<unsigned>(resolve_threads(options.threads));
     const unsigned workers = std::max(1u, static_cast<unsigned>(std::min<std::size_t>(cores, jobs.size())));
     Result<WorkerLimits> limits = make_worker_limits(options, workers);
     if (!limits) {
         std::fprintf(stderr, "facet thumbs: %s\n", limits.error().message.c_str());
         return k_exit_usage;
+    }
+    if (options.print_config) {
+        ConfigText out("thumbs");
+        out.add("inputs", std::to_string(jobs.size()) + " model files");
+        out.add("output", output_dir);
+        out.add("workers", std::to_string(workers));
+        const Renderer renderer({.threads = k_worker_threads});  // as each worker's (starts no thread)
+        describe_run(out, *plan, nullptr, renderer, *limits, true);
+        std::fputs(out.str().c_str(), stdout);
+        return k_exit_ok;
     }
     std::error_code ec;
     fs::create_directories(output_dir, ec);

@@ -21,6 +21,7 @@
 #include <new>
 #include <thread>
 
+#include "facet/defaults.hpp"
 #include "facet/model.hpp"
 
 namespace facet::cli {
@@ -170,7 +171,8 @@ bool memory_cap_supported() { return !k_sanitized; }
 std::uint64_t default_max_memory_bytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     if (pages <= 0 || page <= 0) return 0;
-    return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / 4 * 3;
+    return static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page) / defaults::k_memory_share_denominator *
+           defaults::k_memory_share_numerator;
 }
 
 void WorkerReport::phase(WorkerPhase p) const {

@@ -41,7 +41,7 @@ struct WorkerLimits {
 // terabytes of writable mappings that RLIMIT_DATA counts (every allocation would fail).
 bool memory_cap_supported();
 
-// The default memory cap: three quarters of the physical memory, so that a file that makes the
+// The default memory cap: three quarters of the physical memory (facet/defaults.hpp), so that a file that makes the
 // reader allocate without bound fails alone instead of pushing the machine into swap or the OOM
 // killer. 0 when it cannot be determined.
 std::uint64_t default_max_memory_bytes();

@@ -53,7 +53,7 @@ struct Toggles {
     bool wireframe = false;
     bool cull_back = false;  // off: only single-sided materials are culled (as `facet render`)
     bool spin = false;
-    int ssaa = 1;            // A toggles 1 <-> 2
+    int ssaa = defaults::k_ssaa;  // A toggles 1 <-> 2
     bool overlay = true;
     UpAxis up_axis = UpAxis::y;
     bool orthographic = false;
@@ -106,8 +106,8 @@ public:
 private:
     Vec3 centre_;
     float radius_ = 1;
-    int width_ = 800, height_ = 600;
-    float fovy_ = radians(45.0f);
+    int width_ = defaults::k_image_width, height_ = defaults::k_image_height;
+    float fovy_ = radians(defaults::k_fov_degrees);
     std::optional<float> near_, far_;
     Orbit initial_, orbit_;
     Toggles toggles_;

@@ -5,6 +5,7 @@
 
 #include <optional>
 
+#include "facet/defaults.hpp"
 #include "facet/math/transform.hpp"
 
 namespace facet {
@@ -18,7 +19,7 @@ struct Camera {
     Vec3 up{0, 1, 0};
     float roll = 0;                       // radians, turns the image clockwise as seen by the viewer
     ProjectionKind projection_kind = ProjectionKind::perspective;
-    float fovy = radians(45.0f);          // perspective: vertical field of view
+    float fovy = radians(defaults::k_fov_degrees);  // perspective: vertical field of view
     float ortho_height = 2.0f;            // orthographic: height of the view volume in world units
     float near = 0.1f;
     float far = 100.0f;

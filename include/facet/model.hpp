@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "facet/defaults.hpp"
 #include "facet/error.hpp"
 #include "facet/scene.hpp"
 #include "facet/texture.hpp"
@@ -21,18 +22,18 @@ enum class UpAxis { y, z };
 struct LoadOptions {
     // Files without normals get smooth normals, split where faces meet at more than this angle
     // (degrees); 180 keeps everything smooth, small values give CAD/STL files crisp edges.
-    float crease_angle_degrees = 40.0f;
+    float crease_angle_degrees = defaults::k_crease_angle_degrees;
     UpAxis up_axis = UpAxis::y;  // z: the file's +Z becomes +Y (CAD, STL, 3MF are often Z-up)
     TextureLimits texture_limits;
-    std::size_t max_triangles = 50'000'000;  // refuse larger models before allocating them
-    std::size_t max_file_bytes = std::size_t{2} << 30;
+    std::size_t max_triangles = defaults::k_max_triangles;  // refuse larger models before allocating them
+    std::size_t max_file_bytes = defaults::k_max_file_bytes;
     // The memory the converted Scene would take (positions, normals, colours, uvs and indices of
     // every instance: a mesh placed by many nodes is copied for each), estimated from assimp's
     // counts before converting. Stops a small file that instances a large mesh thousands of times.
-    std::size_t max_scene_bytes = std::size_t{4} << 30;
+    std::size_t max_scene_bytes = defaults::k_max_scene_bytes;
     // Threads for the work after reading (normals) of large meshes, 0: one per core. The default
     // keeps loading on the calling thread, for callers that load several files at once.
-    int threads = 1;
+    int threads = defaults::k_load_threads;
 };
 
 struct LoadedModel {
@@ -48,7 +49,7 @@ struct LoadedModel {
 Result<LoadedModel> load_model(const std::string& path, const LoadOptions& options = {});
 
 struct IsolationLimits {
-    double timeout_seconds = 60;         // the child is killed after this; 0: no limit
+    double timeout_seconds = defaults::k_timeout_seconds;  // the child is killed after this; 0: no limit
     std::uint64_t max_memory_bytes = 0;  // the child's RLIMIT_DATA; 0: no limit (not for sanitizer builds)
 };
 

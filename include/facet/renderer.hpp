@@ -20,15 +20,17 @@
 #include "facet/detail/thread_pool.hpp"
 #include "facet/detail/vertex_stage.hpp"
 #include "facet/detail/visible_pass.hpp"
+#include "facet/defaults.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
 #include "facet/pipeline.hpp"
 
 namespace facet {
 
+// Defaults and the resolution of the zeros: facet/defaults.hpp.
 struct RendererConfig {
-    int threads = 0;     // 0: one per core
-    int tile_size = 64;  // pixels, a power of two from 8 to 64
+    int threads = defaults::k_threads;      // 0: one per core
+    int tile_size = defaults::k_tile_size;  // pixels, a power of two from 8 to 64
     // Triangles per batch and thread (0: 131072, and at least 1,048,576 per batch). A draw is set up
     // and rasterized one batch at a time, so this bounds the renderer's memory (about 130 bytes per
     // triangle of a batch); the image does not depend on it.
@@ -41,6 +43,7 @@ public:
 
     int threads() const { return pool_.size(); }
     int tile_size() const { return tile_size_; }
+    std::size_t batch_triangles() const { return batch_size_; }  // per batch, all threads together
 
     // Draws triangles with `shader`. Invalid geometry (indices out of range, NaN or infinite
     // positions, zero-area triangles, parts behind the eye) is dropped and counted in the returned

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "facet/camera.hpp"
+#include "facet/defaults.hpp"
 #include "facet/mesh.hpp"
 #include "facet/renderer.hpp"
 #include "facet/texture.hpp"
@@ -44,20 +45,43 @@ struct Scene {
     std::size_t triangle_count() const;
 };
 
+// A light fixed to the camera, so that it lights every view alike. `direction` points toward the
+// light in the camera's frame: x right, y up, z toward the viewer (it need not be unit length).
+struct CameraLight {
+    Vec3 direction;
+    Vec3 colour;
+};
+
+// The lights of the lit and flat modes (not of lambert, whose lighting is a fixed contract, nor of
+// the unlit modes). Defaults: facet/defaults.hpp.
+struct Lighting {
+    CameraLight key{defaults::k_key_light_direction, defaults::k_key_light_colour};
+    CameraLight fill{defaults::k_fill_light_direction, defaults::k_fill_light_colour};
+    float ambient = defaults::k_lit_ambient;
+    float diffuse = defaults::k_lit_diffuse;
+    float specular = defaults::k_lit_specular;  // strength of the Blinn-Phong highlight
+    float shininess = defaults::k_lit_shininess;
+};
+
+// The world-space direction toward `light` (normalized) for a camera with this basis. The terms
+// are summed toward-the-viewer first, then the larger of up and right: the order fixes the bits.
+Vec3 world_light_direction(const CameraLight& light, const CameraBasis& basis);
+
 struct RenderSettings {
     Shading shading = Shading::lit;
-    Vec4 background{0.11f, 0.12f, 0.14f, 1.0f};  // alpha 0 for a transparent PNG
+    Vec4 background = defaults::k_background;  // alpha 0 for a transparent PNG
     // none: files often have inconsistent winding, so only single-sided materials are culled.
     // back/front: forced for every object. The lambert mode never culls.
     CullMode cull = CullMode::none;
+    Lighting lighting;
 };
 
 // How to look at a scene, as the command line and the viewer take it. Without an eye, the camera
 // orbits the scene by the framing rule below; with one, it looks from there at `target` (default:
 // the centre of the bounds). Angles in radians.
 struct ViewSpec {
-    float azimuth = 0, elevation = 0;
-    float fovy = radians(45.0f);
+    float azimuth = radians(defaults::k_azimuth_degrees), elevation = radians(defaults::k_elevation_degrees);
+    float fovy = radians(defaults::k_fov_degrees);
     std::optional<Vec3> eye, target;
     Vec3 up{0, 1, 0};
     std::optional<float> near, far;  // default: from the scene's bounding sphere

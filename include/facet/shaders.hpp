@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "facet/defaults.hpp"
 #include "facet/detail/vertex_stage.hpp"
 #include "facet/detail/visible_pass.hpp"
 #include "facet/math/portable_pow.hpp"
@@ -38,10 +39,11 @@ struct ShadingUniforms {
     Vec4 base_colour{1, 1, 1, 1};  // multiplies the vertex colours
     DirectionalLight key;
     DirectionalLight fill{{0, 0, 1}, {0, 0, 0}};
-    float ambient = 0.15f;
-    float diffuse = 0.85f;
+    // Lambert's terms without a highlight (facet/defaults.hpp); render_scene sets its Lighting's.
+    float ambient = defaults::k_lambert_ambient;
+    float diffuse = defaults::k_lambert_diffuse;
     float specular = 0.0f;   // strength of the Blinn-Phong highlight
-    float shininess = 32.0f;
+    float shininess = defaults::k_uniform_shininess;
 };
 
 // Read-only view of the mesh arrays a shader needs (normals and colours may be absent).

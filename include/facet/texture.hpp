@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "facet/defaults.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
 #include "facet/math/vec.hpp"
@@ -26,8 +27,8 @@ struct Sampler {
 };
 
 struct TextureLimits {
-    int max_size = 16384;                        // per side
-    std::size_t max_pixels = 64u * 1024u * 1024u;  // width * height
+    int max_size = defaults::k_max_texture_size;            // per side
+    std::size_t max_pixels = defaults::k_max_texture_pixels;  // width * height
 };
 
 class Texture {

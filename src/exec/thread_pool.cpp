@@ -1,6 +1,8 @@
 // facet exec: the worker pool behind every parallel stage (vertex, front end, tiles).
 #include "facet/detail/thread_pool.hpp"
 
+#include "facet/defaults.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -96,7 +98,7 @@ struct ThreadPool::State {
 };
 
 ThreadPool::ThreadPool(int threads) : state_(std::make_unique<State>()) {
-    if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    threads = resolve_threads(threads);
     state_->size = threads;
     for (int i = 1; i < threads; ++i) state_->threads.emplace_back([s = state_.get(), i] { s->worker_loop(i); });
 }

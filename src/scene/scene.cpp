@@ -19,10 +19,6 @@ constexpr struct {
                        {Shading::normals, "normals"}, {Shading::mask, "mask"},       {Shading::vertex_color, "vertex-color"},
                        {Shading::texture, "texture"}};
 
-// The comparison mode's constants, fixed by the command-line contract:
-// colour = 0.8 * (0.15 + 0.85 * max(dot(n, l), 0)), l toward the eye.
-constexpr float k_lambert_albedo = 0.8f, k_lambert_ambient = 0.15f, k_lambert_diffuse = 0.85f;
-
 ShadingUniforms uniforms_for(const SceneObject& object, const Camera& camera, const Mat4& clip_from_world,
                              const RenderSettings& settings) {
     ShadingUniforms u;
@@ -34,18 +30,20 @@ ShadingUniforms uniforms_for(const SceneObject& object, const Camera& camera, co
     const CameraBasis basis = camera_basis(camera.target - camera.position, camera.up, camera.handedness);
     const Vec3 to_eye = -basis.forward;
     if (settings.shading == Shading::lambert) {
-        u.base_colour = {k_lambert_albedo, k_lambert_albedo, k_lambert_albedo, 1};
+        // The comparison mode's contract (facet/defaults.hpp): a white light at the eye.
+        constexpr float a = defaults::k_lambert_albedo;
+        u.base_colour = {a, a, a, 1};
         u.key = {to_eye, {1, 1, 1}};
-        u.ambient = k_lambert_ambient;
-        u.diffuse = k_lambert_diffuse;
+        u.ambient = defaults::k_lambert_ambient;
+        u.diffuse = defaults::k_lambert_diffuse;
     } else {
-        // A key light above-left of the camera, a dim cool fill from the right: reads well at any size.
-        u.key = {normalize(to_eye + basis.up * 0.8f - basis.right * 0.5f), {1.0f, 0.97f, 0.92f}};
-        u.fill = {normalize(to_eye * 0.3f + basis.right - basis.up * 0.2f), {0.25f, 0.28f, 0.35f}};
-        u.ambient = 0.18f;
-        u.diffuse = 0.8f;
-        u.specular = 0.35f;
-        u.shininess = 40.0f;
+        const Lighting& l = settings.lighting;
+        u.key = {world_light_direction(l.key, basis), l.key.colour};
+        u.fill = {world_light_direction(l.fill, basis), l.fill.colour};
+        u.ambient = l.ambient;
+        u.diffuse = l.diffuse;
+        u.specular = l.specular;
+        u.shininess = l.shininess;
     }
     return u;
 }
@@ -113,6 +111,15 @@ void add(DrawStats& total, const DrawStats& s) {
 }
 
 }  // namespace
+
+Vec3 world_light_direction(const CameraLight& light, const CameraBasis& basis) {
+    const Vec3 d = light.direction;
+    const Vec3 toward_viewer = -basis.forward;
+    const Vec3 up = basis.up * d.y, right = basis.right * d.x;
+    // (Summed in this order, the default lights keep the bits they were designed with.)
+    const Vec3 sum = std::abs(d.y) >= std::abs(d.x) ? toward_viewer * d.z + up + right : toward_viewer * d.z + right + up;
+    return normalize(sum);
+}
 
 bool parse_shading(std::string_view name, Shading& out) {
     for (const auto& s : k_shading_names)
