@@ -29,6 +29,7 @@
 #include "facet/shaders.hpp"
 #include "facet/texture.hpp"
 #include "geometry/clip.hpp"
+#include "geometry/project.hpp"
 #include "setup/setup.hpp"
 
 namespace {

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "geometry/project.hpp"
+
 namespace facet {
 namespace {
 
@@ -69,6 +71,10 @@ Renderer::Plan Renderer::plan_draw(const Framebuffer& target, const DrawState& s
         plan.clear_depth = state.clear->depth;
     }
     return plan;
+}
+
+void Renderer::project_vertices(std::size_t begin, std::size_t end, const Plan& plan) {
+    detail::project_vertices(vertices_, begin, end, plan.params);
 }
 
 void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end) {

@@ -69,6 +69,8 @@ private:
     Plan plan_draw(const Framebuffer& target, const DrawState& state, const DrawInput& input, int stride);
     // From the bins of the current batch: plan.max_tile_triangles and tile_order_ (see there).
     void plan_tiles(Plan& plan);
+    // The projection pass (src/geometry/project.hpp) over vertices [begin, end) of the vertex stage.
+    void project_vertices(std::size_t begin, std::size_t end, const Plan& plan);
     void run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end);
     void add_stats(const Plan& plan, DrawStats& total) const;
 
@@ -271,7 +273,7 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
                 for (int k = 0; k < N; ++k) dst[k] = out[k];
             }
         }
-        detail::project_vertices(vertices_, begin, end, plan.params);
+        project_vertices(begin, end, plan);
     });
 
     // Tiles, drawn in order: depth writes and blending become template parameters once here (the

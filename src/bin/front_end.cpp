@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
 
 #include "geometry/clip.hpp"
+#include "geometry/project.hpp"
 #include "setup/setup.hpp"
 
 namespace facet::detail {
@@ -157,8 +157,6 @@ private:
     TriangleSetup scratch_[SetupBatch::k_capacity];
 };
 
-bool finite(Vec4 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(p.w); }
-
 // A triangle that is not wholly inside the clip volume with valid vertices: rejected, or clipped
 // and its pieces emitted. Out of line: most triangles of a mesh never get here.
 [[gnu::noinline]] void assemble_other(const ClipVertices& vertices, const std::uint32_t (&idx)[3], GuardBand guard,
@@ -179,7 +177,7 @@ bool finite(Vec4 p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::is
     ClipVertex poly[k_max_clip_polygon];
     const int n = clip_triangle(tri, codes[0] | codes[1] | codes[2], guard, vertices, out.extras, poly);
     bool poly_finite = true;
-    for (int i = 0; i < n; ++i) poly_finite = poly_finite && finite(poly[i].pos) && poly[i].pos.w > 0;
+    for (int i = 0; i < n; ++i) poly_finite = poly_finite && is_finite(poly[i].pos) && poly[i].pos.w > 0;
     if (!poly_finite) {  // coordinates so large that the intersections overflowed
         ++out.stats.triangles_invalid;
         return;
@@ -221,21 +219,6 @@ void FrontEndChunk::reset(std::size_t tile_count, int stride) {
     if (bins.size() != tile_count) bins.resize(tile_count);
     for (auto& bin : bins) bin.clear();
     stats = {};
-}
-
-GuardBand guard_band(const FrontEndParams& p) {
-    return {k_guard_band_pixels / (p.vp_w * 0.5f), k_guard_band_pixels / (p.vp_h * 0.5f)};
-}
-
-void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p) {
-    const Vec4 pos = vertices.pos[i];
-    if (!finite(pos)) {
-        vertices.outcode[i] = k_outcode_invalid;
-        return;
-    }
-    const auto code = static_cast<std::uint8_t>(outcode(pos, guard));
-    vertices.outcode[i] = code;
-    vertices.screen[i] = code == 0 ? project(pos, p) : ScreenVertex{0, 0, 0.0f, 0.0f};
 }
 
 void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,

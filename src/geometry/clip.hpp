@@ -1,11 +1,13 @@
 // facet geometry: homogeneous clipping of triangles (clip space in, polygon of clip-space vertices out).
 // Planes: w >= epsilon (nothing is ever divided by w <= 0), near z >= 0, far z <= w, and the guard
-// band |x| <= gx * w, |y| <= gy * w that bounds screen coordinates for the fixed-point rasterizer.
+// band |x| <= gx * w, |y| <= gy * w that bounds screen coordinates for the fixed-point rasterizer
+// (project.hpp).
 #pragma once
 
 #include <cstdint>
 
 #include "facet/detail/front_end.hpp"
+#include "geometry/project.hpp"
 
 namespace facet::detail {
 
@@ -16,19 +18,8 @@ constexpr float k_min_clip_w = 1e-6f;
 // polygon cross a plane more than twice, so leave room, and drop a polygon that would overflow.
 constexpr int k_max_clip_polygon = 16;
 
-struct GuardBand {
-    float gx, gy;  // |x| <= gx * w, |y| <= gy * w
-};
-
 // Bit p set when pos is outside plane p. Non-finite positions must be rejected before this.
 std::uint32_t outcode(Vec4 pos, GuardBand g);
-
-// The guard band of the draw's viewport (k_guard_band_pixels around its centre).
-GuardBand guard_band(const FrontEndParams& p);
-
-// The specification of project_vertices for vertex i: outcode[i] (k_outcode_invalid for a
-// non-finite position) and, inside every plane, screen[i] = project(pos); zeros elsewhere (never read).
-void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p);
 
 struct ClipVertex {
     Vec4 pos;

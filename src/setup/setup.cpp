@@ -1,4 +1,4 @@
-// facet setup: projection, snapping, culling, edge functions and attribute planes.
+// facet setup: culling, edge functions and attribute planes of projected, snapped triangles.
 #include "setup/setup.hpp"
 
 #include <algorithm>
@@ -70,15 +70,6 @@ void set_planes(TriangleSetup& t, const ScreenVertex& v0, const ScreenVertex& v1
 }
 
 }  // namespace
-
-ScreenVertex project(Vec4 p, const FrontEndParams& v) {
-    const float q = 1.0f / p.w;
-    const float sx = v.vp_x + (p.x * q + 1.0f) * (v.vp_w * 0.5f);
-    const float sy = v.vp_y + (1.0f - p.y * q) * (v.vp_h * 0.5f);
-    const float z = std::clamp(p.z * q, 0.0f, 1.0f);
-    return {static_cast<std::int32_t>(std::lrint(sx * k_subpixel_one)),
-            static_cast<std::int32_t>(std::lrint(sy * k_subpixel_one)), z, q};
-}
 
 SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&vertex_ref)[3],
                            const FrontEndParams& params, TriangleSetup& t) {

@@ -19,6 +19,7 @@
 #include "facet/detail/shade.hpp"
 #include "facet/isa.hpp"
 #include "facet/shaders.hpp"
+#include "geometry/project.hpp"
 #include "setup/setup.hpp"
 
 namespace {

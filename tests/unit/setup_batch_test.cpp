@@ -18,6 +18,7 @@
 
 #include "facet/detail/front_end.hpp"
 #include "facet/isa.hpp"
+#include "geometry/project.hpp"
 #include "setup/setup.hpp"
 
 namespace {

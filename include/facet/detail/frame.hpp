@@ -15,14 +15,10 @@
 namespace facet::detail {
 
 // 8 sub-pixel bits: vertices snap to 1/256 pixel, as in llvmpipe and D3D. Together with
-// k_max_target_size and the guard band this keeps coordinates within 2^22 and edge steps in 32 bits.
+// k_max_target_size and the guard band (src/geometry/project.hpp) this keeps coordinates within 2^22
+// and edge steps in 32 bits.
 constexpr int k_subpixel_bits = 8;
 constexpr int k_subpixel_one = 1 << k_subpixel_bits;
-
-// Screen-space x and y are clipped to within k_guard_band_pixels of the viewport centre. Triangles
-// reaching past the viewport but inside this band are rasterized without clipping (the bounding box
-// is clamped instead); only larger ones are cut. 8192 keeps |x| <= 16384 px = 2^22 in fixed point.
-constexpr float k_guard_band_pixels = 8192.0f;
 
 // Tiles are square; a row of coverage is one 64-bit word, so at most 64 pixels wide.
 constexpr int k_max_tile_size = 64;

@@ -56,9 +56,6 @@ struct FrontEndChunk {
     void reset(std::size_t tile_count, int stride);
 };
 
-// Fills outcode[i] and screen[i] for vertices [first, end): run after the vertex stage.
-void project_vertices(ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& params);
-
 void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::size_t first_triangle,
                    std::size_t end_triangle, const FrontEndParams& params, FrontEndChunk& out);
 

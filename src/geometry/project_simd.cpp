@@ -1,20 +1,20 @@
-// facet setup: the projection pass over a block of vertices (project_vertices, front_end.hpp) as a
+// facet geometry: the projection pass over a block of vertices (project_vertices, project.hpp) as a
 // SIMD kernel, compiled per ISA by Highway and dispatched at run time. One lane per vertex does what
-// project_vertex does (the specification, front_end.cpp): the finite check, the outcode's seven
+// project_vertex does (the specification, project.cpp): the finite check, the outcode's seven
 // plane tests and, for vertices inside every plane, the division by w, the viewport and the snap.
 // The same float operations in the same order (no FMA: -ffp-contract=off, and Highway's Mul and
 // Add round separately), 1/w as a true division, and the snap's rounding to nearest even as
 // std::lrint's in the default rounding mode: the same bytes on every ISA.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "setup/project_simd.cpp"
+#define HWY_TARGET_INCLUDE "geometry/project_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
 #include <hwy/highway.h>
 
 #include <limits>
 
-#include "facet/detail/front_end.hpp"
 #include "geometry/clip.hpp"
+#include "geometry/project.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
