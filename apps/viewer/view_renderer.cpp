@@ -49,28 +49,19 @@ struct WireShader {
 
 DrawStats draw_wireframe(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                          const RenderSettings& settings, float half_width, Vec4 colour) {
-    // The same products, in the same order, as render_scene: the positions must match it bit for bit.
-    const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
-    const Mat4 clip_from_world = camera.projection(aspect) * camera.view();
-    const bool lambert = settings.shading == Shading::lambert;
+    // render_scene's matrix and culling: the positions and the visible faces must match it bit for bit.
+    const Mat4 clip_from_world = facet::clip_from_world(camera, target);
     DrawStats total;
     for (const SceneObject& o : scene.objects) {
         if (o.mesh.indices.empty()) continue;
         DrawState state;
-        state.cull = lambert ? CullMode::none
-                             : (settings.cull != CullMode::none ? settings.cull
-                                                                : (o.material.double_sided ? CullMode::none : CullMode::back));
+        state.cull = cull_mode(o, settings);
         state.depth_test = DepthTest::lequal;
         state.depth_write = false;
         state.blend = Blend::alpha;
         const WireShader shader{o.mesh.positions.data(), o.mesh.indices.data(), o.mesh.positions.size(),
                                 clip_from_world * o.model, half_width, colour};
-        const DrawStats s = renderer.draw(target, state, DrawInput{static_cast<std::uint32_t>(o.mesh.indices.size()), {}}, shader);
-        total.triangles_in += s.triangles_in;
-        total.triangles_invalid += s.triangles_invalid;
-        total.triangles_culled += s.triangles_culled;
-        total.triangles_clipped += s.triangles_clipped;
-        total.triangles_rasterized += s.triangles_rasterized;
+        total += renderer.draw(target, state, DrawInput{static_cast<std::uint32_t>(o.mesh.indices.size()), {}}, shader);
     }
     return total;
 }

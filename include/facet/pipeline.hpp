@@ -132,6 +132,16 @@ struct DrawStats {
     std::uint64_t triangles_culled = 0;    // dropped: back/front face or zero area
     std::uint64_t triangles_clipped = 0;   // crossed a clip plane and were cut
     std::uint64_t triangles_rasterized = 0;  // set up and binned (after clipping)
+
+    // The counts of several draws, summed.
+    DrawStats& operator+=(const DrawStats& s) {
+        triangles_in += s.triangles_in;
+        triangles_invalid += s.triangles_invalid;
+        triangles_culled += s.triangles_culled;
+        triangles_clipped += s.triangles_clipped;
+        triangles_rasterized += s.triangles_rasterized;
+        return *this;
+    }
 };
 
 }  // namespace facet

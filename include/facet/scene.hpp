@@ -101,6 +101,13 @@ Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect);
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings);
 
+// What render_scene draws each object with, for passes that must match it bit for bit (the viewer's
+// wireframe): the clip matrix (the camera's projection for the target's aspect, times its view) and
+// the culling (none in the lambert mode; otherwise the settings' when forced, else the back faces of
+// single-sided materials).
+Mat4 clip_from_world(const Camera& camera, const Framebuffer& target);
+CullMode cull_mode(const SceneObject& object, const RenderSettings& settings);
+
 // Box-filters a supersampled target down by `factor` in each direction into `colour` (and, if
 // given, `depth`: the nearest of each block's samples, so silhouettes keep their depth). The
 // outputs keep their memory between calls.

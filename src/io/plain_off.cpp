@@ -9,10 +9,12 @@
 //    which leaves files with positions only assimp's tolerance would join to assimp.
 #include "io/plain_off.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/assimp_text.hpp"
 #include "io/joined_mesh.hpp"
+#include "io/load_common.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -63,26 +65,18 @@ std::optional<std::uint32_t> parse_small_count(const char*& c) {
     return v;
 }
 
-struct Header {
-    std::uint32_t vertices = 0, faces = 0;
-    const char* body = nullptr;  // the first line after the counts
-};
-
 // "OFF" alone on the first line, the vertex, face and edge counts alone on the second.
-std::optional<Header> parse_header(const char* c) {
+std::optional<OffHeader::Plain> parse_plain_header(const char* text) {
+    const char* c = text;
     if (c[0] != 'O' || c[1] != 'F' || c[2] != 'F') return std::nullopt;
     c = skip_spaces(c + 3);
     if (!is_line_end(*c)) return std::nullopt;
     while (is_line_end(*c)) ++c;
-    Header h;
     const auto vertices = parse_small_count(c), faces = parse_small_count(c), edges = parse_small_count(c);
     if (!vertices || !faces || !edges || *vertices == 0 || *faces == 0) return std::nullopt;
     c = skip_spaces(c);
     if (!is_line_end(*c)) return std::nullopt;
-    h.vertices = *vertices;
-    h.faces = *faces;
-    h.body = c;
-    return h;
+    return OffHeader::Plain{*vertices, *faces, static_cast<std::size_t>(c - text)};
 }
 
 // Reads `count` vertex lines, the first at `c`; returns where the reader stopped in the last one,
@@ -123,24 +117,57 @@ const char* read_triangles(Lines& lines, const char* c, std::uint32_t count, std
 
 }  // namespace
 
-std::optional<PlainOffMesh> read_plain_off(std::string_view text) {
+OffHeader parse_off_header(std::string_view head) {
+    OffHeader h;
+    for (std::size_t at = 0; h.tokens.size() < 3 && at < head.size();) {
+        const std::size_t newline = std::min(head.find('\n', at), head.size());
+        const std::string_view line = head.substr(at, std::min(newline, head.find('#', at)) - at);
+        at = newline + 1;
+        for (std::string& word : words_of(line))
+            if (h.tokens.size() < 3) h.tokens.push_back(std::move(word));
+    }
+    h.plain = parse_plain_header(head.data());
+    return h;
+}
+
+Status check_off_header(const std::string& path, const OffHeader& header, std::uint64_t size, const LoadOptions& options) {
+    const std::vector<std::string>& tokens = header.tokens;
+    if (tokens.empty() || tokens[0].size() < 3 || tokens[0].substr(tokens[0].size() - 3) != "OFF" ||
+        tokens[0].find('n') != std::string::npos)
+        return Ok{};  // not plain OFF (or nOFF with a dimension): assimp decides
+    if (tokens.size() < 3) return fail(ErrorCode::bad_format, path, "OFF header has no vertex and face counts");
+    const auto vertices = parse_count(tokens[1]), faces = parse_count(tokens[2]);
+    if (!vertices || !faces)
+        return fail(ErrorCode::bad_format, path, "OFF header has invalid counts '" + tokens[1] + " " + tokens[2] + "'");
+    if (*vertices > size / 6 || *faces > size / 2 || *vertices * 6 + *faces * 2 > size)
+        return fail(ErrorCode::bad_format, path,
+                    "OFF header claims " + std::to_string(*vertices) + " vertices and " + std::to_string(*faces) +
+                        " faces, more than the file's " + std::to_string(size) + " bytes can hold (truncated or corrupt)");
+    if (*faces > options.max_triangles) return too_many_triangles(path, *faces, options);
+    return Ok{};
+}
+
+std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, const OffHeader& header) {
     if (text.find('\0') != std::string_view::npos) return std::nullopt;  // assimp stops reading there
-    const std::optional<Header> header = parse_header(text.data());
+    const std::optional<OffHeader::Plain>& plain = header.plain;
     // A vertex line takes at least 6 bytes ("0 0 0\n"), a triangle 8: more would be a damaged
     // header, and must not allocate what it claims.
-    if (!header || std::uint64_t{header->vertices} * 6 + std::uint64_t{header->faces} * 8 > text.size()) return std::nullopt;
+    if (!plain || plain->body > text.size() || std::uint64_t{plain->vertices} * 6 + std::uint64_t{plain->faces} * 8 > text.size())
+        return std::nullopt;
     std::vector<Vec3> positions;
     std::vector<std::uint32_t> indices;
-    Lines lines(header->body);
+    Lines lines(text.data() + plain->body);
     const char* stopped = nullptr;
     try {
-        stopped = read_vertices(lines, lines.first(), header->vertices, positions);
+        stopped = read_vertices(lines, lines.first(), plain->vertices, positions);
     } catch (const NotANumber&) {
         return std::nullopt;
     }
-    if (stopped) stopped = read_triangles(lines, stopped, header->faces, header->vertices, indices);
+    if (stopped) stopped = read_triangles(lines, stopped, plain->faces, plain->vertices, indices);
     if (!stopped || !lines.finish(stopped)) return std::nullopt;
     return join_identical_vertices(positions, indices);
 }
+
+std::optional<PlainOffMesh> read_plain_off(std::string_view text) { return read_plain_off_with_header(text, parse_off_header(text)); }
 
 }  // namespace facet::io_detail

@@ -12,22 +12,48 @@
 // of range, a count that does not match the lines, non-finite coordinates, distinct positions
 // that assimp's tolerance would join, a NUL byte) gives nullopt, and the caller loads the file through assimp as before, with its
 // messages and workarounds.
+//
+// The header is parsed once, from the file's first bytes (parse_off_header), and read two ways: by
+// the pre-check that refuses counts the file cannot hold (check_off_header), and by the reader.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
+#include "facet/error.hpp"
+#include "facet/model.hpp"
 #include "io/joined_mesh.hpp"
 
 namespace facet::io_detail {
 
 using PlainOffMesh = JoinedMesh;
 
-// `text` is the whole file and must be followed by a NUL character (as std::string's data is):
-// the parser relies on it to stop.
+struct OffHeader {
+    // The first three words, '#' comments left out: the keyword ("[ST][C][N][4]OFF") and the vertex
+    // and face counts, wherever their lines put them (as assimp reads them).
+    std::vector<std::string> tokens;
+    // The plain form: "OFF" alone on the first line, the three counts alone on the next.
+    struct Plain {
+        std::uint32_t vertices = 0, faces = 0;
+        std::size_t body = 0;  // offset of the line end after the counts
+    };
+    std::optional<Plain> plain;
+};
+
+// `head` is the file's first bytes, followed by a NUL character (as std::string's data is).
+OffHeader parse_off_header(std::string_view head);
+
+// Refuses vertex and face counts that the file's `size` bytes cannot hold (a vertex takes at least
+// three values, "0 0 0\n", a face at least its count), and more faces than options.max_triangles.
+Status check_off_header(const std::string& path, const OffHeader& header, std::uint64_t size, const LoadOptions& options);
+
+// `text` is the whole file, whose header `header` is, and must be followed by a NUL character (as
+// std::string's data is): the parser relies on it to stop. The one-argument form parses the header.
+std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, const OffHeader& header);
 std::optional<PlainOffMesh> read_plain_off(std::string_view text);
 
 }  // namespace facet::io_detail

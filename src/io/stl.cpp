@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include "io/assimp_text.hpp"
+#include "io/load_common.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -18,13 +20,23 @@ constexpr std::size_t k_header_bytes = 80;
 constexpr std::size_t k_facet_bytes = 50;  // normal, three vertices (12 floats), 16-bit attribute
 constexpr std::uint16_t k_colour_bit = 0x8000;
 
-// assimp's IsBinarySTL: the size is exactly what the facet count in the header needs.
-bool is_binary_size(std::string_view bytes, std::uint64_t& facets) {
-    if (bytes.size() < k_header_bytes + 4) return false;
+// The facet count in a binary header (bytes 80 to 83), if `head` has it.
+std::optional<std::uint64_t> announced_facets(std::string_view head) {
+    if (head.size() < k_header_bytes + 4) return std::nullopt;
     std::uint32_t count;
-    std::memcpy(&count, bytes.data() + k_header_bytes, sizeof(count));  // little-endian, as facet's platforms
-    facets = count;
-    return k_header_bytes + 4 + facets * k_facet_bytes == bytes.size();
+    std::memcpy(&count, head.data() + k_header_bytes, sizeof(count));  // little-endian, as facet's platforms
+    return count;
+}
+
+// assimp's IsBinarySTL: the size is exactly what the facet count in the header needs.
+bool is_binary(std::optional<std::uint64_t> facets, std::uint64_t size) {
+    return facets && k_header_bytes + 4 + *facets * k_facet_bytes == size;
+}
+
+bool is_binary_size(std::string_view bytes, std::uint64_t& facets) {
+    const std::optional<std::uint64_t> n = announced_facets(bytes);
+    facets = n.value_or(0);
+    return is_binary(n, bytes.size());
 }
 
 // The facets' corners as triangles 0, 1, 2, ... over them, then joined.
@@ -138,9 +150,33 @@ std::optional<JoinedMesh> read_ascii_stl(std::string_view bytes) {
     return join_facets(corners);
 }
 
-std::optional<JoinedMesh> read_stl(std::string_view bytes) {
-    std::uint64_t facets = 0;
-    return is_binary_size(bytes, facets) ? read_binary_stl(bytes) : read_ascii_stl(bytes);
+std::optional<JoinedMesh> read_stl_with_header(std::string_view bytes, const StlHeader& header) {
+    return header.binary ? read_binary_stl(bytes) : read_ascii_stl(bytes);
+}
+
+std::optional<JoinedMesh> read_stl(std::string_view bytes) { return read_stl_with_header(bytes, parse_stl_header(bytes, bytes.size())); }
+
+StlHeader parse_stl_header(std::string_view head, std::uint64_t size) {
+    StlHeader h;
+    const std::optional<std::uint64_t> facets = announced_facets(head);
+    h.facets = facets.value_or(0);
+    h.binary = is_binary(facets, size);
+    // Binary files often start with "solid" too, so a cut binary file is recognised by its zero bytes.
+    const std::size_t first = head.find_first_not_of(" \t\r\n");
+    h.ascii = !h.binary && head.find('\0') == std::string_view::npos && first != std::string_view::npos &&
+              lower(std::string(head.substr(first, 5))) == "solid";
+    return h;
+}
+
+Status check_stl_header(const std::string& path, const StlHeader& header, std::uint64_t size, const LoadOptions& options) {
+    if (header.binary)
+        return header.facets > options.max_triangles ? Status{too_many_triangles(path, header.facets, options)} : Status{Ok{}};
+    if (header.ascii) return Ok{};  // parsed incrementally
+    if (size < k_header_bytes + 4) return fail(ErrorCode::bad_format, path, "is too short for a binary STL file and is not ASCII STL");
+    return fail(ErrorCode::bad_format, path,
+                "binary STL header claims " + std::to_string(header.facets) + " triangles (" +
+                    std::to_string(k_header_bytes + 4 + k_facet_bytes * header.facets) + " bytes), which does not match the file's " +
+                    std::to_string(size) + " bytes (cut short, damaged or not STL)");
 }
 
 }  // namespace facet::io_detail

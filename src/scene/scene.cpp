@@ -102,14 +102,6 @@ DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, 
     return {};
 }
 
-void add(DrawStats& total, const DrawStats& s) {
-    total.triangles_in += s.triangles_in;
-    total.triangles_invalid += s.triangles_invalid;
-    total.triangles_culled += s.triangles_culled;
-    total.triangles_clipped += s.triangles_clipped;
-    total.triangles_rasterized += s.triangles_rasterized;
-}
-
 }  // namespace
 
 Vec3 world_light_direction(const CameraLight& light, const CameraBasis& basis) {
@@ -212,13 +204,23 @@ Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
     return c;
 }
 
+Mat4 clip_from_world(const Camera& camera, const Framebuffer& target) {
+    const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
+    return camera.projection(aspect) * camera.view();
+}
+
+CullMode cull_mode(const SceneObject& object, const RenderSettings& settings) {
+    if (settings.shading == Shading::lambert) return CullMode::none;
+    if (settings.cull != CullMode::none) return settings.cull;
+    return object.material.double_sided ? CullMode::none : CullMode::back;
+}
+
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings) {
     require_aligned_arrays(scene);
     // The clear goes with the first draw, which does it tile by tile (DrawState::clear).
     std::optional<ClearValues> clear = ClearValues{settings.background, 1.0f};
-    const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
-    const Mat4 clip_from_world = camera.projection(aspect) * camera.view();
+    const Mat4 clip_from_world = facet::clip_from_world(camera, target);
     const bool lambert = settings.shading == Shading::lambert;
 
     // Opaque objects first, in the file's order; blended ones last, farthest first. Only a scene with
@@ -231,9 +233,7 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
         MeshArrays arrays = MeshArrays::of(o.mesh);
         if (lambert) arrays.colours = nullptr;  // the contract ignores materials
         DrawState state;
-        state.cull = lambert ? CullMode::none
-                             : (settings.cull != CullMode::none ? settings.cull
-                                                                : (o.material.double_sided ? CullMode::none : CullMode::back));
+        state.cull = cull_mode(o, settings);
         if (blended) {
             state.blend = Blend::alpha;
             state.depth_write = false;
@@ -246,7 +246,7 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
         const SceneObject& o = scene.objects[i];
         if (!blends(o)) {
-            add(total, draw(o, false));
+            total += draw(o, false);
             continue;
         }
         Aabb box;
@@ -254,7 +254,7 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
         blended.push_back({-length(box.centre() - camera.position), i});
     }
     std::stable_sort(blended.begin(), blended.end());
-    for (const auto& b : blended) add(total, draw(scene.objects[b.second], true));
+    for (const auto& b : blended) total += draw(scene.objects[b.second], true);
     if (clear) target.clear(clear->colour, clear->depth);  // nothing was drawn
     return total;
 }

@@ -1,0 +1,81 @@
+// facet io, the fast path (fast_path.hpp): the header of an OFF, STL or PLY file, its pre-check, and
+// its Scene as facet's own readers make it, equal to the assimp path's bit for bit.
+#include "io/fast_path.hpp"
+
+#include <fstream>
+#include <utility>
+
+#include "facet/mesh.hpp"
+#include "io/load_common.hpp"
+
+namespace facet::io_detail {
+namespace {
+
+template <class... F>
+struct Overloaded : F... {
+    using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
+
+std::optional<std::string> read_whole_file(const std::string& path, std::uint64_t size) {
+    std::ifstream in(path, std::ios::binary);
+    std::string text(static_cast<std::size_t>(size), '\0');
+    if (!in.read(text.data(), static_cast<std::streamsize>(text.size())) || in.peek() != std::char_traits<char>::eof())
+        return std::nullopt;  // changed while being read: assimp reads it again and decides
+    return text;
+}
+
+// The material assimp's reader gives such a file, as the assimp path converts it: grey for OFF,
+// white for STL and PLY (the files the readers take have no colours); two-sided.
+Material own_format_material(bool off) {
+    Material m;
+    if (off) m.base_colour = {0.6f, 0.6f, 0.6f, 1.0f};
+    return m;
+}
+
+}  // namespace
+
+std::optional<OwnFormatHeader> OwnFormatHeader::parse(const std::string& ext, std::string_view head, std::uint64_t size) {
+    if (ext == "off") return OwnFormatHeader(parse_off_header(head));
+    if (ext == "stl") return OwnFormatHeader(parse_stl_header(head, size));
+    if (ext == "ply") return OwnFormatHeader(parse_ply_header(head));
+    return std::nullopt;
+}
+
+Status OwnFormatHeader::check(const std::string& path, std::uint64_t size, const LoadOptions& options) const {
+    return std::visit(Overloaded{[&](const OffHeader& h) { return check_off_header(path, h, size, options); },
+                                 [&](const StlHeader& h) { return check_stl_header(path, h, size, options); },
+                                 [&](const PlyHeader& h) { return check_ply_header(path, h, size, options); }},
+                      header_);
+}
+
+std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::string_view head, std::uint64_t size,
+                                                 const LoadOptions& options) const {
+    const std::optional<std::string> bytes = read_whole_file(path, size);
+    // A file changed since its header was read goes to assimp, which reads it again.
+    if (!bytes || std::string_view(*bytes).substr(0, head.size()) != head) return std::nullopt;
+    std::optional<JoinedMesh> mesh =
+        std::visit(Overloaded{[&](const OffHeader& h) { return read_plain_off_with_header(*bytes, h); },
+                              [&](const StlHeader& h) { return read_stl_with_header(*bytes, h); },
+                              [&](const PlyHeader& h) { return read_plain_ply_with_header(*bytes, h); }},
+                   header_);
+    if (!mesh) return std::nullopt;
+    const std::size_t triangles = mesh->indices.size() / 3;
+    // Whatever the assimp path would refuse, it refuses with its own words.
+    if (triangles > options.max_triangles || mesh->degenerate == triangles ||
+        estimated_scene_bytes(mesh->positions.size(), triangles, false, false) > options.max_scene_bytes)
+        return std::nullopt;
+    SceneObject object;
+    object.mesh.positions = std::move(mesh->positions);
+    object.mesh.indices = std::move(mesh->indices);
+    compute_creased_normals(object.mesh, radians(options.crease_angle_degrees), options.threads);
+    // The root node's identity transform under the up-axis root, composed as the assimp path's node walk does.
+    object.model = up_axis_root(options.up_axis) * Mat4::identity();
+    object.material = own_format_material(std::holds_alternative<OffHeader>(header_));
+    LoadedModel out;
+    out.scene.objects.push_back(std::move(object));
+    return out;
+}
+
+}  // namespace facet::io_detail

@@ -1,0 +1,41 @@
+// facet io, the fast path: OFF, STL and PLY files read by facet's own readers (plain_off.hpp,
+// stl.hpp, ply.hpp) into exactly the Scene the assimp path makes of them, without assimp. In: the
+// file's first bytes and size, whose header is parsed once for the pre-check and for the reader;
+// then the whole file. Out: the pre-check's verdict, then a LoadedModel, or nullopt for a file the
+// readers decline (or a limit the Scene would pass), which the assimp path then reads and reports.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "facet/model.hpp"
+#include "io/plain_off.hpp"
+#include "io/ply.hpp"
+#include "io/stl.hpp"
+
+namespace facet::io_detail {
+
+class OwnFormatHeader {
+public:
+    // The header of a file with the extension `ext` (lower case) whose format has a reader of
+    // facet's own; nullopt for the other formats. `head` is the file's first bytes, followed by a
+    // NUL character (as std::string's data is); `size` the file's.
+    static std::optional<OwnFormatHeader> parse(const std::string& ext, std::string_view head, std::uint64_t size);
+
+    // The pre-check, for the assimp path too: refuses headers that claim more than the file holds
+    // or than the options allow, and the ones assimp 5.2.5 cannot read safely.
+    Status check(const std::string& path, std::uint64_t size, const LoadOptions& options) const;
+
+    // Reads the whole file (which must still start with `head`) with facet's own reader.
+    std::optional<LoadedModel> load(const std::string& path, std::string_view head, std::uint64_t size,
+                                    const LoadOptions& options) const;
+
+private:
+    explicit OwnFormatHeader(std::variant<OffHeader, StlHeader, PlyHeader> header) : header_(std::move(header)) {}
+    std::variant<OffHeader, StlHeader, PlyHeader> header_;
+};
+
+}  // namespace facet::io_detail

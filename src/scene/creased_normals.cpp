@@ -1,0 +1,507 @@
+// facet scene: creased normals for meshes without them (compute_creased_normals, facet/mesh.hpp). In:
+// positions and triangles. Out: a normal per vertex, vertices copied where a crease splits them.
+// Vertices are welded by position, each triangle described once (face normal, corner angles:
+// triangle_shapes.hpp), each position's fan split into sets of faces that meet at less than the
+// crease angle, and each set's normal given to its vertices. Positions are independent, so large
+// meshes share the work between threads with the same result. The specification is the sort-based
+// version in tests/support/reference_creased_normals.cpp.
+#include "facet/mesh.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <memory>
+#include <numeric>
+#include <optional>
+#include <span>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "facet/detail/thread_pool.hpp"
+#include "scene/triangle_shapes.hpp"
+
+namespace facet {
+
+namespace {
+
+// Welding for crease detection: positions are compared by their bit patterns (-0 as +0), so
+// vertices that are only duplicated by position (STL, seams in uv or colour) count as shared, and
+// NaN is no trouble.
+struct PositionKey {
+    std::uint32_t x, y, z;
+    bool operator==(const PositionKey&) const = default;
+};
+
+PositionKey key_of(Vec3 p) {
+    auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0.0f ? 0.0f : f); };
+    return {bits(p.x), bits(p.y), bits(p.z)};
+}
+
+std::uint64_t hash_of(const PositionKey& k) {
+    std::uint64_t h = k.x * 0x9E3779B97F4A7C15ull;
+    h = (h ^ k.y) * 0xC2B2AE3D27D4EB4Full;
+    h = (h ^ k.z) * 0x165667B19E3779F9ull;
+    return h ^ (h >> 29);
+}
+
+// An id per distinct position (in order of first appearance), and each id's key.
+struct Weld {
+    std::vector<std::uint32_t> id;   // per vertex
+    std::vector<PositionKey> key;    // per id
+};
+
+Weld weld_by_position(const std::vector<Vec3>& positions) {
+    constexpr std::uint32_t empty = ~0u;
+    Weld w;
+    w.id.resize(positions.size());
+    const std::size_t capacity = std::bit_ceil(2 * positions.size() + 2);
+    std::vector<std::uint32_t> table(capacity, empty);  // open addressing: ids, linear probing
+    for (std::size_t v = 0; v < positions.size(); ++v) {
+        const PositionKey k = key_of(positions[v]);
+        for (std::size_t slot = hash_of(k) & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
+            if (table[slot] == empty) {
+                table[slot] = static_cast<std::uint32_t>(w.key.size());
+                w.key.push_back(k);
+            }
+            if (w.key[table[slot]] == k) {
+                w.id[v] = table[slot];
+                break;
+            }
+        }
+    }
+    return w;
+}
+
+// Work is handed out in blocks of this many triangles or welded positions: large enough that a
+// block costs far more than handing it out, small enough to share a mesh between the threads.
+constexpr std::size_t k_block = 4096;
+
+// Runs block(begin, end, worker) over [0, count) in blocks, on the pool's threads when there is
+// one, and beside() as a task of its own, the first handed out: a serial pass that the blocks need
+// not wait for. Every block writes only its own items, so the result does not depend on the threads.
+template <class Block, class Beside = void (*)()>
+void for_blocks(detail::ThreadPool* pool, std::size_t count, const Block& block, const Beside& beside = [] {}) {
+    const std::size_t blocks = (count + k_block - 1) / k_block;
+    auto run = [&](std::size_t task, int worker) {
+        if (task == 0) return beside();
+        const std::size_t b = task - 1;
+        block(b * k_block, std::min(count, (b + 1) * k_block), worker);
+    };
+    if (pool)
+        pool->parallel_for(blocks + 1, run);
+    else
+        for (std::size_t task = 0; task <= blocks; ++task) run(task, 0);
+}
+
+// The corners of the valid triangles grouped by welded position: the corners at position w are
+// corner[start[w] .. start[w + 1]), in increasing order (a counting sort).
+struct CornersByPosition {
+    std::vector<std::uint32_t> start;
+    std::vector<std::uint32_t> corner;
+};
+
+CornersByPosition group_corners(const Mesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t positions,
+                                const std::vector<bool>& in_range) {
+    CornersByPosition out;
+    // Counted two places ahead: after the sums start[w + 1] is where position w's corners begin,
+    // and placing them moves it to where they end, i.e. where w + 1's begin (no second array).
+    out.start.assign(positions + 2, 0);
+    const std::size_t corners = 3 * in_range.size();
+    for (std::size_t c = 0; c < corners; ++c)
+        if (in_range[c / 3]) ++out.start[weld[mesh.indices[c]] + 2];
+    for (std::size_t w = 2; w < out.start.size(); ++w) out.start[w] += out.start[w - 1];
+    out.corner.resize(out.start.back());
+    for (std::size_t c = 0; c < corners; ++c)
+        if (in_range[c / 3]) out.corner[out.start[weld[mesh.indices[c]] + 1]++] = static_cast<std::uint32_t>(c);
+    out.start.pop_back();
+    return out;
+}
+
+// What the corners of one valid triangle need when their positions are worked on, written in
+// triangle order and read from the positions' side, where each position's corners are of
+// triangles far apart in most files (prefetched: see split_fans). A record per triangle written
+// in order, rather than a record per corner scattered to its position's place: describing the
+// bunny's triangles took 3.75 ms instead of 6.0 at 1 thread (both with scalar math). Also
+// measured, and slower: each corner describing its triangle again from the position's side, with
+// no records (+1.3 ms of 5.8), and records without the vertices and welded positions, fetched
+// from the index and weld arrays instead (24 bytes a triangle instead of 48: +1.1 ms).
+// Plain floats: the array is not zeroed first.
+struct TriangleFacts {
+    float face[3];              // the triangle's normal, zero if degenerate
+    float angle[3];             // the corners' angles, zero if degenerate
+    std::uint32_t position[3];  // the corners' welded positions
+    std::uint32_t vertex[3];    // and vertices
+};
+
+// The face normal and the corner angles of a triangle, as the specification computes them: for
+// the triangles the shape kernel leaves out, and for all of them with the scalar ISA.
+void describe_triangle(const Vec3 (&p)[3], TriangleFacts& out) {
+    const Vec3 face = normalize(cross(p[1] - p[0], p[2] - p[0]));
+    float angle[3] = {0, 0, 0};
+    if (dot(face, face) > 0) {  // degenerate: no weight anywhere (and no NaN angles)
+        // Each side normalized once: the corner at k sees sides k and k + 2 reversed, and
+        // normalize(-v) is exactly -normalize(v).
+        const Vec3 side[3] = {normalize(p[1] - p[0]), normalize(p[2] - p[1]), normalize(p[0] - p[2])};
+        for (int k = 0; k < 3; ++k) angle[k] = std::acos(clamp(dot(side[k], -side[(k + 2) % 3]), -1.0f, 1.0f));
+    }
+    for (int k = 0; k < 3; ++k) out.face[k] = face[k], out.angle[k] = angle[k];
+}
+
+// The chunk of triangles from `first` on, as the shape kernel reads them; places without a valid
+// triangle get zeros.
+void fill_chunk(const Mesh& mesh, const std::vector<bool>& in_range, std::size_t first, std::size_t count,
+                detail::TriangleChunk& chunk) {
+    for (std::size_t i = 0; i < detail::TriangleChunk::k_capacity; ++i) {
+        const bool valid = i < count && in_range[first + i];
+        for (int k = 0; k < 3; ++k) {
+            const Vec3 p = valid ? mesh.positions[mesh.indices[3 * (first + i) + k]] : Vec3{};
+            for (int axis = 0; axis < 3; ++axis) chunk.corner[k][axis][i] = p[axis];
+        }
+    }
+}
+
+// The facts of every valid triangle. The kernel does the normalizations and the cosines in lanes
+// (bunny, 1 thread: 3.75 -> 1.7 ms for all this, most of what is left the 226,224 calls of
+// std::acos, which stays the libm call the specification makes). The corners are grouped by
+// position beside it (it reads nothing this writes), on another thread when there is one: 0.3 ms
+// less of 4.0 ms at 2 threads.
+void describe_triangles(const Mesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t positions,
+                        const std::vector<bool>& in_range, detail::ThreadPool* pool, TriangleFacts* out,
+                        CornersByPosition& by_position) {
+    constexpr std::size_t chunk_size = detail::TriangleChunk::k_capacity;
+    auto describe_block = [&](std::size_t first, std::size_t last, int) {
+        detail::TriangleChunk chunk;
+        for (std::size_t begin = first; begin < last; begin += chunk_size) {
+            const std::size_t count = std::min(chunk_size, last - begin);
+            fill_chunk(mesh, in_range, begin, count, chunk);
+            const bool shaped = detail::shape_triangles(chunk);
+            for (std::size_t i = 0; i < count; ++i) {
+                const std::size_t t = begin + i;
+                if (!in_range[t]) continue;
+                TriangleFacts& facts = out[t];
+                if (shaped && !(chunk.unusual >> i & 1)) {
+                    for (int k = 0; k < 3; ++k)
+                        facts.face[k] = chunk.face[k][i], facts.angle[k] = std::acos(chunk.cosine[k][i]);
+                } else {
+                    Vec3 p[3];
+                    for (int k = 0; k < 3; ++k)
+                        for (int axis = 0; axis < 3; ++axis) p[k][axis] = chunk.corner[k][axis][i];
+                    describe_triangle(p, facts);
+                }
+                const std::uint32_t* idx = mesh.indices.data() + 3 * t;
+                for (int k = 0; k < 3; ++k) facts.position[k] = weld[idx[k]], facts.vertex[k] = idx[k];
+            }
+        }
+    };
+    for_blocks(pool, in_range.size(), describe_block,
+               [&] { by_position = group_corners(mesh, weld, positions, in_range); });
+}
+
+// One corner with area at the position being worked on, gathered from its triangle's facts.
+struct FanCorner {
+    std::uint32_t corner, vertex;
+    std::uint32_t next_position, prev_position;  // welded positions of the triangle's other corners
+    Vec3 face;
+    Vec3 weighted;  // face * the corner's angle
+};
+
+// One triangle side that ends at the position being worked on: the position at its other end,
+// the side's number (3 * triangle + k for the side from corner k to corner k + 1, the order in
+// which the sides of an edge are compared) and which of the position's corners it ends at.
+struct SideAt {
+    std::uint32_t other, side, local_corner;
+    bool operator<(const SideAt& b) const { return other != b.other ? other < b.other : side < b.side; }
+};
+
+// A corner whose vertex already has the normal of another set: it needs a copy of the vertex, and
+// copies are numbered in corner order over the whole mesh, so the requests are collected here and
+// granted at the end.
+struct CopyRequest {
+    std::uint32_t corner, vertex, set;
+    Vec3 normal;
+};
+
+// Fans of up to this many corners (with area) are split with a bit per corner (split_by_all_pairs).
+constexpr std::size_t k_max_mask_fan = 64;
+
+// A thread's scratch memory, kept from one position to the next.
+struct FanScratch {
+    std::vector<FanCorner> corners;
+    std::vector<std::uint32_t> root;  // per corner: the local index of its set's first corner
+    std::vector<SideAt> sides;
+    std::vector<std::uint32_t> parent;  // union-find over the position's corners, by local index
+    std::array<std::uint64_t, k_max_mask_fan> smooth_neighbours;  // per corner: the corners joined with it
+    std::vector<Vec3> sum;            // per set, by its root: the sum of its corners, then its normal
+    std::vector<CopyRequest> copies;  // from all the thread's positions
+
+    std::uint32_t find(std::uint32_t c) {
+        while (parent[c] != c) c = parent[c] = parent[parent[c]];
+        return c;
+    }
+    // The root of a set is its smallest local index, i.e. its smallest corner, whatever the
+    // order of the joins.
+    void join(std::uint32_t a, std::uint32_t b) {
+        a = find(a), b = find(b);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+};
+
+// Faces on one edge are compared pairwise only with this many predecessors, so a non-manifold
+// edge shared by thousands of triangles stays linear; ordinary edges have two faces.
+constexpr std::size_t k_max_edge_neighbours = 8;
+
+// The position's corners with area, in corner order, and the sum of their weighted faces. Corners
+// of degenerate triangles are left out: they are on no edge and alone in their sets, whose normal
+// is zero (which leaves their vertices to the other corners), and they add +0 to sums that start
+// at +0 (and so are never -0), which changes nothing.
+Vec3 gather_fan(std::span<const std::uint32_t> corners, const TriangleFacts* triangles, std::vector<FanCorner>& out) {
+    out.clear();
+    Vec3 around{};
+    for (const std::uint32_t c : corners) {
+        const TriangleFacts& t = triangles[c / 3];
+        const Vec3 face{t.face[0], t.face[1], t.face[2]};
+        if (!(dot(face, face) > 0)) continue;
+        const std::uint32_t k = c % 3;
+        const Vec3 weighted = face * t.angle[k];
+        out.push_back({c, t.vertex[k], t.position[(k + 1) % 3], t.position[(k + 2) % 3], face, weighted});
+        around += weighted;
+    }
+    return around;
+}
+
+// Whether no edge has more sides than one is compared with (k_max_edge_neighbours), i.e. whether
+// every pair of sides on an edge is compared: true for all but the few non-manifold edges.
+bool all_pairs_within_reach(const std::vector<SideAt>& sides) {
+    for (std::size_t i = 1; i < sides.size(); ++i) {
+        std::size_t same = 0;
+        for (std::size_t j = 0; j < i; ++j) same += sides[i].other == sides[j].other;
+        if (same > k_max_edge_neighbours) return false;
+    }
+    return true;
+}
+
+// A triangle with area has three distinct welded positions (two equal ones make the cross product
+// zero), so a corner's two sides end at two positions other than the corner's own.
+bool share_a_side(const FanCorner& a, const FanCorner& b) {
+    return (a.next_position == b.next_position) | (a.next_position == b.prev_position) |
+           (a.prev_position == b.next_position) | (a.prev_position == b.prev_position);
+}
+
+// Every pair of corners compared at once (at most k_max_mask_fan of them), and the sets found as
+// the connected parts of the graph of the pairs that share a side at less than the crease angle,
+// the first corner of each part its root. Returns the number of sets; with one, s.root is not
+// filled (no root to look up).
+std::size_t split_by_all_pairs(float cos_crease, FanScratch& s) {
+    const std::vector<FanCorner>& c = s.corners;
+    const std::size_t n = c.size();
+    std::uint64_t* smooth = s.smooth_neighbours.data();
+    std::fill_n(smooth, n, 0);
+    for (std::size_t i = 1; i < n; ++i) {
+        // Without branches, the dot products of the pairs that share no side included: which pairs
+        // do is unpredictable (0.25 ms less of 5.7 ms on the bunny at 1 thread than branching).
+        std::uint64_t joined = 0;
+        for (std::size_t j = 0; j < i; ++j) {
+            const bool join = share_a_side(c[i], c[j]) & (dot(c[i].face, c[j].face) > cos_crease);
+            joined |= std::uint64_t{join} << j;
+        }
+        smooth[i] |= joined;
+        for (std::size_t j = 0; j < i; ++j) smooth[j] |= (joined >> j & 1) << i;
+    }
+    std::size_t sets = 0;
+    for (std::uint64_t left = n == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1; left;) {
+        const auto root = static_cast<std::uint32_t>(std::countr_zero(left));
+        std::uint64_t set = std::uint64_t{1} << root;
+        for (std::uint64_t frontier = set; frontier;) {
+            const int k = std::countr_zero(frontier);
+            const std::uint64_t reached = smooth[k] & ~set;
+            set |= reached, frontier = (frontier ^ std::uint64_t{1} << k) | reached;
+        }
+        left &= ~set;
+        if (sets == 0 && !left) return 1;
+        for (; set; set &= set - 1) s.root[std::countr_zero(set)] = root;
+        ++sets;
+    }
+    return sets;
+}
+
+// Non-manifold edges with more sides than are compared pairwise: the sides of one edge adjacent,
+// in the order of their numbers (the keys are unique: no order among equals to keep), each
+// compared with its predecessors within reach, and the sets joined by union-find. Returns the
+// number of sets.
+std::size_t split_within_reach(float cos_crease, FanScratch& s) {
+    const std::vector<FanCorner>& corners = s.corners;
+    s.parent.resize(corners.size());
+    std::iota(s.parent.begin(), s.parent.end(), 0u);
+    std::sort(s.sides.begin(), s.sides.end());
+    const std::size_t sides = s.sides.size();
+    for (std::size_t begin = 0, end = 0; begin < sides; begin = end) {
+        end = begin + 1;
+        while (end < sides && s.sides[end].other == s.sides[begin].other) ++end;
+        for (std::size_t i = begin + 1; i < end; ++i)
+            for (std::size_t j = i > begin + k_max_edge_neighbours ? i - k_max_edge_neighbours : begin; j < i; ++j) {
+                const std::uint32_t a = s.sides[i].local_corner, b = s.sides[j].local_corner;
+                if (dot(corners[a].face, corners[b].face) > cos_crease) s.join(a, b);
+            }
+    }
+    std::size_t sets = 0;
+    for (std::uint32_t local = 0; local < corners.size(); ++local) {
+        s.root[local] = s.find(local);
+        sets += s.root[local] == local;
+    }
+    return sets;
+}
+
+// The position's corners split into sets (s.root, unless there is one set): two corners are in
+// one set when their triangles share an edge from the position at less than the crease angle
+// (directly or through others). Returns the number of sets.
+std::size_t split_into_sets(float cos_crease, FanScratch& s) {
+    const std::size_t n = s.corners.size();
+    s.root.resize(n);
+    // An edge has at most one side per corner: with no more corners than the first side of an edge
+    // and its k_max_edge_neighbours successors, every pair of sides is compared.
+    if (n <= k_max_edge_neighbours + 1) return split_by_all_pairs(cos_crease, s);
+    s.sides.clear();
+    for (std::uint32_t local = 0; local < n; ++local) {
+        const FanCorner& c = s.corners[local];
+        s.sides.push_back({c.next_position, c.corner, local});
+        s.sides.push_back({c.prev_position, c.corner / 3 * 3 + (c.corner + 2) % 3, local});
+    }
+    // When every pair of sides on an edge is compared, the order of the comparisons does not
+    // matter: all pairs at once give the same sets.
+    if (n <= k_max_mask_fan && all_pairs_within_reach(s.sides)) return split_by_all_pairs(cos_crease, s);
+    return split_within_reach(cos_crease, s);
+}
+
+// Where the sets' normals go: each vertex takes the normal of the first set among its corners
+// (vertex_set: that set's smallest corner), and corners from another set ask for a copy of the
+// vertex. Corners without area take whatever their vertex has.
+struct VertexNormals {
+    std::vector<std::uint32_t>& vertex_set;
+    std::vector<Vec3>& normals;
+};
+constexpr std::uint32_t k_no_set = ~0u;
+
+// A set's normal is the angle-weighted sum of its faces in corner order, normalized once (one
+// set: the sum of all the corners). All the corners of a vertex are at its position, so the first
+// of them here is its first in the mesh.
+void assign_set_normals(std::size_t sets, Vec3 around, FanScratch& s, VertexNormals out) {
+    const std::vector<FanCorner>& corners = s.corners;
+    if (sets == 1) {
+        const Vec3 n = normalize(around);
+        if (!(dot(n, n) > 0)) return;
+        const std::uint32_t set = corners[0].corner;
+        for (const FanCorner& c : corners)
+            if (out.vertex_set[c.vertex] == k_no_set) out.vertex_set[c.vertex] = set, out.normals[c.vertex] = n;
+        return;
+    }
+    s.sum.assign(corners.size(), Vec3{});
+    for (std::uint32_t local = 0; local < corners.size(); ++local) s.sum[s.root[local]] += corners[local].weighted;
+    for (std::uint32_t local = 0; local < corners.size(); ++local) {
+        const std::uint32_t root = s.root[local];
+        if (root == local) s.sum[local] = normalize(s.sum[local]);  // roots come first in their sets
+        const Vec3 n = s.sum[root];
+        if (!(dot(n, n) > 0)) continue;
+        const FanCorner& c = corners[local];
+        const std::uint32_t set = corners[root].corner;
+        std::uint32_t& vertex_set = out.vertex_set[c.vertex];
+        if (vertex_set == k_no_set) {
+            vertex_set = set;
+            out.normals[c.vertex] = n;
+        } else if (vertex_set != set) {
+            s.copies.push_back({c.corner, c.vertex, set, n});
+        }
+    }
+}
+
+// The facts of the triangles this many corners ahead are fetched while a position is worked on.
+constexpr std::size_t k_prefetch_corners = 16;
+
+// The corners around each welded position split into sets, and the sets' normals given to the
+// vertices. Sets never reach beyond one position, and each vertex is at one, so positions are
+// independent of each other. Returns each position's sum of all its corners, the fallback for
+// vertices without a set.
+std::vector<Vec3> split_fans(const CornersByPosition& by_position, const TriangleFacts* triangles, float cos_crease,
+                             detail::ThreadPool* pool, std::vector<FanScratch>& scratch, VertexNormals out) {
+    const std::size_t positions = by_position.start.size() - 1;
+    std::vector<Vec3> around(positions);
+    for_blocks(pool, positions, [&](std::size_t first, std::size_t last, int worker) {
+        FanScratch& s = scratch[worker];
+        const std::uint32_t* corner = by_position.corner.data();
+        const std::size_t block_end = by_position.start[last];
+        for (std::size_t w = first; w < last; ++w) {
+            const std::size_t begin = by_position.start[w], end = by_position.start[w + 1];
+            for (std::size_t i = begin + k_prefetch_corners; i < std::min(end + k_prefetch_corners, block_end); ++i)
+                __builtin_prefetch(triangles + corner[i] / 3);
+            around[w] = gather_fan({corner + begin, corner + end}, triangles, s.corners);
+            assign_set_normals(split_into_sets(cos_crease, s), around[w], s, out);
+        }
+    });
+    return around;
+}
+
+// Vertex copies for the requests, numbered in the order of the requests' corners (the order the
+// specification makes them in), one per vertex and set; corners are pointed at them.
+void copy_vertices(std::vector<FanScratch>& scratch, Mesh& mesh) {
+    std::vector<CopyRequest>& requests = scratch[0].copies;
+    for (std::size_t worker = 1; worker < scratch.size(); ++worker)
+        requests.insert(requests.end(), scratch[worker].copies.begin(), scratch[worker].copies.end());
+    std::sort(requests.begin(), requests.end(),
+              [](const CopyRequest& a, const CopyRequest& b) { return a.corner < b.corner; });
+    const std::size_t most = mesh.positions.size() + requests.size();
+    mesh.positions.reserve(most);
+    mesh.normals.reserve(most);
+    if (!mesh.colours.empty()) mesh.colours.reserve(most);
+    if (!mesh.uvs.empty()) mesh.uvs.reserve(most);
+    std::unordered_map<std::uint64_t, std::uint32_t> copies;  // (vertex << 32 | set) -> new vertex
+    for (const CopyRequest& r : requests) {
+        auto [it, inserted] = copies.try_emplace(std::uint64_t{r.vertex} << 32 | r.set, 0u);
+        if (inserted) {
+            it->second = static_cast<std::uint32_t>(mesh.positions.size());
+            mesh.positions.push_back(mesh.positions[r.vertex]);
+            mesh.normals.push_back(r.normal);
+            if (!mesh.colours.empty()) mesh.colours.push_back(mesh.colours[r.vertex]);
+            if (!mesh.uvs.empty()) mesh.uvs.push_back(mesh.uvs[r.vertex]);
+        }
+        mesh.indices[r.corner] = it->second;
+    }
+}
+
+}  // namespace
+
+void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads) {
+    const std::size_t vertex_count = mesh.positions.size();
+    const std::size_t triangles = mesh.indices.size() / 3;
+    // Threads only for meshes that have a block for each; they end before this returns.
+    std::optional<detail::ThreadPool> pool;
+    if (threads != 1 && triangles >= 2 * k_block) pool.emplace(threads <= 0 ? 0 : threads);
+    detail::ThreadPool* workers = pool && pool->size() > 1 ? &*pool : nullptr;
+
+    const Weld welded = weld_by_position(mesh.positions);
+    // Decided once: the copies below rewrite indices to vertices beyond vertex_count.
+    std::vector<bool> in_range(triangles);
+    for (std::size_t t = 0; t < triangles; ++t)
+        in_range[t] = mesh.indices[3 * t] < vertex_count && mesh.indices[3 * t + 1] < vertex_count &&
+                      mesh.indices[3 * t + 2] < vertex_count;
+
+    // Each welded position's corners split into sets (split_fans); corners of invalid triangles
+    // are in no set and left alone.
+    CornersByPosition by_position;
+    const auto facts = std::make_unique_for_overwrite<TriangleFacts[]>(triangles);
+    describe_triangles(mesh, welded.id, welded.key.size(), in_range, workers, facts.get(), by_position);
+    std::vector<std::uint32_t> vertex_set(vertex_count, k_no_set);
+    mesh.normals.assign(vertex_count, Vec3{});
+    std::vector<FanScratch> scratch(workers ? workers->size() : 1);
+    const std::vector<Vec3> around = split_fans(by_position, facts.get(), std::cos(crease_angle_radians), workers,
+                                                scratch, {vertex_set, mesh.normals});
+    copy_vertices(scratch, mesh);
+    // Vertices in no set (on degenerate triangles only, or on none): the average around the position.
+    for (std::uint32_t v = 0; v < vertex_count; ++v) {
+        if (vertex_set[v] != k_no_set) continue;
+        const Vec3 n = normalize(around[welded.id[v]]);
+        mesh.normals[v] = dot(n, n) > 0 ? n : Vec3{0, 0, 1};
+    }
+}
+
+}  // namespace facet
