@@ -5,9 +5,11 @@
 
 #include <optional>
 
+#include "facet/api.hpp"
 #include "facet/defaults.hpp"
 #include "facet/math/transform.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 enum class Handedness { right, left };
@@ -79,3 +81,4 @@ private:
 };
 
 }  // namespace facet
+FACET_API_END

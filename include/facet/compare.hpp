@@ -13,9 +13,11 @@
 #include <optional>
 #include <string>
 
+#include "facet/api.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 struct ImageComparison {
@@ -56,3 +58,4 @@ bool within_thresholds(const ImageComparison& c, const CompareThresholds& t, std
 Image difference_image(const Image& a, const Image& b, int tolerance = 0);
 
 }  // namespace facet
+FACET_API_END

@@ -9,8 +9,10 @@
 
 #include <cstddef>
 
+#include "facet/api.hpp"
 #include "facet/math/vec.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 namespace defaults {
 
@@ -90,3 +92,4 @@ int resolve_threads(int threads);
 std::size_t resolve_batch_triangles(int per_thread, int threads);
 
 }  // namespace facet
+FACET_API_END

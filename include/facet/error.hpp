@@ -7,6 +7,9 @@
 #include <utility>
 #include <variant>
 
+#include "facet/api.hpp"
+
+FACET_API_BEGIN
 namespace facet {
 
 enum class ErrorCode {
@@ -58,3 +61,4 @@ struct Ok {};  // the value of a Result that carries no data
 using Status = Result<Ok>;
 
 }  // namespace facet
+FACET_API_END

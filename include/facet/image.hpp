@@ -7,8 +7,10 @@
 #include <new>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/math/vec.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 struct Rgba8 {
@@ -86,3 +88,4 @@ private:
 };
 
 }  // namespace facet
+FACET_API_END

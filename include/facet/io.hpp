@@ -7,9 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 // 8-bit PNG: RGB when every pixel is opaque (alpha 255), RGBA otherwise; read back, the pixels are the same.
@@ -23,3 +25,4 @@ Result<Image> read_png(const std::string& path);
 Status write_file_atomic(const std::string& path, const void* bytes, std::size_t size);
 
 }  // namespace facet
+FACET_API_END

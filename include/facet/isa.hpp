@@ -9,6 +9,9 @@
 #include <string_view>
 #include <vector>
 
+#include "facet/api.hpp"
+
+FACET_API_BEGIN
 namespace facet {
 
 // Names usable on this CPU, best first, "scalar" last: e.g. {"avx512", "avx2", "sse4", "scalar"}.
@@ -22,3 +25,4 @@ std::string active_isa();
 bool select_isa(std::string_view name);
 
 }  // namespace facet
+FACET_API_END

@@ -6,9 +6,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/error.hpp"
 #include "facet/math/mat.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 struct Aabb {
@@ -58,3 +60,4 @@ Mesh make_torus(float major_radius, float minor_radius, int segments, int sides)
 Mesh make_checker_plane(float size, int cells, Vec4 colour_a, Vec4 colour_b);
 
 }  // namespace facet
+FACET_API_END

@@ -10,11 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/defaults.hpp"
 #include "facet/error.hpp"
 #include "facet/scene.hpp"
 #include "facet/texture.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 enum class UpAxis { y, z };
@@ -77,3 +79,4 @@ std::string model_extension(const std::string& path);
 bool has_own_parser(const std::string& path);
 
 }  // namespace facet
+FACET_API_END

@@ -10,8 +10,10 @@
 #include <span>
 #include <type_traits>
 
+#include "facet/api.hpp"
 #include "facet/math/vec.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 enum class CullMode { none, back, front };
@@ -145,3 +147,4 @@ struct DrawStats {
 };
 
 }  // namespace facet
+FACET_API_END

@@ -15,6 +15,7 @@
 #include <memory>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/detail/front_end.hpp"
 #include "facet/detail/shade.hpp"
 #include "facet/detail/thread_pool.hpp"
@@ -25,6 +26,7 @@
 #include "facet/image.hpp"
 #include "facet/pipeline.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 // Defaults and the resolution of the zeros: facet/defaults.hpp.
@@ -320,3 +322,4 @@ DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const Draw
 }
 
 }  // namespace facet
+FACET_API_END

@@ -7,12 +7,14 @@
 #include <string_view>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/camera.hpp"
 #include "facet/defaults.hpp"
 #include "facet/mesh.hpp"
 #include "facet/renderer.hpp"
 #include "facet/texture.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 enum class Shading { lit, lambert, flat, normals, mask, vertex_color, texture };
@@ -73,7 +75,7 @@ struct RenderSettings {
     // none: files often have inconsistent winding, so only single-sided materials are culled.
     // back/front: forced for every object. The lambert mode never culls.
     CullMode cull = CullMode::none;
-    Lighting lighting;
+    Lighting lighting{};
 };
 
 // How to look at a scene, as the command line and the viewer take it. Without an eye, the camera
@@ -119,3 +121,4 @@ Scene default_scene();
 Camera default_scene_camera(float aspect);
 
 }  // namespace facet
+FACET_API_END

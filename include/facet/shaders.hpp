@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "facet/api.hpp"
 #include "facet/defaults.hpp"
 #include "facet/detail/vertex_stage.hpp"
 #include "facet/detail/visible_pass.hpp"
@@ -24,6 +25,7 @@
 #include "facet/pipeline.hpp"
 #include "facet/texture.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 struct DirectionalLight {
@@ -312,3 +314,4 @@ FACET_COMPILED_VERTEX_STAGE(Mask, -1, -1)
 #undef FACET_COMPILED_VERTEX_STAGE
 }  // namespace detail
 }  // namespace facet
+FACET_API_END

@@ -10,11 +10,13 @@
 #include <string>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/defaults.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
 #include "facet/math/vec.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 enum class Wrap { repeat, clamp, mirror };
@@ -71,3 +73,4 @@ private:
 };
 
 }  // namespace facet
+FACET_API_END

@@ -9,9 +9,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/math/vec.hpp"
 #include "facet/pipeline.hpp"
 
+FACET_API_BEGIN
 namespace facet::detail {
 
 // 8 sub-pixel bits: vertices snap to 1/256 pixel, as in llvmpipe and D3D. Together with
@@ -138,3 +140,4 @@ bool rasterize_tile(const TriangleSetup& tri, PixelRect tile, TileCoverage& out)
 bool rasterize_tile_reference(const TriangleSetup& tri, PixelRect tile, TileCoverage& out);
 
 }  // namespace facet::detail
+FACET_API_END

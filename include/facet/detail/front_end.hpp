@@ -11,8 +11,10 @@
 #include <utility>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/detail/frame.hpp"
 
+FACET_API_BEGIN
 namespace facet::detail {
 
 struct FrontEndParams {
@@ -60,3 +62,4 @@ void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::si
                    std::size_t end_triangle, const FrontEndParams& params, FrontEndChunk& out);
 
 }  // namespace facet::detail
+FACET_API_END

@@ -21,9 +21,11 @@
 #include <optional>
 #include <vector>
 
+#include "facet/api.hpp"
 #include "facet/detail/frame.hpp"
 #include "facet/image.hpp"
 
+FACET_API_BEGIN
 namespace facet::detail {
 
 template <DepthTest D>
@@ -546,3 +548,4 @@ template <class S>
 }
 
 }  // namespace facet::detail
+FACET_API_END

@@ -6,6 +6,9 @@
 #include <memory>
 #include <type_traits>
 
+#include "facet/api.hpp"
+
+FACET_API_BEGIN
 namespace facet::detail {
 
 class ThreadPool {
@@ -48,3 +51,4 @@ private:
 };
 
 }  // namespace facet::detail
+FACET_API_END

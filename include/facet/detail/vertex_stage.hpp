@@ -7,8 +7,10 @@
 
 #include <cstddef>
 
+#include "facet/api.hpp"
 #include "facet/math/mat.hpp"
 
+FACET_API_BEGIN
 namespace facet::detail {
 
 template <class S>
@@ -25,3 +27,4 @@ void transform_points(const Mat4& m, const Vec3* points, std::size_t n, Vec4* ou
 void transform_directions(const Mat3& m, const Vec3* directions, std::size_t n, float* out, std::size_t stride);
 
 }  // namespace facet::detail
+FACET_API_END

@@ -6,6 +6,9 @@
 // same bytes as shade_visible over 4 to 16 pixels at a time.
 #pragma once
 
+#include "facet/api.hpp"
+
+FACET_API_BEGIN
 namespace facet::detail {
 
 struct TileVisibility;
@@ -18,3 +21,4 @@ struct CompiledVisiblePass {
 };
 
 }  // namespace facet::detail
+FACET_API_END

@@ -5,8 +5,10 @@
 
 #include <optional>
 
+#include "facet/api.hpp"
 #include "facet/math/vec.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 struct Mat3 {
@@ -93,3 +95,4 @@ std::optional<Mat4> affine_inverse(const Mat4& m);
 Mat3 normal_matrix(const Mat4& model);
 
 }  // namespace facet
+FACET_API_END

@@ -14,6 +14,9 @@
 #include <cstdint>
 #include <limits>
 
+#include "facet/api.hpp"
+
+FACET_API_BEGIN
 namespace facet {
 
 namespace detail {
@@ -84,3 +87,4 @@ inline float portable_pow(float x, float y) {
 }
 
 }  // namespace facet
+FACET_API_END

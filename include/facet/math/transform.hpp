@@ -4,8 +4,10 @@
 // _lh / _rh, _zo = clip-space depth in [0, 1] (the only range facet rasterizes).
 #pragma once
 
+#include "facet/api.hpp"
 #include "facet/math/mat.hpp"
 
+FACET_API_BEGIN
 namespace facet {
 
 Mat4 translate(Vec3 t);
@@ -44,3 +46,4 @@ Mat4 ortho_lh_zo(float left, float right, float bottom, float top, float near, f
 Mat4 viewport(float x, float y, float width, float height);
 
 }  // namespace facet
+FACET_API_END

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstddef>
 
+#include "facet/api.hpp"
+
+FACET_API_BEGIN
 namespace facet {
 
 struct Vec2 {
@@ -85,3 +88,4 @@ constexpr float radians(float degrees) { return degrees * (k_pi / 180.0f); }
 constexpr float degrees(float radians) { return radians * (180.0f / k_pi); }
 
 }  // namespace facet
+FACET_API_END
