@@ -72,8 +72,10 @@ if(FACET_BUILD_APPS)
   # facet-diff(1) for the subcommands. help2man names a page after the program it runs, so each
   # page runs a small wrapper of that name, which also makes the usage line say "facet", not the
   # build tree's path.
+  # Not in sanitizer builds, whose executables are for the tests (and whose leak checker would
+  # judge each run of --help).
   find_program(FACET_HELP2MAN help2man)
-  if(FACET_HELP2MAN)
+  if(FACET_HELP2MAN AND NOT CMAKE_CXX_FLAGS MATCHES "-fsanitize")
     set(_facet_man_pages)
     foreach(entry IN ITEMS
         "facet|a software 3D renderer: model files to PNG on the CPU, or in a window"
@@ -107,7 +109,7 @@ if(FACET_BUILD_APPS)
     endforeach()
     add_custom_target(facet_man_pages ALL DEPENDS ${_facet_man_pages})
     install(FILES ${_facet_man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT runtime)
-  else()
+  elseif(NOT FACET_HELP2MAN)
     message(STATUS "help2man not found: no man pages (scripts/setup installs it)")
   endif()
 endif()
