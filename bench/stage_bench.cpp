@@ -23,7 +23,6 @@
 
 #include "bench_scenes.hpp"
 #include "facet/detail/front_end.hpp"
-#include "facet/detail/shade.hpp"
 #include "facet/renderer.hpp"
 #include "facet/scene.hpp"
 #include "facet/shaders.hpp"
@@ -31,6 +30,8 @@
 #include "geometry/clip.hpp"
 #include "geometry/project.hpp"
 #include "setup/setup.hpp"
+#include "tile/depth_pass.hpp"
+#include "tile/tile_buffers.hpp"
 
 namespace {
 
@@ -282,17 +283,17 @@ void BM_DepthPass_SmallTriangles(benchmark::State& state) {
     Framebuffer fb(wl.width, wl.height);
     fb.clear({0, 0, 0, 1});
     const d::TargetView view{fb.colour_data(), fb.depth_data(), fb.width()};
-    static d::TileVisibility vis;  // 49 KB: not on the stack
+    static d::TileBuffers buffers;  // 49 KB: not on the stack
     std::int64_t pairs = 0, owning = 0;
     for (auto _ : state) {
         for (std::size_t tile = 0; tile < chunk.bins.size(); ++tile) {
             const d::PixelRect r = tile_rect(params, tile);
-            vis.begin(r, 7, view);
+            buffers.begin(r, 7, view);
             for (const d::TriangleSetup& t : chunk.bins[tile]) {
-                owning += d::resolve_triangle({&t, r, &vis, 0, DepthTest::lequal, true});
+                owning += d::resolve_triangle({&t, r, &buffers, 0, DepthTest::lequal, true});
                 ++pairs;
             }
-            vis.end(r, view, true);
+            buffers.end(r, view, true);
         }
         benchmark::ClobberMemory();
     }
@@ -368,30 +369,30 @@ void BM_ShadeVisible_Lambert(benchmark::State& state) {
     Framebuffer fb(64, 64);
     fb.clear({0, 0, 0, 1});
     const d::TargetView view{fb.colour_data(), fb.depth_data(), fb.width()};
-    static d::TileVisibility vis;  // 49 KB: not on the stack
-    vis.begin(ft.rect, 7, view);
+    static d::TileBuffers buffers;  // 49 KB: not on the stack
+    buffers.begin(ft.rect, 7, view);
     const float* var[3];
     for (int k = 0; k < 3; ++k) var[k] = ft.vertices.varyings_of(ft.setup.vertex[k]);
     constexpr int k_owners = 16;
     for (int id = 0; id < k_owners; ++id) {
-        vis.triangles.push_back(&ft.setup);
-        vis.planes.resize(vis.planes.size() + static_cast<std::size_t>(vis.stride));
-        d::write_shading_record(ft.setup, var, 7, vis.planes.data() + vis.planes.size() - vis.stride);
+        buffers.triangles.push_back(&ft.setup);
+        buffers.records.resize(buffers.records.size() + static_cast<std::size_t>(buffers.stride));
+        d::write_shading_record(ft.setup, var, 7, buffers.records.data() + buffers.records.size() - buffers.stride);
     }
     for (int y = 0; y < 64; ++y) {
-        vis.covered[y] = ~0ull;
+        buffers.covered[y] = ~0ull;
         for (int x = 0; x < 64; ++x) {
             const int cell = state.range(0) == 2 ? 2 : 4;
-            vis.owner[y * d::k_max_tile_size + x] = static_cast<std::uint32_t>((x / cell + y / cell * 3) % k_owners);
+            buffers.owner[y * d::k_max_tile_size + x] = static_cast<std::uint32_t>((x / cell + y / cell * 3) % k_owners);
         }
     }
     shaders::Lambert shader;
     shader.u.key.direction = {0, 0, 1};
     for (auto _ : state) {
         if (state.range(0))
-            d::CompiledVisiblePass<shaders::Lambert>::run(shader, vis, ft.rect, view);
+            d::CompiledVisiblePass<shaders::Lambert>::run(shader, buffers.visible(ft.rect), view);
         else
-            d::shade_visible(shader, vis, ft.rect, view);
+            d::shade_visible(shader, buffers.visible(ft.rect), view);
         benchmark::ClobberMemory();
     }
     state.SetItemsProcessed(state.iterations() * 64 * 64);

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -125,6 +126,8 @@ LambdaShader<N, VertexFn, FragmentFn> make_shader(VertexFn vertex_fn, FragmentFn
 struct DrawInput {
     std::uint32_t vertex_count = 0;
     std::span<const std::uint32_t> indices;
+    // The triangles assembled; a trailing partial triangle (index count not a multiple of 3) is ignored.
+    std::size_t triangle_count() const { return indices.empty() ? vertex_count / 3 : indices.size() / 3; }
 };
 
 // What a draw call did, for tests, statistics and warnings.

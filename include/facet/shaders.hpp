@@ -180,7 +180,7 @@ using BlinnPhongBaseColour = BlinnPhongShader<Albedo::base_colour>;
 
 // With AlphaCutoff, a pixel whose albedo alpha is below tex.alpha_cutoff is discarded (a material's
 // AlphaMode::mask). Without, nothing is: a shader that cannot discard is drawn visible-only (depth
-// first, then fragment() once per visible pixel, detail/shade.hpp), which spares the texture lookups
+// first, then fragment() once per visible pixel, detail/fragment.hpp), which spares the texture lookups
 // and lighting of every pixel drawn over later.
 template <bool AlphaCutoff>
 struct TexturedShader {
@@ -270,7 +270,7 @@ namespace detail {
     template <>                                                                                     \
     struct CompiledVisiblePass<shaders::S> {                                                        \
         static constexpr bool available = true;                                                     \
-        static void run(const shaders::S& shader, const TileVisibility& vis, PixelRect tile, TargetView target); \
+        static void run(const shaders::S& shader, const VisibleTile& tile, TargetView colour);          \
     };
 FACET_COMPILED_VISIBLE_PASS(Lambert)
 FACET_COMPILED_VISIBLE_PASS(LambertBaseColour)

@@ -21,10 +21,6 @@ T plane_distance(int plane, Vec4 p, GuardBand g) {
     }
 }
 
-const float* varyings_of(std::uint32_t ref, const ClipVertices& vertices, const ClipVertices& extras) {
-    return (ref & k_clipped_bit) ? extras.varyings_of(ref & ~k_clipped_bit) : vertices.varyings_of(ref);
-}
-
 // The point where edge (inside -> outside) crosses the plane, with interpolated varyings. Computed in
 // double, and the coordinate the plane constrains is then set so that the point lies exactly on it:
 // in float, in + (out - in) * t cancels catastrophically when the ends differ greatly in size

@@ -1,4 +1,4 @@
-// facet shade: the visible-pixel pass (pass two of the visible-only order, detail/shade.hpp) of the
+// facet shade: the visible-pixel pass (pass two of the visible-only order, detail/fragment.hpp) of the
 // built-in shaders as SIMD kernels, compiled once per ISA by Highway and dispatched at run time.
 // This header holds what the shader families share (lane helpers, interpolation, the tile loop
 // ShadeVisibleTile); each family's fragment() in lanes and its exported kernels are in a file of
@@ -7,7 +7,7 @@
 //   visible_simd_blinn_phong.cpp  BlinnPhong, BlinnPhongBaseColour
 //   visible_simd_unlit.cpp        Normals, VertexColour
 //   visible_simd_flat.cpp         Flat (the only one that reads derivatives: LanesIn::ddx, ddy)
-// In: a tile's TileVisibility (which triangle owns each pixel, and each triangle's shading record).
+// In: a VisibleTile (which triangle owns each pixel, and each triangle's shading record).
 // Out: the colour of every visible pixel of the tile.
 //
 // A vector of pixels of one row is shaded at once: each lane takes the record of the triangle that
@@ -31,10 +31,10 @@
 #define FACET_SHADE_VISIBLE_SIMD_DISPATCH_
 #define FACET_DEFINE_VISIBLE_PASS(S, KERNEL)                                                                   \
     HWY_EXPORT(KERNEL);                                                                                      \
-    void CompiledVisiblePass<shaders::S>::run(const shaders::S& shader, const TileVisibility& vis, PixelRect tile, \
+    void CompiledVisiblePass<shaders::S>::run(const shaders::S& shader, const VisibleTile& tile,             \
                                               TargetView target) {                                           \
-        if (use_scalar_kernels()) return shade_visible(shader, vis, tile, target);                          \
-        HWY_DYNAMIC_DISPATCH(KERNEL)(shader, vis, tile, target);                                             \
+        if (use_scalar_kernels()) return shade_visible(shader, tile, target);                                \
+        HWY_DYNAMIC_DISPATCH(KERNEL)(shader, tile, target);                                                  \
     }
 #endif
 
@@ -52,9 +52,9 @@
 #include <cstring>
 #include <limits>
 
-#include "facet/detail/shade.hpp"
+#include "facet/detail/fragment.hpp"
 #include "facet/shaders.hpp"
-#include "raster/stream_fill-inl.h"
+#include "tile/stream_fill-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
@@ -349,8 +349,7 @@ HWY_INLINE void store_block(D d, hn::Vec<D> v, T* p, int stride) {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 template <class S, class Lanes>
-void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility& vis, PixelRect tile,
-                      TargetView target) {
+void ShadeVisibleTile(const S& shader, const Lanes& lanes, const VisibleTile& vis, TargetView target) {
     constexpr int N = S::k_varyings;
     static_assert(Lanes::N == N);
     const DF df;
@@ -359,11 +358,12 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
     constexpr int bw = lane_count < k_block_w ? lane_count : k_block_w, bh = lane_count / bw;
     static_assert(bw * bh == lane_count);
     constexpr std::uint64_t block_row_bits = (1ull << bw) - 1;
+    const PixelRect tile = vis.rect;
     const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
     const int simd_width = width / bw * bw, simd_height = height / bh * bh;  // whole blocks inside the tile
     const std::uint64_t tail_bits = simd_width >= 64 ? 0 : ~0ull << simd_width;
-    const float* records = vis.planes.data();
-    const auto none = hn::Set(du, TileVisibility::k_none);
+    const float* records = vis.records;
+    const auto none = hn::Set(du, VisibleTile::k_no_owner);
     // Lane l of a block is pixel (l % bw, l / bw) of it.
     HWY_ALIGN float column[lane_count], row[lane_count];
     for (int l = 0; l < lane_count; ++l) column[l] = static_cast<float>(l % bw), row[l] = static_cast<float>(l / bw);
@@ -404,10 +404,10 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
             if (!bits) continue;
             std::uint8_t bytes[8];
             std::memcpy(bytes, &bits, sizeof(bytes));
-            const auto owners = load_block(du, vis.owner + r0 * k_max_tile_size + i, k_max_tile_size);
+            const auto owners = load_block(du, vis.owner + r0 * VisibleTile::k_row + i, VisibleTile::k_row);
             const MF visible = hn::RebindMask(df, hn::And(hn::LoadMaskBits(du, bytes), hn::Ne(owners, none)));
             if (hn::AllFalse(df, visible)) continue;
-            stream_fill_rows(vis.fills, k_fill_rows_per_block);
+            stream_fill_rows(*vis.idle, k_fill_rows_per_block);
             const int x = tile.x0 + i;
             const VF centre_x = hn::Add(hn::Add(hn::Set(df, static_cast<float>(x)), lane_column), half);
             MF scalar = hn::FirstN(df, 0);
@@ -429,7 +429,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
             // base the other runs are blended over, so it needs no mask. When it owns every
             // visible lane (large triangles) there are no leaders to look for.
             const std::uint32_t first_owner = owner_of[hn::FindFirstTrue(df, visible)];
-            run_record[0] = records + static_cast<std::size_t>(first_owner) * vis.stride;
+            run_record[0] = records + static_cast<std::size_t>(first_owner) * vis.record_stride;
             int runs = 1;
             const MF first_run = hn::RebindMask(df, hn::Eq(owners, hn::Set(du, first_owner)));
             if (!hn::AllFalse(df, hn::AndNot(first_run, visible))) {
@@ -441,7 +441,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
                 for (leaders &= leaders - 1; leaders != 0; leaders &= leaders - 1, ++runs) {
                     const std::uint32_t owner = owner_of[std::countr_zero(leaders)];
                     run_mask[runs] = hn::And(visible, hn::RebindMask(df, hn::Eq(owners, hn::Set(du, owner))));
-                    run_record[runs] = records + static_cast<std::size_t>(owner) * vis.stride;
+                    run_record[runs] = records + static_cast<std::size_t>(owner) * vis.record_stride;
                 }
             }
             hn::Vec<DU> rgba;
@@ -469,7 +469,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const TileVisibility&
         }
     }
     for (int r = 0; r < height; ++r)
-        if (redo[r]) shade_visible_pixels(shader, vis, tile, target, tile.y0 + r, redo[r]);
+        if (redo[r]) shade_visible_pixels(shader, vis, target, tile.y0 + r, redo[r]);
 }
 #pragma GCC diagnostic pop
 

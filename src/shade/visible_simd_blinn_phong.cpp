@@ -6,7 +6,6 @@
 
 #include <hwy/highway.h>
 
-#include "facet/detail/shade.hpp"
 #include "facet/shaders.hpp"
 #include "shade/visible_simd-inl.h"
 
@@ -41,12 +40,12 @@ struct BlinnPhongLanes {
     }
 };
 
-void ShadeBlinnPhong(const shaders::BlinnPhong& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhong>{s}, vis, tile, target);
+void ShadeBlinnPhong(const shaders::BlinnPhong& s, const VisibleTile& tile, TargetView target) {
+    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhong>{s}, tile, target);
 }
-void ShadeBlinnPhongBaseColour(const shaders::BlinnPhongBaseColour& s, const TileVisibility& vis, PixelRect tile,
+void ShadeBlinnPhongBaseColour(const shaders::BlinnPhongBaseColour& s, const VisibleTile& tile,
                                TargetView target) {
-    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhongBaseColour>{s}, vis, tile, target);
+    ShadeVisibleTile(s, BlinnPhongLanes<shaders::BlinnPhongBaseColour>{s}, tile, target);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE

@@ -6,7 +6,6 @@
 
 #include <hwy/highway.h>
 
-#include "facet/detail/shade.hpp"
 #include "facet/shaders.hpp"
 #include "shade/visible_simd-inl.h"
 
@@ -34,8 +33,8 @@ struct FlatLanes {
     }
 };
 
-void ShadeFlat(const shaders::Flat& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, FlatLanes{s}, vis, tile, target);
+void ShadeFlat(const shaders::Flat& s, const VisibleTile& tile, TargetView target) {
+    ShadeVisibleTile(s, FlatLanes{s}, tile, target);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE

@@ -6,7 +6,6 @@
 
 #include <hwy/highway.h>
 
-#include "facet/detail/shade.hpp"
 #include "facet/shaders.hpp"
 #include "shade/visible_simd-inl.h"
 
@@ -27,12 +26,12 @@ struct LambertLanes {
     }
 };
 
-void ShadeLambert(const shaders::Lambert& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, LambertLanes<shaders::Lambert>{s}, vis, tile, target);
+void ShadeLambert(const shaders::Lambert& s, const VisibleTile& tile, TargetView target) {
+    ShadeVisibleTile(s, LambertLanes<shaders::Lambert>{s}, tile, target);
 }
-void ShadeLambertBaseColour(const shaders::LambertBaseColour& s, const TileVisibility& vis, PixelRect tile,
+void ShadeLambertBaseColour(const shaders::LambertBaseColour& s, const VisibleTile& tile,
                             TargetView target) {
-    ShadeVisibleTile(s, LambertLanes<shaders::LambertBaseColour>{s}, vis, tile, target);
+    ShadeVisibleTile(s, LambertLanes<shaders::LambertBaseColour>{s}, tile, target);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE

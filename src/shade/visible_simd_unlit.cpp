@@ -7,7 +7,6 @@
 
 #include <hwy/highway.h>
 
-#include "facet/detail/shade.hpp"
 #include "facet/shaders.hpp"
 #include "shade/visible_simd-inl.h"
 
@@ -34,11 +33,11 @@ struct VertexColourLanes {
     ColourLanes operator()(LanesIn<N>& in) const { return {in.v[0], in.v[1], in.v[2], in.v[3]}; }
 };
 
-void ShadeNormals(const shaders::Normals& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, NormalsLanes{s}, vis, tile, target);
+void ShadeNormals(const shaders::Normals& s, const VisibleTile& tile, TargetView target) {
+    ShadeVisibleTile(s, NormalsLanes{s}, tile, target);
 }
-void ShadeVertexColour(const shaders::VertexColour& s, const TileVisibility& vis, PixelRect tile, TargetView target) {
-    ShadeVisibleTile(s, VertexColourLanes{s}, vis, tile, target);
+void ShadeVertexColour(const shaders::VertexColour& s, const VisibleTile& tile, TargetView target) {
+    ShadeVisibleTile(s, VertexColourLanes{s}, tile, target);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE

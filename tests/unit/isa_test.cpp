@@ -16,11 +16,12 @@
 #include <vector>
 
 #include "facet/detail/front_end.hpp"
-#include "facet/detail/shade.hpp"
 #include "facet/isa.hpp"
 #include "facet/shaders.hpp"
 #include "geometry/project.hpp"
 #include "setup/setup.hpp"
+#include "tile/depth_pass.hpp"
+#include "tile/tile_store.hpp"
 
 namespace {
 
@@ -141,7 +142,7 @@ PixelRect random_tile(std::mt19937& rng, int width, int height, TileOdds odds) {
 // One tile's pass one run by resolve_triangle (whichever ISA is selected) or by the reference.
 struct DepthPassState {
     std::vector<float> depth;
-    TileVisibility vis;
+    TileBuffers buffers;
     std::vector<bool> any;  // each triangle's return value
 };
 
@@ -149,9 +150,9 @@ bool same_state(const DepthPassState& a, const DepthPassState& b, PixelRect tile
     if (a.depth.size() != b.depth.size() || a.any != b.any) return false;
     if (std::memcmp(a.depth.data(), b.depth.data(), a.depth.size() * sizeof(float)) != 0) return false;
     for (int r = 0; r < tile.y1 - tile.y0; ++r) {
-        if (a.vis.covered[r] != b.vis.covered[r]) return false;
+        if (a.buffers.covered[r] != b.buffers.covered[r]) return false;
         for (int i = 0; i < tile.x1 - tile.x0; ++i)
-            if (a.vis.owner[r * k_max_tile_size + i] != b.vis.owner[r * k_max_tile_size + i]) return false;
+            if (a.buffers.owner[r * k_max_tile_size + i] != b.buffers.owner[r * k_max_tile_size + i]) return false;
     }
     return true;
 }
@@ -188,7 +189,7 @@ TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
             for (float& d : depth) d = coin(rng) ? 1.0f : unit(rng);
             for (DepthPassState* s : {simd.get(), spec.get()}) {
                 s->depth = depth;
-                s->vis.begin(tile, 1, {nullptr, s->depth.data(), width});
+                s->buffers.begin(tile, 1, {nullptr, s->depth.data(), width});
                 s->any.clear();
             }
             // Triangles near the tile, some drawn twice so equal depths meet.
@@ -204,11 +205,11 @@ TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
                 }
                 const auto id = static_cast<std::uint32_t>(k);
                 ASSERT_TRUE(select_isa(isa));
-                simd->any.push_back(resolve_triangle({&t, tile, &simd->vis, id, test, write}));
-                spec->any.push_back(reference({&t, tile, &spec->vis, id, test, write}));
+                simd->any.push_back(resolve_triangle({&t, tile, &simd->buffers, id, test, write}));
+                spec->any.push_back(reference({&t, tile, &spec->buffers, id, test, write}));
                 passes += spec->any.back();
             }
-            for (DepthPassState* s : {simd.get(), spec.get()}) s->vis.end(tile, {nullptr, s->depth.data(), width}, write);
+            for (DepthPassState* s : {simd.get(), spec.get()}) s->buffers.end(tile, {nullptr, s->depth.data(), width}, write);
             ASSERT_TRUE(same_state(*simd, *spec, tile))
                 << isa << ": tile " << n << " at " << x0 << "," << y0 << " size " << w << "x" << h;
             ++tiles;
@@ -259,13 +260,13 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
             for (DepthPassState* s : {simd.get(), spec.get()}) {
                 ASSERT_TRUE(select_isa(s == simd.get() ? isa : "scalar"));
                 s->depth = depth;
-                s->vis.begin(tile, 1, {nullptr, s->depth.data(), width});
+                s->buffers.begin(tile, 1, {nullptr, s->depth.data(), width});
                 // Two calls, as for two chunks' bins: the second's ids follow the first's.
                 const ResolveBinKernel kernel = resolve_bin_kernel(test, write);
-                kernel(bin.data(), 100, tile, s->vis);
-                kernel(bin.data() + 100, bin.size() - 100, tile, s->vis);
-                s->vis.end(tile, {nullptr, s->depth.data(), width}, write);
-                for (const TriangleSetup* t : s->vis.triangles)
+                kernel(bin.data(), 100, tile, s->buffers);
+                kernel(bin.data() + 100, bin.size() - 100, tile, s->buffers);
+                s->buffers.end(tile, {nullptr, s->depth.data(), width}, write);
+                for (const TriangleSetup* t : s->buffers.triangles)
                     order[s == spec.get()].push_back(static_cast<std::size_t>(t - bin.data()));
             }
             ASSERT_EQ(order[0], order[1]) << isa << ": tile " << n;

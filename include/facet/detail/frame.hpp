@@ -1,8 +1,9 @@
 // facet internals: the types handed from stage to stage inside one draw call.
 //   vertex stage  -> ClipVertices   (pos_clip + varyings per vertex)
 //   front end     -> TriangleSetup  (assembled, clipped, culled, projected, snapped, set up) + bins
-//   coverage      -> TileCoverage   (one bit per pixel of a tile)
-//   fragment stage (shade.hpp)      -> Framebuffer pixels
+//   coverage      -> TileCoverage   (one bit per pixel of a tile; the one-pass order)
+//   depth pass    -> VisibleTile    (which triangle owns each pixel of a tile: visible_tile.hpp)
+//   fragment stage (fragment.hpp)   -> Framebuffer pixels
 // Shared by the compiled stages in src/ and the shader-templated ones in the headers.
 #pragma once
 
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "facet/api.hpp"
+#include "facet/image.hpp"
 #include "facet/math/vec.hpp"
 #include "facet/pipeline.hpp"
 
@@ -97,6 +99,12 @@ inline bool edges_fit_32_bits(const TriangleSetup& t) {
 
 constexpr std::uint32_t k_clipped_bit = 0x80000000u;
 
+// The varyings of vertex `ref` of a triangle (TriangleSetup::vertex): the vertex stage's, or for a
+// vertex made by clipping, those in the clip extras of the triangle's chunk.
+inline const float* varyings_of(std::uint32_t ref, const ClipVertices& vertices, const ClipVertices& extras) {
+    return (ref & k_clipped_bit) ? extras.varyings_of(ref & ~k_clipped_bit) : vertices.varyings_of(ref);
+}
+
 // GCC 12 removes __builtin_prefetch whose address comes from loads it can see through (the function
 // holding it counts as side-effect free and its call disappears); an asm statement stays.
 inline void prefetch(const void* p) {
@@ -131,6 +139,19 @@ struct TileCoverage {
 
 struct PixelRect {
     int x0, y0, x1, y1;  // half-open: [x0, x1) x [y0, y1)
+};
+
+// Where a stage writes pixels: the framebuffer (origin 0, 0), or a tile's own buffer whose first
+// pixel is (x0, y0) of the target.
+struct TargetView {
+    Rgba8* colour;
+    float* depth;
+    int stride;  // pixels per row
+    int x0 = 0, y0 = 0;
+    // Index of pixel (x, y), x >= x0 and y >= y0, in colour and depth.
+    std::size_t at(int x, int y) const {
+        return static_cast<std::size_t>(y - y0) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(x - x0);
+    }
 };
 
 // Coverage of one triangle within one tile (clamped to the triangle's bounds). Exact: integer

@@ -1,17 +1,17 @@
-// facet raster: writing rows of a worker's deferred fills (DeferredFills, detail/shade.hpp) with
-// streaming stores, for the kernels that do it between their own work (the shading pass) and for
-// drain_fills (depth_simd.cpp). A Highway "-inl.h" header: included once per target by each kernel
+// facet tile pass: writing rows of a worker's deferred fills (DeferredFills, deferred_fills.hpp) with
+// streaming stores, for the kernels that do it between their own work (the shading pass, through
+// VisibleTile::idle) and for drain_fills (tile_store_simd.cpp). A Highway "-inl.h" header: included once per target by each kernel
 // file's foreach_target.h pass (the guard toggles with HWY_TARGET_TOGGLE).
-#if defined(FACET_RASTER_STREAM_FILL_INL_H_) == defined(HWY_TARGET_TOGGLE)
-#ifdef FACET_RASTER_STREAM_FILL_INL_H_
-#undef FACET_RASTER_STREAM_FILL_INL_H_
+#if defined(FACET_TILE_STREAM_FILL_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef FACET_TILE_STREAM_FILL_INL_H_
+#undef FACET_TILE_STREAM_FILL_INL_H_
 #else
-#define FACET_RASTER_STREAM_FILL_INL_H_
+#define FACET_TILE_STREAM_FILL_INL_H_
 #endif
 
 #include <hwy/highway.h>
 
-#include "facet/detail/shade.hpp"
+#include "tile/deferred_fills.hpp"
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
@@ -35,4 +35,4 @@ HWY_INLINE void stream_fill_rows(DeferredFills& fills, int rows) {
 }  // namespace facet::detail::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
-#endif  // FACET_RASTER_STREAM_FILL_INL_H_ toggle
+#endif  // FACET_TILE_STREAM_FILL_INL_H_ toggle

@@ -1,4 +1,4 @@
-// facet raster: pass one of the visible-only drawing order (detail/shade.hpp) as a SIMD kernel,
+// facet tile pass: the depth pass, pass one of the visible-only order (depth_pass.hpp), as a SIMD kernel,
 // compiled per ISA by Highway and dispatched at run time. Coverage and depth are computed in one
 // sweep: the triangle's bounds within the tile are cut into column strips one vector wide, and each
 // row of a strip evaluates the three edge functions (exact 32-bit integers, as in coverage_simd.cpp),
@@ -7,22 +7,20 @@
 // with its separate setup disappears. Lanes compute each pixel's depth with the same operations in
 // the same order as depth_at (no FMA: the project builds with -ffp-contract=off and Highway's Mul
 // and Add round separately), so every ISA writes the bytes of the scalar specification,
-// resolve_triangle_reference in detail/shade.hpp.
+// resolve_triangle_reference in depth_pass.hpp.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "raster/depth_simd.cpp"
+#define HWY_TARGET_INCLUDE "tile/depth_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include <algorithm>
 #include <cstring>
 
-#include "facet/detail/shade.hpp"
-#include "raster/stream_fill-inl.h"
+#include "tile/depth_pass.hpp"
 
-#ifndef FACET_RASTER_DEPTH_SIMD_ONCE
-#define FACET_RASTER_DEPTH_SIMD_ONCE
+#ifndef FACET_TILE_DEPTH_SIMD_ONCE
+#define FACET_TILE_DEPTH_SIMD_ONCE
 namespace facet::detail {
 
 // The triangle's pixel bounds within a tile (inclusive) and its edges in the 32-bit form the lanes
@@ -76,11 +74,13 @@ namespace hn = hwy::HWY_NAMESPACE;
 template <DepthTest D, class DF, class M>
 M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
     if constexpr (D == DepthTest::less) return hn::And(covered, hn::Lt(z, stored));
-    if constexpr (D == DepthTest::lequal) return hn::And(covered, hn::Le(z, stored));
-    if constexpr (D == DepthTest::equal) return hn::And(covered, hn::Eq(z, stored));
-    if constexpr (D == DepthTest::greater) return hn::And(covered, hn::Gt(z, stored));
-    if constexpr (D == DepthTest::always) return covered;
-    return hn::And(covered, hn::Lt(z, hn::Zero(DF())));  // never: z >= 0 after clamping, so no lane
+    else if constexpr (D == DepthTest::lequal) return hn::And(covered, hn::Le(z, stored));
+    else if constexpr (D == DepthTest::equal) return hn::And(covered, hn::Eq(z, stored));
+    else if constexpr (D == DepthTest::greater) return hn::And(covered, hn::Gt(z, stored));
+    else {
+        static_assert(D == DepthTest::always, "never draws nothing (DrawOrder::nothing): no kernel");
+        return covered;
+    }
 }
 
 // depth_at's clamp, z < 0 ? 0 : (z > 1 ? 1 : z), bit for bit. On x86 Max(0, z) and Min(1, z) are
@@ -107,9 +107,9 @@ constexpr int k_row_group = 2;
 // (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
 // lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors. A row
 // past the rectangle (in the last group) is loaded and stored unchanged, past the tile in the
-// arrays' spare row (TileVisibility::k_rows).
+// arrays' spare row (TileBuffers::k_rows).
 template <DepthTest D, bool DepthWrite, class DF>
-HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileVisibility& vis,
+HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileBuffers& buffers,
                               std::uint32_t id, const EdgeRect& r, int start, int lo, int hi) {
     const hn::RebindToSigned<DF> di;
     const hn::RebindToUnsigned<DF> du;
@@ -127,9 +127,9 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
     const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
     const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
     const auto owner_id = hn::Set(du, id);
-    static_assert(k_row_group - 1 <= TileVisibility::k_rows - k_max_tile_size, "a group's rows past the tile are in the arrays");
-    float* depth = vis.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
-    std::uint32_t* owner = vis.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
+    static_assert(k_row_group - 1 <= TileBuffers::k_rows - k_max_tile_size, "a group's rows past the tile are in the arrays");
+    float* depth = buffers.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
+    std::uint32_t* owner = buffers.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     auto passed = hn::FirstN(df, 0);
     for (int y = r.y0; y <= r.y1; y += k_row_group) {
         const VI rows_left = hn::Set(di, r.y1 - y + 1);
@@ -167,7 +167,7 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
 // slower), so those keep resolve_strip's single group of two 8-lane rows.
 constexpr int k_pair_group = 2;  // vectors per group
 template <DepthTest D, bool DepthWrite>
-HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileVisibility& vis, std::uint32_t id,
+HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
                                   const EdgeRect& r, int start, int lo, int hi) {
     const hn::Full512<float> df;
     const hn::Full256<float> dh;
@@ -190,10 +190,10 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileVi
     const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
     const auto dzdy = hn::Set(df, t.dzdy), y0 = hn::Set(df, t.y0), half = hn::Set(df, 0.5f);
     const auto owner_id = hn::Set(duh, id);
-    static_assert(2 * k_pair_group - 1 <= TileVisibility::k_rows - k_max_tile_size,
+    static_assert(2 * k_pair_group - 1 <= TileBuffers::k_rows - k_max_tile_size,
                   "a group's rows past the tile are in the arrays");
-    float* depth = vis.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
-    std::uint32_t* owner = vis.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
+    float* depth = buffers.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
+    std::uint32_t* owner = buffers.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     __mmask16 passed = 0;
     for (int y = r.y0; y <= r.y1; y += 2 * k_pair_group) {
         const VI rows_left = hn::Set(di, r.y1 - y + 1);
@@ -230,7 +230,7 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileVi
 // tile's arrays (whose rows are wider than the tile when it is narrower than a vector: those lanes
 // are never inside).
 template <DepthTest D, bool DepthWrite>
-HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileVisibility& vis, std::uint32_t id) {
+HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
     const hn::ScalableTag<float> df;
     const int lanes = static_cast<int>(hn::Lanes(df));
     static_assert(k_max_tile_size % (HWY_MAX_BYTES / sizeof(float)) == 0, "a row is whole vectors");
@@ -245,17 +245,17 @@ HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileVisibili
         const int start = tile.x0 + ((r.x0 - tile.x0) & -k_narrow);
         if (r.x1 < start + k_narrow) {
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
-            if (r.y1 - r.y0 >= 2) return resolve_row_pairs<D, DepthWrite>(t, tile, vis, id, r, start, r.x0 - start, r.x1 - start);
+            if (r.y1 - r.y0 >= 2) return resolve_row_pairs<D, DepthWrite>(t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
 #endif
             const hn::CappedTag<float, k_narrow> narrow;
-            return resolve_strip<D, DepthWrite>(narrow, t, tile, vis, id, r, start, r.x0 - start, r.x1 - start);
+            return resolve_strip<D, DepthWrite>(narrow, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
         }
     }
     bool any = false;
     for (int x = r.x0; x <= r.x1;) {
         const int start = tile.x0 + ((x - tile.x0) & -lanes);  // x >= tile.x0; lanes is a power of two
         const int end = std::min(r.x1, start + lanes - 1);
-        any |= resolve_strip<D, DepthWrite>(df, t, tile, vis, id, r, start, x - start, end - start);
+        any |= resolve_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
         x = end + 1;
     }
     return any;
@@ -263,93 +263,50 @@ HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileVisibili
 
 template <DepthTest D, bool DepthWrite>
 bool ResolveTriangleFor(const DepthJob& job) {
-    return resolve_one<D, DepthWrite>(*job.setup, job.tile, *job.vis, job.id);
+    return resolve_one<D, DepthWrite>(*job.setup, job.tile, *job.buffers, job.id);
 }
 
-void FenceFills(DeferredFills& fills) {
-    if (fills.streamed) hwy::FlushStream();
-    fills.streamed = false;
-}
-
-void DrainFills(DeferredFills& fills) {
-    while (fills.pending()) stream_fill_rows(fills, k_max_tile_size);
-    FenceFills(fills);
-}
-
-// A tile's bin in order: each triangle that passes somewhere is appended to vis.triangles, and its
+// A tile's bin in order: each triangle that passes somewhere is appended to buffers.triangles, and its
 // index there is its owner id. The records are read front to back, but each bin is a new stream the
 // hardware prefetcher has yet to learn: they are fetched a few triangles ahead.
 template <DepthTest D, bool DepthWrite>
-void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect tile, TileVisibility& vis) {
+void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect tile, TileBuffers& buffers) {
     constexpr std::size_t k_distance = 12;
-    const std::size_t first = vis.triangles.size();
-    vis.triangles.resize(first + count);
-    const TriangleSetup** listed = vis.triangles.data() + first;
+    const std::size_t first = buffers.triangles.size();
+    buffers.triangles.resize(first + count);
+    const TriangleSetup** listed = buffers.triangles.data() + first;
     std::uint32_t id = static_cast<std::uint32_t>(first);
     for (std::size_t n = 0; n < count; ++n) {
         if (n + k_distance < count) prefetch_record(records + n + k_distance);
         const TriangleSetup& t = records[n];
-        const bool any = resolve_one<D, DepthWrite>(t, tile, vis, id);
+        const bool any = resolve_one<D, DepthWrite>(t, tile, buffers, id);
         listed[id - first] = &t;
         id += any;
     }
-    vis.triangles.resize(id);
+    buffers.triangles.resize(id);
 }
 
-// Marks the pixels some triangle owns in `covered` (see TileVisibility::end).
-void FindOwnedPixels(TileVisibility& vis, PixelRect tile) {
+// Marks the pixels some triangle owns in `covered` (see TileBuffers::end).
+void FindOwnedPixels(TileBuffers& buffers, PixelRect tile) {
     const hn::ScalableTag<std::uint32_t> du;
     const int lanes = static_cast<int>(hn::Lanes(du));
     const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
-    const auto none = hn::Set(du, TileVisibility::k_none);
+    const auto none = hn::Set(du, TileBuffers::k_none);
     for (int row = 0; row < height; ++row) {
         std::uint64_t bits = 0;
         for (int i = 0; i < width; i += lanes) {
             std::uint8_t lane_bits[8] = {};
-            hn::StoreMaskBits(du, hn::Ne(hn::Load(du, vis.owner + row * k_max_tile_size + i), none), lane_bits);
+            hn::StoreMaskBits(du, hn::Ne(hn::Load(du, buffers.owner + row * k_max_tile_size + i), none), lane_bits);
             std::uint64_t word;
             std::memcpy(&word, lane_bits, sizeof(word));
             bits |= word << i;
         }
         // Lanes past the tile's width may hold anything (begin() sets the tile's columns only).
-        vis.covered[row] = width >= 64 ? bits : bits & ((std::uint64_t{1} << width) - 1);
+        buffers.covered[row] = width >= 64 ? bits : bits & ((std::uint64_t{1} << width) - 1);
     }
 }
 
-// store_tile_rows for this target: whole aligned cache lines streamed, the rest copied (the
-// specification, store_tile_rows_reference, for rows that cannot be streamed). With `covered`, a
-// pixel whose bit is clear gets `fill` instead.
-void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, const std::uint64_t* covered,
-                   std::uint32_t fill, std::uint32_t* HWY_RESTRICT target, int width, int height, int target_stride) {
-    const hn::ScalableTag<std::uint32_t> du;
-    const int lanes = static_cast<int>(hn::Lanes(du));
-    constexpr int k_line = 64 / sizeof(std::uint32_t);
-    const auto fill_lanes = hn::Set(du, fill);
-    bool streamed = false;
-    for (int row = 0; row < height; ++row) {
-        const std::uint32_t* from = rows + row * rows_stride;
-        std::uint32_t* to = target + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride);
-        if (width % k_line != 0 || lanes > k_line || reinterpret_cast<std::uintptr_t>(to) % 64 != 0) {
-            store_tile_row_reference(from, covered ? covered + row : nullptr, fill, to, width);
-            continue;
-        }
-        for (int i = 0; i < width; i += lanes) {
-            auto v = hn::LoadU(du, from + i);
-            if (covered) {
-                const std::uint64_t bits = covered[row] >> i;
-                std::uint8_t bytes[8];
-                std::memcpy(bytes, &bits, sizeof(bytes));
-                v = hn::IfThenElse(hn::LoadMaskBits(du, bytes), v, fill_lanes);
-            }
-            hn::Stream(v, du, to + i);
-        }
-        streamed = true;
-    }
-    // Streaming stores are weakly ordered: make them visible before the tile is reported done.
-    if (streamed) hwy::FlushStream();
-}
-
-// This target's kernels for a depth test and write flag (never: ones that draw nothing).
+// This target's kernels for a depth test and write flag (never, which no tile draws: ones that do nothing).
 ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
     ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
     auto with_write = [&]<DepthTest D>() {
@@ -359,7 +316,7 @@ ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
     return kernel;
 }
 ResolveBinKernel ChooseResolveBin(DepthTest test, bool write) {
-    ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileVisibility&) {};
+    ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileBuffers&) {};
     auto with_write = [&]<DepthTest D>() { kernel = write ? &ResolveBinFor<D, true> : &ResolveBinFor<D, false>; };
     with_depth_test(test, with_write);
     return kernel;
@@ -376,28 +333,9 @@ namespace facet::detail {
 HWY_EXPORT(ChooseResolveTriangle);
 HWY_EXPORT(ChooseResolveBin);
 HWY_EXPORT(FindOwnedPixels);
-HWY_EXPORT(StoreTileRows);
-HWY_EXPORT(DrainFills);
-HWY_EXPORT(FenceFills);
-
-void drain_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(DrainFills)(fills); }
-void fence_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(FenceFills)(fills); }
-
-void store_tile_rows(const void* rows, int rows_stride, void* target_origin, PixelRect tile, int target_stride,
-                     bool stream, const std::uint64_t* covered, std::uint32_t fill) {
-    const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
-    const auto* from = static_cast<const std::uint32_t*>(rows);
-    auto* to = static_cast<std::uint32_t*>(target_origin);
-    if (stream && !use_scalar_kernels())
-        return HWY_DYNAMIC_DISPATCH(StoreTileRows)(from, rows_stride, covered, fill, to, width, height, target_stride);
-    for (int row = 0; row < height; ++row)
-        store_tile_row_reference(from + row * rows_stride, covered ? covered + row : nullptr, fill,
-                                 to + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride), width);
-}
-
-void find_owned_pixels(TileVisibility& vis, PixelRect tile) {
-    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(FindOwnedPixels)(vis, tile);
-    find_owned_pixels_reference(vis, tile);
+void find_owned_pixels(TileBuffers& buffers, PixelRect tile) {
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(FindOwnedPixels)(buffers, tile);
+    find_owned_pixels_reference(buffers, tile);
 }
 
 ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write) {
@@ -412,16 +350,16 @@ ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write) {
 
 // The scalar specification of a bin: resolve_triangle_reference per triangle, ids in listing order.
 template <DepthTest D, bool DepthWrite>
-void resolve_bin_reference(const TriangleSetup* records, std::size_t count, PixelRect tile, TileVisibility& vis) {
+void resolve_bin_reference(const TriangleSetup* records, std::size_t count, PixelRect tile, TileBuffers& buffers) {
     for (std::size_t n = 0; n < count; ++n) {
-        const auto id = static_cast<std::uint32_t>(vis.triangles.size());
-        if (resolve_triangle_reference<D, DepthWrite>({&records[n], tile, &vis, id, D, DepthWrite}))
-            vis.triangles.push_back(&records[n]);
+        const auto id = static_cast<std::uint32_t>(buffers.triangles.size());
+        if (resolve_triangle_reference<D, DepthWrite>({&records[n], tile, &buffers, id, D, DepthWrite}))
+            buffers.triangles.push_back(&records[n]);
     }
 }
 
 ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write) {
-    ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileVisibility&) {};
+    ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileBuffers&) {};
     if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ChooseResolveBin)(test, write);
     auto with_write = [&]<DepthTest D>() {
         kernel = write ? &resolve_bin_reference<D, true> : &resolve_bin_reference<D, false>;

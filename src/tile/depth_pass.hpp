@@ -1,0 +1,117 @@
+// facet tile pass: the depth pass of the visible-only order, pass one of a tile. In: a tile's bins of
+// TriangleSetup records in submission order, and its TileBuffers. Per triangle: coverage within the
+// tile, the depth test (and write) at every covered pixel, and the triangle becomes the owner of each
+// pixel where it passes; triangles that pass somewhere are listed. Out: the TileBuffers' depth,
+// owners and list, then (find_owned_pixels) which pixels have an owner: the VisibleTile. Compiled
+// once, not per shader: SIMD kernels in depth_simd.cpp, the scalar specification here. Does not
+// shade or write the target.
+#pragma once
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+
+#include "facet/detail/fragment.hpp"
+#include "tile/tile_buffers.hpp"
+
+namespace facet::detail {
+
+template <DepthTest D>
+inline bool depth_passes(float z, float stored) {
+    if constexpr (D == DepthTest::less) return z < stored;
+    if constexpr (D == DepthTest::lequal) return z <= stored;
+    if constexpr (D == DepthTest::equal) return z == stored;
+    if constexpr (D == DepthTest::greater) return z > stored;
+    if constexpr (D == DepthTest::always) return true;
+    return false;
+}
+
+// Calls f.template operator()<D>() with the depth test `test` as a template argument (nothing for
+// never, which draws nothing: DrawOrder::nothing): where a run-time choice becomes a compile-time one.
+template <class F>
+void with_depth_test(DepthTest test, F&& f) {
+    switch (test) {
+        case DepthTest::never: break;
+        case DepthTest::less: f.template operator()<DepthTest::less>(); break;
+        case DepthTest::lequal: f.template operator()<DepthTest::lequal>(); break;
+        case DepthTest::equal: f.template operator()<DepthTest::equal>(); break;
+        case DepthTest::greater: f.template operator()<DepthTest::greater>(); break;
+        case DepthTest::always: f.template operator()<DepthTest::always>(); break;
+    }
+}
+
+// Pass one, for one triangle: coverage within the tile, then the depth test (and write) at every
+// covered pixel; the triangle becomes the owner (id) of each pixel where it passes.
+struct DepthJob {
+    const TriangleSetup* setup;
+    PixelRect tile;
+    TileBuffers* buffers;  // depth and owner are updated; the triangle list is the caller's
+    std::uint32_t id;
+    DepthTest test;
+    bool write;
+};
+
+// The depth test of the covered pixels, one pixel at a time. Returns true when some pixel passed.
+template <DepthTest D, bool DepthWrite>
+bool resolve_depth_reference(const DepthJob& job, const TileCoverage& cov) {
+    const TriangleSetup& t = *job.setup;
+    bool any = false;
+    for (int row = cov.first_row; row <= cov.last_row; ++row) {
+        std::uint64_t mask = cov.rows[row];
+        const int y = job.tile.y0 + row;
+        float* depth_row = job.buffers->depth + row * k_max_tile_size;
+        std::uint32_t* owner_row = job.buffers->owner + row * k_max_tile_size;
+        while (mask) {
+            const int i = std::countr_zero(mask);
+            mask &= mask - 1;
+            const int x = job.tile.x0 + i;
+            const float z = depth_at(t, x, y);
+            if (!depth_passes<D>(z, depth_row[i])) continue;
+            if constexpr (DepthWrite) depth_row[i] = z;
+            owner_row[i] = job.id;
+            any = true;
+        }
+    }
+    return any;
+}
+
+// The scalar specification of pass one: the reference coverage, then resolve_depth_reference.
+template <DepthTest D, bool DepthWrite>
+bool resolve_triangle_reference(const DepthJob& job) {
+    TileCoverage cov;
+    if (!rasterize_tile_reference(*job.setup, job.tile, cov)) return false;
+    return resolve_depth_reference<D, DepthWrite>(job, cov);
+}
+
+// Pass one for the ISA selected in facet/isa.hpp: a SIMD kernel that computes coverage and depth in
+// one sweep (depth_simd.cpp), or resolve_triangle_reference when "scalar" is selected. Same bytes
+// either way. Returns true when the triangle passed the depth test at some pixel, i.e. owns pixels
+// now; one that does not can never own any in this tile.
+bool resolve_triangle(const DepthJob& job);
+// The function resolve_triangle calls for this depth test and write flag with the ISA selected now:
+// chosen once per draw, it saves the dispatch per triangle.
+using ResolveTriangleKernel = bool (*)(const DepthJob&);
+ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write);
+// Pass one over a tile's bin, `count` records in submission order: each triangle is resolved as by
+// resolve_triangle with the id buffers.triangles.size(), and appended to buffers.triangles when it
+// passed somewhere. One call per bin, not per triangle: the kernel keeps the tile's constants in
+// registers and fetches the records ahead itself.
+using ResolveBinKernel = void (*)(const TriangleSetup* records, std::size_t count, PixelRect tile,
+                                  TileBuffers& buffers);
+ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write);
+
+// Sets TileBuffers::covered from the owners, with the ISA selected in facet/isa.hpp (a SIMD kernel
+// in depth_simd.cpp, or find_owned_pixels_reference).
+void find_owned_pixels(TileBuffers& buffers, PixelRect tile);
+
+// The scalar specification of find_owned_pixels.
+inline void find_owned_pixels_reference(TileBuffers& buffers, PixelRect tile) {
+    for (int row = 0; row < tile.y1 - tile.y0; ++row) {
+        std::uint64_t bits = 0;
+        for (int i = 0; i < tile.x1 - tile.x0; ++i)
+            bits |= std::uint64_t{buffers.owner[row * k_max_tile_size + i] != TileBuffers::k_none} << i;
+        buffers.covered[row] = bits;
+    }
+}
+
+}  // namespace facet::detail

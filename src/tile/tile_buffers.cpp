@@ -1,0 +1,92 @@
+// facet tile pass: a worker's tile buffers (tile_buffers.hpp): starting a tile, the shading records
+// of the triangles its depth pass lists, ending the depth pass, and writing the colour back.
+#include "tile/tile_buffers.hpp"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "tile/depth_pass.hpp"
+#include "tile/tile_store.hpp"
+
+namespace facet::detail {
+
+void TileBuffers::reserve(std::size_t count, int varyings_) {
+    triangles.reserve(count);
+    records.reserve(count * static_cast<std::size_t>(shading_record_floats(varyings_)));
+}
+
+void TileBuffers::begin(PixelRect tile, int varyings_, TargetView target, const Clear* clear) {
+    triangles.clear();
+    records.clear();
+    varyings = varyings_;
+    stride = shading_record_floats(varyings_);
+    const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
+    depth_cleared = colour_cleared = clear != nullptr;
+    if (clear) clear_colour = clear->colour;
+    for (int r = 0; r < height; ++r) {
+        std::fill_n(owner + r * k_max_tile_size, width, k_none);
+        if (clear) {
+            std::fill_n(depth + r * k_max_tile_size, width, clear->depth);
+        } else {
+            std::copy_n(target.depth + target.at(tile.x0, tile.y0 + r), width, depth + r * k_max_tile_size);
+        }
+    }
+}
+
+namespace {
+
+// The shading records of the triangles listed from `first` on, with N varyings each (N < 0: b.varyings,
+// counted at run time). A later triangle's varyings are fetched a few triangles ahead, since a tile's
+// triangles share vertices with triangles anywhere in the mesh.
+template <int N>
+void write_records(TileBuffers& b, std::size_t first, const VaryingsSource& source) {
+    constexpr std::size_t k_distance = 16;
+    const int n = N >= 0 ? N : b.varyings;
+    const std::size_t count = b.triangles.size(), stride = static_cast<std::size_t>(b.stride);
+    b.records.resize(count * stride);
+    for (std::size_t i = first; i < count; ++i) {
+        const float* var[3];
+        if (i + k_distance < count) {
+            source.find(*b.triangles[i + k_distance], var);
+            for (const float* v : var) prefetch(v);
+        }
+        source.find(*b.triangles[i], var);
+        write_shading_record(*b.triangles[i], var, n, b.records.data() + i * stride);
+    }
+}
+
+// One write_records per varying count up to k_constant_varyings, where the count is a constant (its
+// loop unrolls, as when the records were written by the shader's own template); more, counted at
+// run time.
+using WriteRecords = void (*)(TileBuffers&, std::size_t, const VaryingsSource&);
+constexpr int k_constant_varyings = 16;
+template <int... N>
+constexpr std::array<WriteRecords, sizeof...(N)> record_writers(std::integer_sequence<int, N...>) {
+    return {&write_records<N>...};
+}
+constexpr auto k_record_writers = record_writers(std::make_integer_sequence<int, k_constant_varyings + 1>{});
+
+}  // namespace
+
+void TileBuffers::write_shading_records(std::size_t first, const VaryingsSource& source) {
+    if (varyings <= k_constant_varyings) return k_record_writers[static_cast<std::size_t>(varyings)](*this, first, source);
+    write_records<-1>(*this, first, source);
+}
+
+void TileBuffers::end(PixelRect tile, TargetView target, bool depth_write) {
+    find_owned_pixels(*this, tile);
+    if (depth_write || depth_cleared)
+        store_tile_rows(depth, k_max_tile_size, target.depth + target.at(tile.x0, tile.y0), tile, target.stride,
+                        depth_cleared);
+}
+
+void TileBuffers::store_colour(PixelRect tile, TargetView target) const {
+    if (!colour_cleared) return;
+    std::uint32_t fill;
+    std::memcpy(&fill, &clear_colour, sizeof(fill));
+    store_tile_rows(colour, k_max_tile_size, target.colour + target.at(tile.x0, tile.y0), tile, target.stride, true,
+                    covered, fill);
+}
+
+}  // namespace facet::detail
