@@ -102,7 +102,7 @@ DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& 
 // planes exact to the float, so that a line passed back as its option gives the same image.
 class ConfigText {
 public:
-    ConfigText(const char* command);
+    explicit ConfigText(const char* command);  // the comment line names the command
     void add(const std::string& key, const std::string& value);
     const std::string& str() const { return text_; }
 
