@@ -14,7 +14,9 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "facet/api.hpp"
 #include "facet/defaults.hpp"
@@ -96,33 +98,80 @@ inline Vec4 blinn_phong(Vec3 n, Vec3 to_eye, Vec4 albedo, const ShadingUniforms&
 }
 }  // namespace detail
 
-struct VertexColour {
-    static constexpr int k_varyings = 4;
-    MeshArrays mesh;
-    ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<4>& out) const {
-        out.set(0, detail::vertex_colour(mesh, u, i));
+// The varyings of the built-in shaders, each a mesh attribute as vertex() computes it:
+//   uv        the texture coordinates (2 floats; 0, 0 without them)
+//   normal    the world-space normal, u.normal_to_world * n, not normalized (3; 0 without normals)
+//   position  the world-space position, u.model * p (3)
+//   colour    the vertex colour times u.base_colour, or u.base_colour without colours (4)
+enum class Varying { uv, normal, position, colour };
+
+constexpr int varying_width(Varying v) { return v == Varying::uv ? 2 : v == Varying::colour ? 4 : 3; }
+
+// A built-in shader's varyings, declared once and in order, each starting where the one before it
+// ends: the shader's vertex() writes them (VaryingLayout::vertex), its fragment() reads them (of),
+// and its compiled vertex stage and SIMD shading kernels find each at at(): no slot is numbered by
+// hand. Adding a built-in shader is its layout, its fragment() and, if it has them, its kernels.
+template <Varying... V>
+struct VaryingLayout {
+    static constexpr int count = (0 + ... + varying_width(V));
+    // The first float of varying v, or -1 when the shader has none.
+    static constexpr int at(Varying v) {
+        int first = 0;
+        for (Varying w : std::array<Varying, sizeof...(V)>{V...}) {
+            if (w == v) return first;
+            first += varying_width(w);
+        }
+        return -1;
+    }
+    static constexpr bool has(Varying v) { return at(v) >= 0; }
+    // The floats from the first up to the end of v: a k_derivative_count that covers v.
+    static constexpr int through(Varying v) { return at(v) + varying_width(v); }
+    static constexpr int listed(Varying v) { return (0 + ... + (V == v ? 1 : 0)); }
+    static_assert(((listed(V) == 1) && ...), "each varying is listed once");
+
+    // Varying v of `in` (the interpolated values, or their ddx or ddy): a Vec2, Vec3 or Vec4.
+    template <Varying v>
+    static auto of(const Varyings<count>& in) {
+        static_assert(has(v), "the shader has no such varying");
+        if constexpr (varying_width(v) == 2) return in.vec2(at(v));
+        else if constexpr (varying_width(v) == 3) return in.vec3(at(v));
+        else return in.vec4(at(v));
+    }
+
+    // Every built-in shader's vertex(): the varyings of mesh vertex i into `out`, and its clip position.
+    static Vec4 vertex(const MeshArrays& mesh, const ShadingUniforms& u, std::uint32_t i, Varyings<count>& out) {
+        if constexpr (has(Varying::uv)) out.set(at(Varying::uv), detail::uv_of(mesh, i));
+        if constexpr (has(Varying::normal)) out.set(at(Varying::normal), detail::world_normal(mesh, u, i));
+        if constexpr (has(Varying::position))
+            out.set(at(Varying::position), transform_point(u.model, mesh.positions[i]));
+        if constexpr (has(Varying::colour)) out.set(at(Varying::colour), detail::vertex_colour(mesh, u, i));
         return u.clip_from_object * Vec4(mesh.positions[i], 1);
     }
-    Vec4 fragment(const FragmentIn<4>& in) const { return in.v.vec4(0); }
+};
+
+struct VertexColour {
+    using Layout = VaryingLayout<Varying::colour>;
+    static constexpr int k_varyings = Layout::count;
+    MeshArrays mesh;
+    ShadingUniforms u;
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    Vec4 fragment(const FragmentIn<k_varyings>& in) const { return Layout::of<Varying::colour>(in.v); }
 };
 
 struct Flat {
-    static constexpr int k_varyings = 7;  // world position, colour
-    static constexpr int k_derivative_count = 3;  // the position's: its colour needs none
+    using Layout = VaryingLayout<Varying::position, Varying::colour>;
+    static constexpr int k_varyings = Layout::count;
+    static constexpr int k_derivative_count = Layout::through(Varying::position);  // its colour needs none
     MeshArrays mesh;
     ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<7>& out) const {
-        out.set(0, transform_point(u.model, mesh.positions[i]));
-        out.set(3, detail::vertex_colour(mesh, u, i));
-        return u.clip_from_object * Vec4(mesh.positions[i], 1);
-    }
-    Vec4 fragment(const FragmentIn<7>& in) const {
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    Vec4 fragment(const FragmentIn<k_varyings>& in) const {
         // The face normal is perpendicular to both screen derivatives of the position; turn it
         // toward the eye so both sides of a face are lit the same.
-        Vec3 n = normalize(cross(in.ddx.vec3(0), in.ddy.vec3(0)));
-        if (dot(n, u.eye - in.v.vec3(0)) < 0) n = -n;
-        return detail::shade(in.v.vec4(3), detail::lambert_term(n, u));
+        const Vec3 position = Layout::of<Varying::position>(in.v);
+        Vec3 n = normalize(cross(Layout::of<Varying::position>(in.ddx), Layout::of<Varying::position>(in.ddy)));
+        if (dot(n, u.eye - position) < 0) n = -n;
+        return detail::shade(Layout::of<Varying::colour>(in.v), detail::lambert_term(n, u));
     }
 };
 
@@ -134,19 +183,18 @@ enum class Albedo { vertex_colours, base_colour };
 template <Albedo A>
 struct LambertShader {
     static constexpr bool k_vertex_colours = A == Albedo::vertex_colours;
-    static constexpr int k_varyings = k_vertex_colours ? 7 : 3;  // normal, colour
+    using Layout = std::conditional_t<k_vertex_colours, VaryingLayout<Varying::normal, Varying::colour>,
+                                      VaryingLayout<Varying::normal>>;
+    static constexpr int k_varyings = Layout::count;
     MeshArrays mesh;
     ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const {
-        out.set(0, detail::world_normal(mesh, u, i));
-        if constexpr (k_vertex_colours) out.set(3, detail::vertex_colour(mesh, u, i));
-        return u.clip_from_object * Vec4(mesh.positions[i], 1);
-    }
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
     Vec4 fragment(const FragmentIn<k_varyings>& in) const {
-        return detail::shade(albedo(in), detail::lambert_term(normalize(in.v.vec3(0)), u));
+        const Vec3 n = normalize(Layout::template of<Varying::normal>(in.v));
+        return detail::shade(albedo(in), detail::lambert_term(n, u));
     }
     Vec4 albedo(const FragmentIn<k_varyings>& in) const {
-        if constexpr (k_vertex_colours) return in.v.vec4(3);
+        if constexpr (k_vertex_colours) return Layout::template of<Varying::colour>(in.v);
         else return u.base_colour;
     }
 };
@@ -156,22 +204,21 @@ using LambertBaseColour = LambertShader<Albedo::base_colour>;
 template <Albedo A>
 struct BlinnPhongShader {
     static constexpr bool k_vertex_colours = A == Albedo::vertex_colours;
-    static constexpr int k_varyings = k_vertex_colours ? 10 : 6;  // normal, world position, colour
+    using Layout = std::conditional_t<k_vertex_colours,
+                                      VaryingLayout<Varying::normal, Varying::position, Varying::colour>,
+                                      VaryingLayout<Varying::normal, Varying::position>>;
+    static constexpr int k_varyings = Layout::count;
     MeshArrays mesh;
     ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const {
-        out.set(0, detail::world_normal(mesh, u, i));
-        out.set(3, transform_point(u.model, mesh.positions[i]));
-        if constexpr (k_vertex_colours) out.set(6, detail::vertex_colour(mesh, u, i));
-        return u.clip_from_object * Vec4(mesh.positions[i], 1);
-    }
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
     Vec4 fragment(const FragmentIn<k_varyings>& in) const {
-        Vec3 n = normalize(in.v.vec3(0));
+        Vec3 n = normalize(Layout::template of<Varying::normal>(in.v));
         if (!in.front_facing) n = -n;  // two-sided: the inside of an open surface is lit too
-        return detail::blinn_phong(n, normalize(u.eye - in.v.vec3(3)), albedo(in), u);
+        const Vec3 to_eye = normalize(u.eye - Layout::template of<Varying::position>(in.v));
+        return detail::blinn_phong(n, to_eye, albedo(in), u);
     }
     Vec4 albedo(const FragmentIn<k_varyings>& in) const {
-        if constexpr (k_vertex_colours) return in.v.vec4(6);
+        if constexpr (k_vertex_colours) return Layout::template of<Varying::colour>(in.v);
         else return u.base_colour;
     }
 };
@@ -184,20 +231,15 @@ using BlinnPhongBaseColour = BlinnPhongShader<Albedo::base_colour>;
 // and lighting of every pixel drawn over later.
 template <bool AlphaCutoff>
 struct TexturedShader {
-    static constexpr int k_varyings = 12;  // uv, normal, world position, colour
-    static constexpr int k_derivative_count = 2;  // the uv pair, for mip selection
+    using Layout = VaryingLayout<Varying::uv, Varying::normal, Varying::position, Varying::colour>;
+    static constexpr int k_varyings = Layout::count;
+    static constexpr int k_derivative_count = Layout::through(Varying::uv);  // for mip selection
     MeshArrays mesh;
     ShadingUniforms u;
     TextureBinding tex;
-    Vec4 vertex(std::uint32_t i, Varyings<12>& out) const {
-        out.set(0, detail::uv_of(mesh, i));
-        out.set(2, detail::world_normal(mesh, u, i));
-        out.set(5, transform_point(u.model, mesh.positions[i]));
-        out.set(8, detail::vertex_colour(mesh, u, i));
-        return u.clip_from_object * Vec4(mesh.positions[i], 1);
-    }
-    auto fragment(const FragmentIn<12>& in) const {
-        const Vec4 albedo = detail::albedo(tex, in, 0, in.v.vec4(8));
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    auto fragment(const FragmentIn<k_varyings>& in) const {
+        const Vec4 albedo = detail::albedo(tex, in, Layout::at(Varying::uv), Layout::of<Varying::colour>(in.v));
         if constexpr (AlphaCutoff) {
             if (albedo.w < tex.alpha_cutoff) return std::optional<Vec4>{};
             return std::optional<Vec4>{lit(in, albedo)};
@@ -205,10 +247,10 @@ struct TexturedShader {
             return lit(in, albedo);
         }
     }
-    Vec4 lit(const FragmentIn<12>& in, Vec4 albedo) const {
-        Vec3 n = normalize(in.v.vec3(2));
+    Vec4 lit(const FragmentIn<k_varyings>& in, Vec4 albedo) const {
+        Vec3 n = normalize(Layout::of<Varying::normal>(in.v));
         if (!in.front_facing) n = -n;
-        return detail::blinn_phong(n, normalize(u.eye - in.v.vec3(5)), albedo, u);
+        return detail::blinn_phong(n, normalize(u.eye - Layout::of<Varying::position>(in.v)), albedo, u);
     }
 };
 using Textured = TexturedShader<true>;
@@ -216,18 +258,15 @@ using TexturedOpaque = TexturedShader<false>;
 
 template <bool AlphaCutoff>
 struct TextureUnlitShader {
-    static constexpr int k_varyings = 6;  // uv, colour
-    static constexpr int k_derivative_count = 2;
+    using Layout = VaryingLayout<Varying::uv, Varying::colour>;
+    static constexpr int k_varyings = Layout::count;
+    static constexpr int k_derivative_count = Layout::through(Varying::uv);
     MeshArrays mesh;
     ShadingUniforms u;
     TextureBinding tex;
-    Vec4 vertex(std::uint32_t i, Varyings<6>& out) const {
-        out.set(0, detail::uv_of(mesh, i));
-        out.set(2, detail::vertex_colour(mesh, u, i));
-        return u.clip_from_object * Vec4(mesh.positions[i], 1);
-    }
-    auto fragment(const FragmentIn<6>& in) const {
-        const Vec4 albedo = detail::albedo(tex, in, 0, in.v.vec4(2));
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    auto fragment(const FragmentIn<k_varyings>& in) const {
+        const Vec4 albedo = detail::albedo(tex, in, Layout::at(Varying::uv), Layout::of<Varying::colour>(in.v));
         if constexpr (AlphaCutoff) {
             if (albedo.w < tex.alpha_cutoff) return std::optional<Vec4>{};
             return std::optional<Vec4>{albedo};
@@ -240,25 +279,24 @@ using TextureUnlit = TextureUnlitShader<true>;
 using TextureUnlitOpaque = TextureUnlitShader<false>;
 
 struct Normals {
-    static constexpr int k_varyings = 3;
+    using Layout = VaryingLayout<Varying::normal>;
+    static constexpr int k_varyings = Layout::count;
     MeshArrays mesh;
     ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<3>& out) const {
-        out.set(0, detail::world_normal(mesh, u, i));
-        return u.clip_from_object * Vec4(mesh.positions[i], 1);
-    }
-    Vec4 fragment(const FragmentIn<3>& in) const {
-        const Vec3 n = normalize(in.v.vec3(0));
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    Vec4 fragment(const FragmentIn<k_varyings>& in) const {
+        const Vec3 n = normalize(Layout::of<Varying::normal>(in.v));
         return {0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f + 0.5f * n.z, 1};
     }
 };
 
 struct Mask {
-    static constexpr int k_varyings = 0;
+    using Layout = VaryingLayout<>;
+    static constexpr int k_varyings = Layout::count;
     MeshArrays mesh;
     ShadingUniforms u;
-    Vec4 vertex(std::uint32_t i, Varyings<0>&) const { return u.clip_from_object * Vec4(mesh.positions[i], 1); }
-    Vec4 fragment(const FragmentIn<0>&) const { return {1, 1, 1, 1}; }
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    Vec4 fragment(const FragmentIn<k_varyings>&) const { return {1, 1, 1, 1}; }
 };
 
 }  // namespace shaders
@@ -284,33 +322,37 @@ FACET_COMPILED_VISIBLE_PASS(Flat)
 // The built-in shaders whose vertex() is the clip position plus the world normal and/or the vertex
 // colour: their vertex stage in SIMD (src/vertex/transform_simd.cpp), the same bytes as vertex().
 // Vertices [begin, end): clip[j] and varyings[j * N ..] belong to vertex begin + j.
-template <int N, int NormalAt, int ColourAt>  // where each varying starts; -1: the shader has none
+template <class Layout>
 void run_vertex_stage(const MeshArrays& mesh, const ShadingUniforms& u, std::size_t begin, std::size_t end,
                       Vec4* clip, float* varyings) {
+    using shaders::Varying;
+    static_assert(Layout::count == (Layout::has(Varying::normal) ? 3 : 0) + (Layout::has(Varying::colour) ? 4 : 0),
+                  "the compiled vertex stage computes the normal and the colour, nothing else");
+    constexpr int N = Layout::count, normal_at = Layout::at(Varying::normal), colour_at = Layout::at(Varying::colour);
     const std::size_t n = end - begin;
     transform_points(u.clip_from_object, mesh.positions + begin, n, clip);
-    if constexpr (NormalAt >= 0)
+    if constexpr (normal_at >= 0)
         transform_directions(u.normal_to_world, mesh.normals ? mesh.normals + begin : nullptr, n,
-                             varyings + NormalAt, N);
-    if constexpr (ColourAt >= 0)
+                             varyings + normal_at, N);
+    if constexpr (colour_at >= 0)
         for (std::size_t j = 0; j < n; ++j) {
             const Vec4 c = shaders::detail::vertex_colour(mesh, u, static_cast<std::uint32_t>(begin + j));
-            for (int k = 0; k < 4; ++k) varyings[j * N + static_cast<std::size_t>(ColourAt + k)] = c[static_cast<std::size_t>(k)];
+            for (int k = 0; k < 4; ++k) varyings[j * N + static_cast<std::size_t>(colour_at + k)] = c[static_cast<std::size_t>(k)];
         }
 }
-#define FACET_COMPILED_VERTEX_STAGE(S, NormalAt, ColourAt)                                           \
+#define FACET_COMPILED_VERTEX_STAGE(S)                                                               \
     template <>                                                                                     \
     struct CompiledVertexStage<shaders::S> {                                                        \
         static constexpr bool available = true;                                                     \
         static void run(const shaders::S& s, std::size_t begin, std::size_t end, Vec4* clip, float* varyings) { \
-            run_vertex_stage<shaders::S::k_varyings, NormalAt, ColourAt>(s.mesh, s.u, begin, end, clip, varyings); \
+            run_vertex_stage<shaders::S::Layout>(s.mesh, s.u, begin, end, clip, varyings);          \
         }                                                                                           \
     };
-FACET_COMPILED_VERTEX_STAGE(Lambert, 0, 3)
-FACET_COMPILED_VERTEX_STAGE(LambertBaseColour, 0, -1)
-FACET_COMPILED_VERTEX_STAGE(Normals, 0, -1)
-FACET_COMPILED_VERTEX_STAGE(VertexColour, -1, 0)
-FACET_COMPILED_VERTEX_STAGE(Mask, -1, -1)
+FACET_COMPILED_VERTEX_STAGE(Lambert)
+FACET_COMPILED_VERTEX_STAGE(LambertBaseColour)
+FACET_COMPILED_VERTEX_STAGE(Normals)
+FACET_COMPILED_VERTEX_STAGE(VertexColour)
+FACET_COMPILED_VERTEX_STAGE(Mask)
 #undef FACET_COMPILED_VERTEX_STAGE
 }  // namespace detail
 }  // namespace facet

@@ -194,8 +194,8 @@ HWY_INLINE Vec3Lanes lambert_term(const Vec3Lanes& n, const ShadingUniforms& u) 
 }
 
 // shaders::detail::shade: albedo times light, alpha kept.
-HWY_INLINE ColourLanes shade(const VF* albedo, const Vec3Lanes& light) {
-    return {hn::Mul(albedo[0], light.x), hn::Mul(albedo[1], light.y), hn::Mul(albedo[2], light.z), albedo[3]};
+HWY_INLINE ColourLanes shade(const ColourLanes& albedo, const Vec3Lanes& light) {
+    return {hn::Mul(albedo.r, light.x), hn::Mul(albedo.g, light.y), hn::Mul(albedo.b, light.z), albedo.a};
 }
 
 // What each lane of a row knows, for the shaders below: its varyings (and the screen derivatives of
@@ -210,16 +210,32 @@ struct LanesIn {
     MF scalar;
 };
 
-// The albedo lanes of a LambertShader or BlinnPhongShader: its vertex-colour varyings from `first`
-// on, or its base colour.
+// Varying v of a shader with varyings Layout (shaders::VaryingLayout), one vector per float, from
+// `lanes` (LanesIn::v, or the derivatives ddx and ddy).
+template <class Layout, shaders::Varying v>
+HWY_INLINE Vec3Lanes vec3_lanes(const VF* lanes) {
+    constexpr int at = Layout::at(v);
+    static_assert(at >= 0 && shaders::varying_width(v) == 3, "a three-float varying of the shader");
+    return {lanes[at], lanes[at + 1], lanes[at + 2]};
+}
+template <class Layout>
+HWY_INLINE ColourLanes colour_lanes(const VF* lanes) {
+    constexpr int at = Layout::at(shaders::Varying::colour);
+    static_assert(at >= 0, "the shader has a colour varying");
+    return {lanes[at], lanes[at + 1], lanes[at + 2], lanes[at + 3]};
+}
+
+// The albedo lanes of a LambertShader or BlinnPhongShader: its colour varying, or its base colour.
 template <class S, int N>
-HWY_INLINE void albedo_lanes(const S& s, const LanesIn<N>& in, int first, VF (&out)[4]) {
+HWY_INLINE ColourLanes albedo_lanes(const S& s, const LanesIn<N>& in) {
     const DF df;
-    for (int c = 0; c < 4; ++c) {
-        if constexpr (S::k_vertex_colours) out[c] = in.v[first + c];
-        else out[c] = hn::Set(df, s.u.base_colour[static_cast<std::size_t>(c)]);
+    if constexpr (S::Layout::has(shaders::Varying::colour)) return colour_lanes<typename S::Layout>(in.v);
+    else {
+        const Vec4& c = s.u.base_colour;
+        return {hn::Set(df, c.x), hn::Set(df, c.y), hn::Set(df, c.z), hn::Set(df, c.w)};
     }
 }
+
 // static_cast<int> of lanes known to lie in [0, 2^31): on x86 the truncating conversion alone.
 // (Highway's ConvertTo adds four operations per vector that saturate lanes out of range, which
 // these never are: 16 of a block's few hundred instructions in to_rgba8.)

@@ -21,15 +21,14 @@ struct BlinnPhongLanes {
     ColourLanes operator()(LanesIn<N>& in) const {
         const DF df;
         const ShadingUniforms& u = s.u;
-        Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
+        using Layout = typename S::Layout;
+        Vec3Lanes n = normalize(vec3_lanes<Layout, shaders::Varying::normal>(in.v), in.scalar);
         n = select(in.front_facing, n, negate(n));
-        const Vec3Lanes eye = splat(u.eye);
-        const Vec3Lanes to_eye =
-            normalize({hn::Sub(eye.x, in.v[3]), hn::Sub(eye.y, in.v[4]), hn::Sub(eye.z, in.v[5])}, in.scalar);
+        const Vec3Lanes eye = splat(u.eye), position = vec3_lanes<Layout, shaders::Varying::position>(in.v);
+        const Vec3Lanes to_eye = normalize(
+            {hn::Sub(eye.x, position.x), hn::Sub(eye.y, position.y), hn::Sub(eye.z, position.z)}, in.scalar);
         // shaders::detail::blinn_phong
-        VF albedo[4];
-        albedo_lanes(s, in, 6, albedo);
-        const ColourLanes c = shade(albedo, lambert_term(n, u));
+        const ColourLanes c = shade(albedo_lanes(s, in), lambert_term(n, u));
         const Vec3Lanes key = splat(u.key.direction);
         const Vec3Lanes h = normalize({hn::Add(key.x, to_eye.x), hn::Add(key.y, to_eye.y), hn::Add(key.z, to_eye.z)},
                                       in.scalar);

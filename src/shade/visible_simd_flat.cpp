@@ -16,20 +16,23 @@ namespace hn = hwy::HWY_NAMESPACE;
 // The lane-wide fragment() of shaders::Flat: the face normal from the screen derivatives of the
 // world position (facet::cross, then normalize), turned toward the eye, lit as Lambert.
 struct FlatLanes {
+    using Layout = shaders::Flat::Layout;
     static constexpr int N = shaders::Flat::k_varyings;
-    static constexpr int D = 3;  // the world position's derivatives
+    static constexpr int D = shaders::Flat::k_derivative_count;  // the world position's derivatives
+    static_assert(Layout::through(shaders::Varying::position) <= D);
     const shaders::Flat& s;
     ColourLanes operator()(LanesIn<N, D>& in) const {
         const DF df;
-        const Vec3Lanes a{in.ddx[0], in.ddx[1], in.ddx[2]}, b{in.ddy[0], in.ddy[1], in.ddy[2]};
+        const Vec3Lanes a = vec3_lanes<Layout, shaders::Varying::position>(in.ddx);
+        const Vec3Lanes b = vec3_lanes<Layout, shaders::Varying::position>(in.ddy);
         const Vec3Lanes face{hn::Sub(hn::Mul(a.y, b.z), hn::Mul(a.z, b.y)), hn::Sub(hn::Mul(a.z, b.x), hn::Mul(a.x, b.z)),
                              hn::Sub(hn::Mul(a.x, b.y), hn::Mul(a.y, b.x))};
         Vec3Lanes n = normalize(face, in.scalar);
-        const Vec3Lanes to_eye{hn::Sub(hn::Set(df, s.u.eye.x), in.v[0]), hn::Sub(hn::Set(df, s.u.eye.y), in.v[1]),
-                               hn::Sub(hn::Set(df, s.u.eye.z), in.v[2])};
+        const Vec3Lanes position = vec3_lanes<Layout, shaders::Varying::position>(in.v);
+        const Vec3Lanes to_eye{hn::Sub(hn::Set(df, s.u.eye.x), position.x), hn::Sub(hn::Set(df, s.u.eye.y), position.y),
+                               hn::Sub(hn::Set(df, s.u.eye.z), position.z)};
         n = select(hn::Lt(dot(n, to_eye), hn::Zero(df)), negate(n), n);
-        const VF albedo[4] = {in.v[3], in.v[4], in.v[5], in.v[6]};
-        return shade(albedo, lambert_term(n, s.u));
+        return shade(colour_lanes<Layout>(in.v), lambert_term(n, s.u));
     }
 };
 

@@ -19,10 +19,8 @@ struct LambertLanes {
     static constexpr int N = S::k_varyings;
     const S& s;
     ColourLanes operator()(LanesIn<N>& in) const {
-        const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
-        VF albedo[4];
-        albedo_lanes(s, in, 3, albedo);
-        return shade(albedo, lambert_term(n, s.u));
+        const Vec3Lanes n = normalize(vec3_lanes<typename S::Layout, shaders::Varying::normal>(in.v), in.scalar);
+        return shade(albedo_lanes(s, in), lambert_term(n, s.u));
     }
 };
 

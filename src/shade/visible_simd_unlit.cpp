@@ -16,11 +16,11 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 // The lane-wide fragment() of shaders::Normals and shaders::VertexColour.
 struct NormalsLanes {
-    static constexpr int N = 3;
+    static constexpr int N = shaders::Normals::k_varyings;
     const shaders::Normals& s;
     ColourLanes operator()(LanesIn<N>& in) const {
         const DF df;
-        const Vec3Lanes n = normalize({in.v[0], in.v[1], in.v[2]}, in.scalar);
+        const Vec3Lanes n = normalize(vec3_lanes<shaders::Normals::Layout, shaders::Varying::normal>(in.v), in.scalar);
         const VF half = hn::Set(df, 0.5f);
         return {hn::Add(half, hn::Mul(half, n.x)), hn::Add(half, hn::Mul(half, n.y)), hn::Add(half, hn::Mul(half, n.z)),
                 hn::Set(df, 1.0f)};
@@ -28,9 +28,9 @@ struct NormalsLanes {
 };
 
 struct VertexColourLanes {
-    static constexpr int N = 4;
+    static constexpr int N = shaders::VertexColour::k_varyings;
     const shaders::VertexColour& s;
-    ColourLanes operator()(LanesIn<N>& in) const { return {in.v[0], in.v[1], in.v[2], in.v[3]}; }
+    ColourLanes operator()(LanesIn<N>& in) const { return colour_lanes<shaders::VertexColour::Layout>(in.v); }
 };
 
 void ShadeNormals(const shaders::Normals& s, const VisibleTile& tile, TargetView target) {
