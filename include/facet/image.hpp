@@ -70,20 +70,29 @@ public:
     void clear_colour(Vec4 colour);
     void clear_depth(float depth = 1.0f);
 
-    Rgba8* colour_data() { return colour_.data(); }
-    const Rgba8* colour_data() const { return colour_.data(); }
+    // Makes the colour pixels width * height Rgba8 of the caller's memory (which must stay alive
+    // while it is drawn into or read), so a draw writes straight into an array the caller hands on
+    // (the Python package's NumPy arrays) instead of into the framebuffer's own, which is freed;
+    // nullptr goes back to memory of its own (contents undefined). A copy of the framebuffer
+    // shares the caller's memory. Rows that are 64-byte aligned are written fastest.
+    void use_colour_memory(Rgba8* pixels);
+
+    Rgba8* colour_data() { return external_colour_ ? external_colour_ : colour_.data(); }
+    const Rgba8* colour_data() const { return external_colour_ ? external_colour_ : colour_.data(); }
     float* depth_data() { return depth_.data(); }
     const float* depth_data() const { return depth_.data(); }
 
-    Rgba8 colour(int x, int y) const { return colour_[index(x, y)]; }
+    Rgba8 colour(int x, int y) const { return colour_data()[index(x, y)]; }
     float depth(int x, int y) const { return depth_[index(x, y)]; }
 
-    Image to_image() const { return Image{width_, height_, {colour_.begin(), colour_.end()}}; }
+    Image to_image() const { return Image{width_, height_, {colour_data(), colour_data() + pixel_count()}}; }
 
 private:
     std::size_t index(int x, int y) const { return static_cast<std::size_t>(y) * width_ + x; }
+    std::size_t pixel_count() const { return static_cast<std::size_t>(width_) * height_; }
     int width_, height_;
     std::vector<Rgba8, detail::CacheLineAllocator<Rgba8>> colour_;
+    Rgba8* external_colour_ = nullptr;  // use_colour_memory's; colour_ is empty then
     std::vector<float, detail::CacheLineAllocator<float>> depth_;
 };
 

@@ -2,8 +2,10 @@
 // and the built-in default scene. This is what `facet render` and `facet view` share up to the pixels.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -38,6 +40,22 @@ struct SceneObject {
     Mat4 model = Mat4::identity();   // object -> world
     Material material;
 };
+
+// What rendering and framing read of an object: its arrays, placement and material, none of them
+// owned. view_of gives one for a SceneObject; a caller that keeps meshes in memory of its own (the
+// Python package's NumPy arrays) fills one in instead, with no copy. The arrays must hold
+// vertex_count entries each (normals, colours and uvs may be null) and outlive the call.
+struct ObjectView {
+    const Vec3* positions = nullptr;
+    const Vec3* normals = nullptr;
+    const Vec4* colours = nullptr;
+    const Vec2* uvs = nullptr;
+    std::uint32_t vertex_count = 0;
+    std::span<const std::uint32_t> indices;  // three per triangle
+    Mat4 model = Mat4::identity();
+    const Material* material = nullptr;  // never null
+};
+ObjectView view_of(const SceneObject& object);
 
 struct Scene {
     std::vector<SceneObject> objects;
@@ -88,6 +106,9 @@ struct ViewSpec {
     Vec3 up{0, 1, 0};
     std::optional<float> near, far;  // default: from the scene's bounding sphere
     bool orthographic = false;       // the view volume then fits the bounding sphere
+    std::optional<float> distance;   // without an eye: the orbit's distance (default: the framing rule's)
+    // A validated OpenCV camera: its pose and intrinsics replace everything above but near and far.
+    std::optional<OpenCvCamera> opencv;
 };
 
 // The framing rule that other renderers can reproduce exactly: centre = centre of the bounds,
@@ -96,12 +117,17 @@ struct ViewSpec {
 Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fovy, float aspect);
 
 Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect);
+Camera make_camera(std::span<const ObjectView> objects, const ViewSpec& view, float aspect);
+// World-space bounds of the objects' finite vertices (Scene::bounds for views).
+Aabb bounds(std::span<const ObjectView> objects);
 
 // Clears the target to the background and draws every object: opaque and alpha-masked ones in
 // order, then alpha-blended ones from back to front (by the distance of their bounds' centre) with
 // depth writes off.
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings);
+DrawStats render_scene(Renderer& renderer, Framebuffer& target, std::span<const ObjectView> objects,
+                       const Camera& camera, const RenderSettings& settings);
 
 // What render_scene draws each object with, for passes that must match it bit for bit (the viewer's
 // wireframe): the clip matrix (the camera's projection for the target's aspect, times its view) and
@@ -109,11 +135,15 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
 // single-sided materials).
 Mat4 clip_from_world(const Camera& camera, const Framebuffer& target);
 CullMode cull_mode(const SceneObject& object, const RenderSettings& settings);
+CullMode cull_mode(const ObjectView& object, const RenderSettings& settings);
 
 // Box-filters a supersampled target down by `factor` in each direction into `colour` (and, if
 // given, `depth`: the nearest of each block's samples, so silhouettes keep their depth). The
 // outputs keep their memory between calls.
 void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, std::vector<float>* depth);
+// The same into caller memory of (source size / factor) pixels: `colour` (may be null) and `depth`
+// (may be null).
+void resolve_supersampled(const Framebuffer& source, int factor, Rgba8* colour, float* depth);
 
 // Built from embedded data, no files: a checkered floor, a cube, a sphere and a torus.
 Scene default_scene();

@@ -33,7 +33,16 @@ void Framebuffer::clear(Vec4 colour, float depth) {
     clear_depth(depth);
 }
 
-void Framebuffer::clear_colour(Vec4 colour) { std::fill(colour_.begin(), colour_.end(), to_rgba8(colour)); }
+void Framebuffer::clear_colour(Vec4 colour) { std::fill_n(colour_data(), pixel_count(), to_rgba8(colour)); }
+
+void Framebuffer::use_colour_memory(Rgba8* pixels) {
+    external_colour_ = pixels;
+    if (pixels) {
+        decltype(colour_)().swap(colour_);  // frees its memory
+    } else if (colour_.empty()) {
+        colour_.resize(pixel_count());
+    }
+}
 
 void Framebuffer::clear_depth(float depth) { std::fill(depth_.begin(), depth_.end(), depth); }
 

@@ -2,6 +2,9 @@
 #include "facet/camera.hpp"
 
 #include <cmath>
+#include <string>
+
+#include "facet/image.hpp"
 
 namespace facet {
 namespace {
@@ -71,7 +74,140 @@ Camera Camera::orbit(Vec3 target, float azimuth, float elevation, float distance
     return c;
 }
 
+namespace {
+
+// ---- OpenCV's convention ----
+// OpenCV's camera space is facet's right-handed view space with Y and Z negated (+Y down the
+// image, looking down +Z). A left-handed view space has the same axes as OpenCV's but Y, and its
+// view matrix keeps the world's orientation, so it sees the world mirrored: no OpenCV camera does.
+
+// [R|t] of OpenCV's world-to-camera, in double.
+struct Pose {
+    double r[3][3];
+    double t[3];
+};
+
+Pose pose_of(const Camera& c) {
+    Pose p;
+    if (c.opencv) {
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) p.r[i][j] = c.opencv->rotation[static_cast<std::size_t>(i * 3 + j)];
+            p.t[i] = c.opencv->translation[static_cast<std::size_t>(i)];
+        }
+        return p;
+    }
+    const Mat4 v = c.view();  // right-handed (the callers check)
+    const double flip[3] = {1, -1, -1};
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) p.r[i][j] = flip[i] * v(i, j);
+        p.t[i] = flip[i] * v(i, 3);
+    }
+    return p;
+}
+
+}  // namespace
+
+Status validate(const OpenCvCamera& c) {
+    auto bad = [](const std::string& what) { return Error{ErrorCode::invalid_argument, "OpenCV camera: " + what}; };
+    if (!(c.width >= 1 && c.width <= k_max_target_size && c.height >= 1 && c.height <= k_max_target_size))
+        return bad("image size " + std::to_string(c.width) + "x" + std::to_string(c.height) + " is outside 1.." +
+                   std::to_string(k_max_target_size));
+    if (!(std::isfinite(c.fx) && std::isfinite(c.fy) && c.fx > 0 && c.fy > 0))
+        return bad("the focal lengths fx and fy must be positive and finite");
+    if (!(std::isfinite(c.cx) && std::isfinite(c.cy) && std::isfinite(c.skew)))
+        return bad("the principal point (cx, cy) and the skew must be finite");
+    for (double v : c.rotation)
+        if (!std::isfinite(v)) return bad("the rotation R holds a non-finite value");
+    for (double v : c.translation)
+        if (!std::isfinite(v)) return bad("the translation t holds a non-finite value");
+    // Orthonormal rows within 1e-4 (numbers printed with 6 digits still pass), determinant +1.
+    const auto& r = c.rotation;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            double d = 0;
+            for (int k = 0; k < 3; ++k) d += r[static_cast<std::size_t>(i * 3 + k)] * r[static_cast<std::size_t>(j * 3 + k)];
+            if (std::fabs(d - (i == j ? 1.0 : 0.0)) > 1e-4) return bad("R is not a rotation (its rows are not orthonormal)");
+        }
+    const double det = r[0] * (r[4] * r[8] - r[5] * r[7]) - r[1] * (r[3] * r[8] - r[5] * r[6]) + r[2] * (r[3] * r[7] - r[4] * r[6]);
+    if (!(det > 0)) return bad("R is a reflection (determinant -1), not a rotation");
+    return Ok{};
+}
+
+Camera Camera::from_opencv(const OpenCvCamera& cv, float near, float far) {
+    Camera c;
+    const auto& r = cv.rotation;
+    const auto& t = cv.translation;
+    Vec3 eye;
+    for (int i = 0; i < 3; ++i) {  // eye = -R^T t
+        const auto col = static_cast<std::size_t>(i);
+        eye[col] = static_cast<float>(-(r[col] * t[0] + r[3 + col] * t[1] + r[6 + col] * t[2]));
+    }
+    c.position = eye;
+    // Camera +Z (the third row of R) is forward, camera -Y (minus the second row) is up.
+    c.target = eye + Vec3{static_cast<float>(r[6]), static_cast<float>(r[7]), static_cast<float>(r[8])};
+    c.up = -Vec3{static_cast<float>(r[3]), static_cast<float>(r[4]), static_cast<float>(r[5])};
+    c.fovy = static_cast<float>(2 * std::atan(cv.height / (2 * cv.fy)));
+    c.near = near;
+    c.far = far;
+    c.opencv = cv;
+    return c;
+}
+
+std::optional<OpenCvCamera> to_opencv(const Camera& c, int width, int height) {
+    OpenCvCamera out;
+    if (c.opencv) {
+        out = *c.opencv;
+        if (width == out.width && height == out.height) return out;
+        // The same normalized intrinsics for another size (projection() is size-independent).
+        const double sx = static_cast<double>(width) / out.width, sy = static_cast<double>(height) / out.height;
+        out.fx *= sx, out.skew *= sx, out.cx = (out.cx + 0.5) * sx - 0.5;
+        out.fy *= sy, out.cy = (out.cy + 0.5) * sy - 0.5;
+        out.width = width, out.height = height;
+        return out;
+    }
+    if (c.projection_kind != ProjectionKind::perspective || c.handedness != Handedness::right) return std::nullopt;
+    // Read off the float matrix, in double: from_opencv's projection() gives back its entries.
+    const Mat4 p = c.projection(static_cast<float>(width) / static_cast<float>(height));
+    const double w = width, h = height;
+    out.fx = p(0, 0) * w / 2;
+    out.fy = p(1, 1) * h / 2;
+    out.skew = 0;
+    out.cx = (1 - static_cast<double>(p(0, 2))) * w / 2 - 0.5;
+    out.cy = (1 + static_cast<double>(p(1, 2))) * h / 2 - 0.5;
+    out.width = width, out.height = height;
+    const Pose pose = pose_of(c);
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) out.rotation[static_cast<std::size_t>(i * 3 + j)] = pose.r[i][j];
+        out.translation[static_cast<std::size_t>(i)] = pose.t[i];
+    }
+    return out;
+}
+
+Mat4 camera_to_world_gl(const Camera& c) {
+    // [R^T | -R^T t] is OpenCV's camera-to-world; OpenGL's camera axes are OpenCV's with Y and Z negated.
+    const Pose p = pose_of(c);
+    const double flip[3] = {1, -1, -1};
+    Mat4 m;
+    for (int i = 0; i < 3; ++i) {
+        double eye = 0;
+        for (int k = 0; k < 3; ++k) eye -= p.r[k][i] * p.t[k];
+        for (int j = 0; j < 3; ++j) m(i, j) = static_cast<float>(p.r[j][i] * flip[j]);
+        m(i, 3) = static_cast<float>(eye);
+    }
+    return m;
+}
+
 Mat4 Camera::view() const {
+    if (opencv) {
+        const Pose p = pose_of(*this);
+        Mat4 v;
+        const double flip[3] = {1, -1, -1};
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) v(i, j) = static_cast<float>(flip[i] * p.r[i][j]);
+            v(i, 3) = static_cast<float>(flip[i] * p.t[i]);
+        }
+        return v;
+    }
     Mat4 v = look_at(position, target, up, handedness);
     if (roll == 0) return v;
     // Turning the camera counter-clockwise about its view direction turns the image clockwise.
@@ -81,6 +217,22 @@ Mat4 Camera::view() const {
 }
 
 Mat4 Camera::projection(float aspect) const {
+    if (opencv) {
+        // Screen x = u + 0.5 = (ndc x + 1) w / 2 and screen y = v + 0.5 = (1 - ndc y) h / 2 (the
+        // viewport), with x_cv = x_view, y_cv = -y_view, z_cv = -z_view = w_clip.
+        const OpenCvCamera& k = *opencv;
+        const double w = k.width, h = k.height;
+        Mat4 m = Mat4::zero();
+        m(0, 0) = static_cast<float>(2 * k.fx / w);
+        m(0, 1) = static_cast<float>(-2 * k.skew / w) + 0.0f;  // + 0: no -0 for skew 0, as look-at's matrices have
+        m(0, 2) = static_cast<float>(1 - 2 * (k.cx + 0.5) / w);
+        m(1, 1) = static_cast<float>(2 * k.fy / h);
+        m(1, 2) = static_cast<float>(2 * (k.cy + 0.5) / h - 1);
+        m(2, 2) = far / (near - far);  // depth as perspective_rh_zo
+        m(2, 3) = -(far * near) / (far - near);
+        m(3, 2) = -1;
+        return m;
+    }
     bool rh = handedness == Handedness::right;
     if (projection_kind == ProjectionKind::perspective)
         return rh ? perspective_rh_zo(fovy, aspect, near, far) : perspective_lh_zo(fovy, aspect, near, far);

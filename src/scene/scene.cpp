@@ -19,14 +19,14 @@ constexpr struct {
                        {Shading::normals, "normals"}, {Shading::mask, "mask"},       {Shading::vertex_color, "vertex-color"},
                        {Shading::texture, "texture"}};
 
-ShadingUniforms uniforms_for(const SceneObject& object, const Camera& camera, const Mat4& clip_from_world,
+ShadingUniforms uniforms_for(const ObjectView& object, const Camera& camera, const Mat4& clip_from_world,
                              const RenderSettings& settings) {
     ShadingUniforms u;
     u.model = object.model;
     u.clip_from_object = clip_from_world * object.model;
     u.normal_to_world = normal_matrix(object.model);
     u.eye = camera.position;
-    u.base_colour = object.material.base_colour;
+    u.base_colour = object.material->base_colour;
     const CameraBasis basis = camera_basis(camera.target - camera.position, camera.up, camera.handedness);
     const Vec3 to_eye = -basis.forward;
     if (settings.shading == Shading::lambert) {
@@ -67,8 +67,8 @@ void require_aligned_arrays(const Scene& scene) {
 }
 
 template <class S>
-DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, const SceneObject& o, const S& shader) {
-    return r.draw(target, state, DrawInput{static_cast<std::uint32_t>(o.mesh.positions.size()), o.mesh.indices}, shader);
+DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o, const S& shader) {
+    return r.draw(target, state, DrawInput{o.vertex_count, o.indices}, shader);
 }
 
 TextureBinding binding_of(const Material& m) {
@@ -76,15 +76,16 @@ TextureBinding binding_of(const Material& m) {
 }
 
 // Picks the shader for the mode and the object's data, then draws.
-DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, const SceneObject& o,
+DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o,
                       const ShadingUniforms& u, MeshArrays arrays, Shading shading) {
+    const Material& material = *o.material;
     const bool has_normals = arrays.normals != nullptr;
-    const bool textured = o.material.base_colour_texture && arrays.uvs;
-    const TextureBinding tex = textured ? binding_of(o.material) : TextureBinding{nullptr, {}, binding_of(o.material).alpha_cutoff};
+    const bool textured = material.base_colour_texture && arrays.uvs;
+    const TextureBinding tex = textured ? binding_of(material) : TextureBinding{nullptr, {}, binding_of(material).alpha_cutoff};
     switch (shading) {
         case Shading::lit:
             if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
-            if (o.material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex});
+            if (material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex});
             if (textured) return draw_with(r, target, state, o, shaders::TexturedOpaque{arrays, u, tex});
             if (!arrays.colours) return draw_with(r, target, state, o, shaders::BlinnPhongBaseColour{arrays, u});
             return draw_with(r, target, state, o, shaders::BlinnPhong{arrays, u});
@@ -96,7 +97,7 @@ DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, 
         case Shading::mask: return draw_with(r, target, state, o, shaders::Mask{arrays, u});
         case Shading::vertex_color: return draw_with(r, target, state, o, shaders::VertexColour{arrays, u});
         case Shading::texture:
-            if (o.material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::TextureUnlit{arrays, u, tex});
+            if (material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::TextureUnlit{arrays, u, tex});
             return draw_with(r, target, state, o, shaders::TextureUnlitOpaque{arrays, u, tex});
     }
     return {};
@@ -128,21 +129,48 @@ const char* to_string(Shading s) {
     return "?";
 }
 
-Aabb Scene::bounds() const {
+ObjectView view_of(const SceneObject& o) {
+    const MeshArrays a = MeshArrays::of(o.mesh);
+    return {a.positions, a.normals, a.colours, a.uvs, static_cast<std::uint32_t>(o.mesh.positions.size()),
+            o.mesh.indices, o.model, &o.material};
+}
+
+namespace {
+
+// A Scene and a span of ObjectViews, read the same way: the functions below are written once for
+// both (the views of a Scene's objects are made as they are read, so nothing is allocated).
+std::size_t object_count(const Scene& s) { return s.objects.size(); }
+std::size_t object_count(std::span<const ObjectView> v) { return v.size(); }
+ObjectView object_at(const Scene& s, std::size_t i) { return view_of(s.objects[i]); }
+ObjectView object_at(std::span<const ObjectView> v, std::size_t i) { return v[i]; }
+
+template <class Objects>
+Aabb bounds_of(const Objects& objects) {
     Aabb box;
-    for (const SceneObject& o : objects)
-        for (Vec3 p : o.mesh.positions)
-            if (is_finite(p)) box.extend(transform_point(o.model, p));
+    for (std::size_t i = 0; i < object_count(objects); ++i) {
+        const ObjectView o = object_at(objects, i);
+        for (std::uint32_t k = 0; k < o.vertex_count; ++k)
+            if (is_finite(o.positions[k])) box.extend(transform_point(o.model, o.positions[k]));
+    }
     return box;
 }
 
-float Scene::radius_about(Vec3 centre) const {
+template <class Objects>
+float radius_of(const Objects& objects, Vec3 centre) {
     float r = 0;
-    for (const SceneObject& o : objects)
-        for (Vec3 p : o.mesh.positions)
-            if (is_finite(p)) r = std::max(r, length(transform_point(o.model, p) - centre));
+    for (std::size_t i = 0; i < object_count(objects); ++i) {
+        const ObjectView o = object_at(objects, i);
+        for (std::uint32_t k = 0; k < o.vertex_count; ++k)
+            if (is_finite(o.positions[k])) r = std::max(r, length(transform_point(o.model, o.positions[k]) - centre));
+    }
     return r;
 }
+
+}  // namespace
+
+Aabb Scene::bounds() const { return bounds_of(*this); }
+
+float Scene::radius_about(Vec3 centre) const { return radius_of(*this, centre); }
 
 std::size_t Scene::triangle_count() const {
     std::size_t n = 0;
@@ -159,10 +187,11 @@ struct FramingSphere {
     float radius;
 };
 
-FramingSphere framing_sphere(const Scene& scene) {
-    const Aabb box = scene.bounds();
+template <class Objects>
+FramingSphere framing_sphere(const Objects& objects) {
+    const Aabb box = bounds_of(objects);
     const Vec3 centre = box.empty() ? Vec3{} : box.centre();
-    const float r = scene.radius_about(centre);
+    const float r = radius_of(objects, centre);
     return {centre, r > 0 ? r : 1.0f};
 }
 
@@ -176,27 +205,33 @@ Camera frame_sphere(FramingSphere s, float azimuth, float elevation, float fovy,
     return c;
 }
 
-}  // namespace
-
-Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fovy, float aspect) {
-    return frame_sphere(framing_sphere(scene), azimuth, elevation, fovy, aspect);
-}
-
-Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
+template <class Objects>
+Camera make_camera_for(const Objects& objects, const ViewSpec& view, float aspect) {
     // One pass over the vertices for the bounds and one for the radius, shared by the framing and
     // the explicit view's defaults.
-    const FramingSphere sphere = framing_sphere(scene);
-    if (!view.eye && !view.target && !view.near && !view.far && !view.orthographic && view.up == Vec3{0, 1, 0})
-        return frame_sphere(sphere, view.azimuth, view.elevation, view.fovy, aspect);
+    const FramingSphere sphere = framing_sphere(objects);
     const Vec3 centre = sphere.centre;
     const float r = sphere.radius;
+    // The clip planes of an explicit eye: from the bounding sphere, unless given.
+    auto set_planes = [&](Camera& c) {
+        const float dist = length(c.position - centre);
+        c.near = view.near ? *view.near : std::max(dist - 1.5f * r, 0.01f * r);
+        c.far = view.far ? *view.far : dist + 1.5f * r;
+    };
+    if (view.opencv) {
+        Camera c = Camera::from_opencv(*view.opencv, 0, 0);
+        set_planes(c);
+        return c;
+    }
+    if (!view.eye && !view.target && !view.near && !view.far && !view.orthographic && !view.distance &&
+        view.up == Vec3{0, 1, 0})
+        return frame_sphere(sphere, view.azimuth, view.elevation, view.fovy, aspect);
     Camera c = frame_sphere(sphere, view.azimuth, view.elevation, view.fovy, aspect);
     c.up = view.up;
     if (view.target) c.target = *view.target;
     if (view.eye) c.position = *view.eye;
-    const float dist = length(c.position - centre);
-    c.near = view.near ? *view.near : std::max(dist - 1.5f * r, 0.01f * r);
-    c.far = view.far ? *view.far : dist + 1.5f * r;
+    else if (view.distance) c.position = Camera::orbit(centre, view.azimuth, view.elevation, *view.distance).position;
+    set_planes(c);
     if (view.orthographic) {
         c.projection_kind = ProjectionKind::orthographic;
         c.ortho_height = 2 * r * std::max(1.0f, 1.0f / aspect);
@@ -204,20 +239,26 @@ Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
     return c;
 }
 
+}  // namespace
+
 Mat4 clip_from_world(const Camera& camera, const Framebuffer& target) {
     const float aspect = static_cast<float>(target.width()) / static_cast<float>(target.height());
     return camera.projection(aspect) * camera.view();
 }
 
-CullMode cull_mode(const SceneObject& object, const RenderSettings& settings) {
+CullMode cull_mode(const ObjectView& object, const RenderSettings& settings) {
     if (settings.shading == Shading::lambert) return CullMode::none;
     if (settings.cull != CullMode::none) return settings.cull;
-    return object.material.double_sided ? CullMode::none : CullMode::back;
+    return object.material->double_sided ? CullMode::none : CullMode::back;
 }
 
-DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
-                       const RenderSettings& settings) {
-    require_aligned_arrays(scene);
+CullMode cull_mode(const SceneObject& object, const RenderSettings& settings) { return cull_mode(view_of(object), settings); }
+
+namespace {
+
+template <class Objects>
+DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects& objects, const Camera& camera,
+                         const RenderSettings& settings) {
     // The clear goes with the first draw, which does it tile by tile (DrawState::clear).
     std::optional<ClearValues> clear = ClearValues{settings.background, 1.0f};
     const Mat4 clip_from_world = facet::clip_from_world(camera, target);
@@ -225,12 +266,12 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
 
     // Opaque objects first, in the file's order; blended ones last, farthest first. Only a scene with
     // blended objects needs a list (and its allocation) for that order.
-    auto blends = [&](const SceneObject& o) {
-        return o.material.alpha_mode == AlphaMode::blend && !lambert && settings.shading != Shading::mask;
+    auto blends = [&](const ObjectView& o) {
+        return o.material->alpha_mode == AlphaMode::blend && !lambert && settings.shading != Shading::mask;
     };
-    auto draw = [&](const SceneObject& o, bool blended) {
+    auto draw = [&](const ObjectView& o, bool blended) {
         const ShadingUniforms u = uniforms_for(o, camera, clip_from_world, settings);
-        MeshArrays arrays = MeshArrays::of(o.mesh);
+        MeshArrays arrays{o.positions, o.normals, o.colours, o.uvs};
         if (lambert) arrays.colours = nullptr;  // the contract ignores materials
         DrawState state;
         state.cull = cull_mode(o, settings);
@@ -243,20 +284,45 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& sce
     };
     DrawStats total;
     std::vector<std::pair<float, std::size_t>> blended;
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const SceneObject& o = scene.objects[i];
+    for (std::size_t i = 0; i < object_count(objects); ++i) {
+        const ObjectView o = object_at(objects, i);
         if (!blends(o)) {
             total += draw(o, false);
             continue;
         }
         Aabb box;
-        for (Vec3 p : o.mesh.positions) box.extend(transform_point(o.model, p));
+        for (std::uint32_t k = 0; k < o.vertex_count; ++k) box.extend(transform_point(o.model, o.positions[k]));
         blended.push_back({-length(box.centre() - camera.position), i});
     }
     std::stable_sort(blended.begin(), blended.end());
-    for (const auto& b : blended) total += draw(scene.objects[b.second], true);
+    for (const auto& b : blended) total += draw(object_at(objects, b.second), true);
     if (clear) target.clear(clear->colour, clear->depth);  // nothing was drawn
     return total;
+}
+
+}  // namespace
+
+Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fovy, float aspect) {
+    return frame_sphere(framing_sphere(scene), azimuth, elevation, fovy, aspect);
+}
+
+Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) { return make_camera_for(scene, view, aspect); }
+
+Camera make_camera(std::span<const ObjectView> objects, const ViewSpec& view, float aspect) {
+    return make_camera_for(objects, view, aspect);
+}
+
+Aabb bounds(std::span<const ObjectView> objects) { return bounds_of(objects); }
+
+DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
+                       const RenderSettings& settings) {
+    require_aligned_arrays(scene);
+    return render_objects(renderer, target, scene, camera, settings);
+}
+
+DrawStats render_scene(Renderer& renderer, Framebuffer& target, std::span<const ObjectView> objects,
+                       const Camera& camera, const RenderSettings& settings) {
+    return render_objects(renderer, target, objects, camera, settings);
 }
 
 void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, std::vector<float>* depth) {
@@ -269,12 +335,22 @@ void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, 
     colour.height = h;
     colour.pixels.resize(static_cast<std::size_t>(w) * h);
     if (depth) depth->resize(static_cast<std::size_t>(w) * h);
+    resolve_supersampled(source, factor, colour.pixels.data(), depth ? depth->data() : nullptr);
+}
+
+void resolve_supersampled(const Framebuffer& source, int factor, Rgba8* colour, float* depth) {
+    if (factor < 1 || source.width() % factor != 0 || source.height() % factor != 0)
+        throw FacetError(Error{ErrorCode::invalid_argument,
+                               "resolve_supersampled: factor " + std::to_string(factor) + " does not divide the " +
+                                   std::to_string(source.width()) + "x" + std::to_string(source.height()) + " source"});
+    const int w = source.width() / factor, h = source.height() / factor;
+    const std::size_t n = static_cast<std::size_t>(w) * h;
     if (factor == 1) {  // nothing to filter: a plain copy
-        std::copy(source.colour_data(), source.colour_data() + colour.pixels.size(), colour.pixels.begin());
-        if (depth) std::copy(source.depth_data(), source.depth_data() + depth->size(), depth->begin());
+        if (colour && colour != source.colour_data()) std::copy(source.colour_data(), source.colour_data() + n, colour);
+        if (depth) std::copy(source.depth_data(), source.depth_data() + n, depth);
         return;
     }
-    const int n = factor * factor;
+    const int samples = factor * factor;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             int sum[4] = {0, 0, 0, 0};
@@ -285,9 +361,9 @@ void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, 
                     sum[0] += c.r, sum[1] += c.g, sum[2] += c.b, sum[3] += c.a;
                     nearest = std::min(nearest, source.depth(x * factor + sx, y * factor + sy));
                 }
-            auto avg = [&](int v) { return static_cast<std::uint8_t>((v + n / 2) / n); };
-            colour.pixels[static_cast<std::size_t>(y) * w + x] = {avg(sum[0]), avg(sum[1]), avg(sum[2]), avg(sum[3])};
-            if (depth) (*depth)[static_cast<std::size_t>(y) * w + x] = nearest;
+            auto avg = [&](int v) { return static_cast<std::uint8_t>((v + samples / 2) / samples); };
+            if (colour) colour[static_cast<std::size_t>(y) * w + x] = {avg(sum[0]), avg(sum[1]), avg(sum[2]), avg(sum[3])};
+            if (depth) depth[static_cast<std::size_t>(y) * w + x] = nearest;
         }
 }
 
