@@ -192,6 +192,9 @@ bool write_all(int fd, const std::vector<char>& bytes) {
 }
 
 [[noreturn]] void child(int fd, const std::string& path, const LoadOptions& options, const IsolationLimits& limits) {
+    // A crash is the child's to report by dying of it: handlers the parent installed (a Python
+    // interpreter's faulthandler, which would print its own traceback) go back to the default.
+    for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT}) signal(sig, SIG_DFL);
     if (limits.max_memory_bytes > 0) {
         const rlimit cap{limits.max_memory_bytes, limits.max_memory_bytes};
         setrlimit(RLIMIT_DATA, &cap);
