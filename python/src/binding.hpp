@@ -10,6 +10,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <climits>
 #include <cstdint>
 #include <memory>
 #include <shared_mutex>
@@ -22,6 +23,14 @@
 namespace facet::python {
 
 namespace py = pybind11;
+
+// An integer argument however large Python's is, saturated to long long: an absurd size reaches its
+// range check (a ValueError naming it) instead of failing conversion (a TypeError about overloads).
+struct Integer {
+    long long value = 0;
+};
+// `v` when in lo..hi, else a ValueError "NAME must be LO..HI, got V".
+int in_range(Integer v, const char* name, long long lo, long long hi);
 
 // A ValueError (or the facet.Error of load failures) with facet's message, thrown through pybind11.
 [[noreturn]] void value_error(const std::string& message);
@@ -94,3 +103,26 @@ void bind_camera(py::module_& m);
 void bind_render(py::module_& m);
 
 }  // namespace facet::python
+
+namespace pybind11::detail {
+// Any Python int (or object with __index__, as NumPy's integers), shown as `int` in signatures.
+template <>
+struct type_caster<facet::python::Integer> {
+    PYBIND11_TYPE_CASTER(facet::python::Integer, const_name("int"));
+    bool load(handle src, bool) {
+        if (!src || PyFloat_Check(src.ptr()) || !PyIndex_Check(src.ptr())) return false;
+        const object i = reinterpret_steal<object>(PyNumber_Index(src.ptr()));
+        if (!i) {
+            PyErr_Clear();
+            return false;
+        }
+        int overflow = 0;
+        const long long v = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+        value.value = overflow > 0 ? LLONG_MAX : overflow < 0 ? LLONG_MIN : v;
+        return true;
+    }
+    static handle cast(const facet::python::Integer& v, return_value_policy, handle) {
+        return PyLong_FromLongLong(v.value);
+    }
+};
+}  // namespace pybind11::detail

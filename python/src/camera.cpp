@@ -163,7 +163,10 @@ orthographic : bool
 )doc")
         .def_static(
             "from_intrinsics",
-            [](py::object k, int width, int height, py::object pose, std::optional<float> near, std::optional<float> far) {
+            [](py::object k, Integer width_arg, Integer height_arg, py::object pose, std::optional<float> near,
+               std::optional<float> far) {
+                const int width = in_range(width_arg, "width", 1, k_max_target_size);
+                const int height = in_range(height_arg, "height", 1, k_max_target_size);
                 py::array_t<double, py::array::c_style | py::array::forcecast> kk, rt;
                 try {
                     kk = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(k);
@@ -213,9 +216,9 @@ ValueError
 )doc")
         .def(
             "resolve",
-            [](const PyCamera& c, py::object scene, int width, int height) {
-                if (width < 1 || height < 1 || width > k_max_target_size || height > k_max_target_size)
-                    value_error("width and height must be 1.." + std::to_string(k_max_target_size));
+            [](const PyCamera& c, py::object scene, Integer width_arg, Integer height_arg) {
+                const int width = in_range(width_arg, "width", 1, k_max_target_size);
+                const int height = in_range(height_arg, "height", 1, k_max_target_size);
                 const bool needs_scene = !c.spec.near || !c.spec.far ||
                                          (!c.spec.opencv && (!c.spec.eye || !c.spec.target || c.spec.orthographic));
                 if (scene.is_none() && needs_scene)
@@ -232,8 +235,8 @@ ValueError
                 if (!cv) value_error("an orthographic camera has no intrinsics K");
                 return from_opencv(*cv, placed.near, placed.far);
             },
-            py::arg("scene") = py::none(), py::arg("width") = defaults::k_image_width,
-            py::arg("height") = defaults::k_image_height,
+            py::arg("scene") = py::none(), py::arg("width") = Integer{defaults::k_image_width},
+            py::arg("height") = Integer{defaults::k_image_height},
             R"doc(This camera, placed in `scene` for a width x height image, in OpenCV's form.
 
 The result has K, world_to_camera, camera_to_world, near and far, and renders the same view

@@ -26,22 +26,22 @@ const char* code_name(ErrorCode code) {
     return "error";
 }
 
-LoadOptions load_options(float crease_angle, const std::string& up_axis, long long max_triangles, int max_texture_size,
-                         std::optional<int> threads) {
+LoadOptions load_options(float crease_angle, const std::string& up_axis, Integer max_triangles, Integer max_texture_size,
+                         std::optional<Integer> threads) {
     LoadOptions o;
     if (!(crease_angle >= 0 && crease_angle <= 180)) value_error("crease_angle must be 0..180 degrees");
     if (up_axis != "y" && up_axis != "z") value_error("up_axis must be 'y' or 'z', got '" + up_axis + "'");
-    if (max_triangles < 1) value_error("max_triangles must be 1 or more");
-    if (max_texture_size < 1) value_error("max_texture_size must be 1 or more");
-    if (threads && *threads < 0) value_error("threads must be None (all cores) or 1 or more");
+    if (max_triangles.value < 1) value_error("max_triangles must be 1 or more");
+    in_range(max_texture_size, "max_texture_size", 1, INT_MAX);
+    if (threads) in_range(*threads, "threads", 1, INT_MAX);
     o.crease_angle_degrees = crease_angle;
     o.up_axis = up_axis == "z" ? UpAxis::z : UpAxis::y;
-    o.max_triangles = static_cast<std::size_t>(max_triangles);
+    o.max_triangles = static_cast<std::size_t>(max_triangles.value);
     // As `facet render --max-texture-size`: a side limit, and at most its square in pixels.
-    o.texture_limits.max_size = max_texture_size;
-    const auto side = static_cast<std::size_t>(max_texture_size);
+    o.texture_limits.max_size = static_cast<int>(max_texture_size.value);
+    const auto side = static_cast<std::size_t>(max_texture_size.value);
     o.texture_limits.max_pixels = std::min(o.texture_limits.max_pixels, side * side);
-    o.threads = threads.value_or(0);
+    o.threads = threads ? static_cast<int>(threads->value) : 0;
     return o;
 }
 
@@ -68,6 +68,13 @@ std::shared_ptr<PyScene> finish_load(Result<LoadedModel> model, const std::strin
 }  // namespace
 
 void value_error(const std::string& message) { throw py::value_error(message); }
+
+int in_range(Integer v, const char* name, long long lo, long long hi) {
+    if (v.value < lo || v.value > hi)
+        value_error(std::string(name) + " must be " + std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                    (v.value == LLONG_MAX ? std::string("more") : v.value == LLONG_MIN ? std::string("less") : std::to_string(v.value)));
+    return static_cast<int>(v.value);
+}
 
 void note_gil_state() { g_gil_held_at_last_call = PyGILState_Check() != 0; }
 
@@ -118,8 +125,8 @@ PYBIND11_MODULE(_facet, m) {
     const LoadOptions load_defaults;
     m.def(
         "load",
-        [](const std::filesystem::path& file, float crease_angle, const std::string& up_axis, long long max_triangles,
-           int max_texture_size, std::optional<int> threads) {
+        [](const std::filesystem::path& file, float crease_angle, const std::string& up_axis, Integer max_triangles,
+           Integer max_texture_size, std::optional<Integer> threads) {
             const LoadOptions options = load_options(crease_angle, up_axis, max_triangles, max_texture_size, threads);
             const std::string path = file.string();
             Result<LoadedModel> model = [&] {
@@ -130,8 +137,8 @@ PYBIND11_MODULE(_facet, m) {
             return finish_load(std::move(model), path);
         },
         py::arg("path"), py::kw_only(), py::arg("crease_angle") = load_defaults.crease_angle_degrees,
-        py::arg("up_axis") = "y", py::arg("max_triangles") = static_cast<long long>(load_defaults.max_triangles),
-        py::arg("max_texture_size") = load_defaults.texture_limits.max_size, py::arg("threads") = py::none(),
+        py::arg("up_axis") = "y", py::arg("max_triangles") = Integer{static_cast<long long>(load_defaults.max_triangles)},
+        py::arg("max_texture_size") = Integer{load_defaults.texture_limits.max_size}, py::arg("threads") = py::none(),
         R"doc(Load a model file into a Scene, as `facet render` does.
 
 Every format `facet render` reads (OBJ + MTL, STL, PLY, OFF, glTF / GLB, FBX, 3MF, COLLADA, ...),
@@ -223,14 +230,15 @@ facet.Error
 
     m.def(
         "load_isolated",
-        [](const std::filesystem::path& file, double timeout, std::optional<std::uint64_t> max_memory, float crease_angle,
-           const std::string& up_axis, long long max_triangles, int max_texture_size, std::optional<int> threads) {
+        [](const std::filesystem::path& file, double timeout, std::optional<Integer> max_memory, float crease_angle,
+           const std::string& up_axis, Integer max_triangles, Integer max_texture_size, std::optional<Integer> threads) {
             const LoadOptions options = load_options(crease_angle, up_axis, max_triangles, max_texture_size, threads);
             const std::string path = file.string();
             if (!(timeout >= 0 && std::isfinite(timeout))) value_error("timeout must be 0 (no limit) or a number of seconds");
             IsolationLimits limits;
             limits.timeout_seconds = timeout;
-            limits.max_memory_bytes = max_memory.value_or(0);
+            if (max_memory && max_memory->value < 1) value_error("max_memory must be None (no limit) or a number of bytes");
+            limits.max_memory_bytes = max_memory ? static_cast<std::uint64_t>(max_memory->value) : 0;
             Result<LoadedModel> model = [&] {
                 py::gil_scoped_release release;
                 note_gil_state();
@@ -240,8 +248,8 @@ facet.Error
         },
         py::arg("path"), py::kw_only(), py::arg("timeout") = defaults::k_timeout_seconds,
         py::arg("max_memory") = py::none(), py::arg("crease_angle") = load_defaults.crease_angle_degrees,
-        py::arg("up_axis") = "y", py::arg("max_triangles") = static_cast<long long>(load_defaults.max_triangles),
-        py::arg("max_texture_size") = load_defaults.texture_limits.max_size, py::arg("threads") = py::none(),
+        py::arg("up_axis") = "y", py::arg("max_triangles") = Integer{static_cast<long long>(load_defaults.max_triangles)},
+        py::arg("max_texture_size") = Integer{load_defaults.texture_limits.max_size}, py::arg("threads") = py::none(),
         R"doc(Load a model file you do not trust: `load` in a child process.
 
 A file that crashes, hangs or exhausts memory inside the model reader gives a facet.Error

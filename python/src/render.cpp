@@ -161,13 +161,11 @@ private:
 
 namespace {
 
-int checked_threads(std::optional<int> threads) {
-    if (threads && *threads < 1) value_error("threads must be None (all cores) or 1 or more");
-    return threads.value_or(0);
-}
+// None: one per core. More than a few thousand is a mistake, not a machine.
+int checked_threads(std::optional<Integer> threads) { return threads ? in_range(*threads, "threads", 1, 4096) : 0; }
 
-py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, int width, int height, py::object passes_obj,
-                const std::string& shading, int ssaa, py::object background, py::object out) {
+py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, Integer width_arg, Integer height_arg,
+                py::object passes_obj, const std::string& shading, Integer ssaa_arg, py::object background, py::object out) {
     PyScene& scene = scene_of(scene_obj);
     Job job;
     const bool batch = !py::isinstance<PyCamera>(cameras);
@@ -179,10 +177,9 @@ py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, int wid
     } else {
         job.views.push_back(camera_of(cameras).spec);
     }
-    if (width < 1 || height < 1 || width > k_max_target_size || height > k_max_target_size)
-        value_error("width and height must be 1.." + std::to_string(k_max_target_size) + ", got " + std::to_string(width) +
-                    "x" + std::to_string(height));
-    if (ssaa < 1 || ssaa > 8) value_error("ssaa must be 1..8, got " + std::to_string(ssaa));
+    const int width = in_range(width_arg, "width", 1, k_max_target_size);
+    const int height = in_range(height_arg, "height", 1, k_max_target_size);
+    const int ssaa = in_range(ssaa_arg, "ssaa", 1, 8);
     if (static_cast<long>(width) * ssaa > k_max_target_size || static_cast<long>(height) * ssaa > k_max_target_size)
         value_error("width and height times ssaa must stay within " + std::to_string(k_max_target_size));
     job.width = width, job.height = height, job.ssaa = ssaa;
@@ -289,17 +286,17 @@ without allocating anything but the arrays it returns (none, with out=). One ren
 per Renderer: calls from several threads take turns; use a Renderer per thread to render in
 parallel.
 )doc")
-        .def(py::init([](std::optional<int> threads) { return std::make_unique<PyRenderer>(checked_threads(threads)); }),
+        .def(py::init([](std::optional<Integer> threads) { return std::make_unique<PyRenderer>(checked_threads(threads)); }),
              py::arg("threads") = py::none())
         .def(
             "render",
-            [](PyRenderer& r, py::object scene, py::object camera, int width, int height, py::object passes,
-               const std::string& shading, int ssaa, py::object background, py::object out) {
+            [](PyRenderer& r, py::object scene, py::object camera, Integer width, Integer height, py::object passes,
+               const std::string& shading, Integer ssaa, py::object background, py::object out) {
                 return render(r, scene, camera, width, height, passes, shading, ssaa, background, out);
             },
-            py::arg("scene"), py::arg("camera"), py::arg("width") = defaults::k_image_width,
-            py::arg("height") = defaults::k_image_height, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
-            py::arg("shading") = "lit", py::arg("ssaa") = defaults::k_ssaa,
+            py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
+            py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
+            py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
             py::arg("background") = py::none(), py::arg("out") = py::none(),
             doc("Render `scene` seen by `camera` into arrays.",
                 "out : dict of str to numpy.ndarray, optional\n    Arrays to render into (C-contiguous, of each pass's "
@@ -326,14 +323,14 @@ parallel.
 
     m.def(
         "render",
-        [](py::object scene, py::object camera, int width, int height, py::object passes, const std::string& shading,
-           int ssaa, py::object background, std::optional<int> threads) {
+        [](py::object scene, py::object camera, Integer width, Integer height, py::object passes, const std::string& shading,
+           Integer ssaa, py::object background, std::optional<Integer> threads) {
             PyRenderer r(checked_threads(threads));
             return render(r, scene, camera, width, height, passes, shading, ssaa, background, py::none());
         },
-        py::arg("scene"), py::arg("camera"), py::arg("width") = defaults::k_image_width,
-        py::arg("height") = defaults::k_image_height, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
-        py::arg("shading") = "lit", py::arg("ssaa") = defaults::k_ssaa,
+        py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
+        py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
+        py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
         py::arg("background") = py::none(), py::arg("threads") = py::none(),
         doc("Render `scene` seen by `camera` into arrays (with a Renderer made for the call; keep a\nfacet.Renderer "
             "for many renders).",

@@ -76,7 +76,8 @@ def test_load_warnings_are_warnings_and_kept(assimp_models, tmp_path):
     ({"crease_angle": 200}, "crease_angle"),
     ({"up_axis": "x"}, "up_axis"),
     ({"max_triangles": 0}, "max_triangles"),
-    ({"max_texture_size": 0}, "max_texture_size"),
+    ({"max_texture_size": 0}, "max_texture_size must be 1..2147483647, got 0"),
+    ({"max_texture_size": 2 ** 40}, "max_texture_size must be 1..2147483647, got 1099511627776"),
     ({"threads": -1}, "threads"),
 ])
 def test_bad_load_options_are_value_errors(bunny, kwargs, message):
@@ -157,10 +158,14 @@ def scene():
 
 
 BAD_RENDERS = [
-    (dict(width=0), ValueError, r"width and height must be 1..8192, got 0x10"),
-    (dict(height=9000), ValueError, "width and height must be 1..8192"),
+    (dict(width=0), ValueError, r"width must be 1..8192, got 0"),
+    (dict(height=9000), ValueError, "height must be 1..8192, got 9000"),
+    (dict(width=10 ** 12), ValueError, "width must be 1..8192, got 1000000000000"),
+    (dict(height=-10 ** 30), ValueError, "height must be 1..8192, got less"),
+    (dict(width=2.5), TypeError, "incompatible function arguments"),
     (dict(ssaa=0), ValueError, "ssaa must be 1..8, got 0"),
-    (dict(ssaa=9), ValueError, "ssaa must be 1..8"),
+    (dict(ssaa=np.int64(9)), ValueError, "ssaa must be 1..8, got 9"),
+    (dict(ssaa=10 ** 20), ValueError, "ssaa must be 1..8, got more"),
     (dict(width=4000, ssaa=4), ValueError, "times ssaa must stay within 8192"),
     (dict(shading="phong"), ValueError, "unknown shading 'phong'"),
     (dict(passes=("depth",)), ValueError, "pass 'depth' is not available yet"),
@@ -176,7 +181,8 @@ BAD_RENDERS = [
     (dict(camera=[]), ValueError, "the list of cameras is empty"),
     (dict(camera=[facet.Camera(), 3]), TypeError, "camera must be a facet.Camera"),
     (dict(scene=V), TypeError, "scene must be a facet.Scene"),
-    (dict(threads=0), ValueError, "threads must be None"),
+    (dict(threads=0), ValueError, "threads must be 1..4096, got 0"),
+    (dict(threads=10 ** 30), ValueError, "threads must be 1..4096, got more"),
 ]
 
 
@@ -211,8 +217,10 @@ def test_out_must_be_a_dict(scene):
 
 
 def test_bad_renderer_threads():
-    with pytest.raises(ValueError, match="threads"):
+    with pytest.raises(ValueError, match="threads must be 1..4096, got 0"):
         facet.Renderer(threads=0)
+    with pytest.raises(ValueError, match="threads must be 1..4096, got more"):
+        facet.Renderer(threads=2 ** 70)
 
 
 # ---- cameras --------------------------------------------------------------------------------
@@ -235,14 +243,15 @@ BAD_CAMERAS = [
     (lambda: facet.Camera.from_intrinsics(K * 2, 100, 80, POSE), r"K must be \[\[fx, skew, cx\]"),
     (lambda: facet.Camera.from_intrinsics(K, 100, 80, np.eye(3)), r"world_to_camera must be a 3x4 \[R\|t\] or 4x4"),
     (lambda: facet.Camera.from_intrinsics(K, 100, 80, np.ones((4, 4))), "world_to_camera's last row"),
-    (lambda: facet.Camera.from_intrinsics(K, 0, 80, POSE), "image size 0x80"),
+    (lambda: facet.Camera.from_intrinsics(K, 0, 80, POSE), "width must be 1..8192, got 0"),
+    (lambda: facet.Camera.from_intrinsics(K, 100, 10 ** 40, POSE), "height must be 1..8192, got more"),
     (lambda: facet.Camera.from_intrinsics(np.diag([-100.0, 100, 1]), 100, 80, POSE), "focal lengths"),
     (lambda: facet.Camera.from_intrinsics(K, 100, 80, np.hstack([np.diag([1.0, 1, -1]), [[0], [0], [5]]])), "reflection"),
     (lambda: facet.Camera.from_intrinsics(K, 100, 80, np.hstack([np.eye(3) * 2, [[0], [0], [5]]])), "not a rotation"),
     (lambda: facet.Camera.from_intrinsics(K, 100, 80, np.hstack([np.eye(3), [[0], [np.nan], [5]]])), "translation"),
     (lambda: facet.Camera.orbit(orthographic=True).resolve(facet.Scene.from_arrays(V, F), 10, 10), "orthographic"),
     (lambda: facet.Camera.orbit().resolve(None, 10, 10), "depends on the scene"),
-    (lambda: facet.Camera.orbit().resolve(facet.Scene(), 0, 10), "width and height must be 1..8192"),
+    (lambda: facet.Camera.orbit().resolve(facet.Scene(), 0, 10), "width must be 1..8192, got 0"),
     (lambda: facet.Camera.look_at((0, 0, 1)).world_to_camera, "resolve"),
 ]
 
