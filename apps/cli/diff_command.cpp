@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "facet/io.hpp"
+#include "json.hpp"
 #include "options.hpp"
 
 namespace facet::cli {
@@ -28,19 +29,6 @@ std::string fixed(const char* format, double v) {
 }
 
 std::string size_of(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
-
-std::string json_string(const std::string& s) {
-    std::string out = "\"";
-    for (const char ch : s) {
-        if (ch == '"' || ch == '\\') out += '\\';
-        if (static_cast<unsigned char>(ch) < 0x20) {
-            out += fixed("\\u%04x", static_cast<unsigned char>(ch));
-            continue;
-        }
-        out += ch;
-    }
-    return out + "\"";
-}
 
 std::string json_number(double v, const char* format) { return std::isfinite(v) ? fixed(format, v) : "null"; }
 
@@ -149,15 +137,15 @@ int run_diff(const std::string& path_a, const std::string& path_b, const DiffOpt
     if (options.json) {
         const auto& d = c.max_difference;
         std::printf("{\"a\":%s,\"b\":%s,\"width_a\":%d,\"height_a\":%d,\"width_b\":%d,\"height_b\":%d,\"same_size\":%s,",
-                    json_string(path_a).c_str(), json_string(path_b).c_str(), c.width_a, c.height_a, c.width_b,
+                    json::quote(path_a).c_str(), json::quote(path_b).c_str(), c.width_a, c.height_a, c.width_b,
                     c.height_b, c.same_size() ? "true" : "false");
         if (c.same_size())
             std::printf("\"pixels\":%zu,\"differing_pixels\":%zu,\"tolerance\":%d,\"max_difference\":[%d,%d,%d,%d],"
                         "\"psnr\":%s,\"ssim\":%s,",
                         c.pixels, c.differing_pixels, c.tolerance, d[0], d[1], d[2], d[3],
                         json_number(c.psnr, "%.4f").c_str(), json_number(c.ssim, "%.8f").c_str());
-        std::printf("\"thresholds\":%s,\"pass\":%s,\"reason\":%s}\n", json_string(describe_thresholds(*thresholds)).c_str(),
-                    pass ? "true" : "false", json_string(why).c_str());
+        std::printf("\"thresholds\":%s,\"pass\":%s,\"reason\":%s}\n", json::quote(describe_thresholds(*thresholds)).c_str(),
+                    pass ? "true" : "false", json::quote(why).c_str());
     } else {
         std::printf("facet diff: %s\n", comparison_summary(path_a, path_b, c, pass, why).c_str());
     }

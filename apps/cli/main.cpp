@@ -45,8 +45,19 @@ int main(int argc, char** argv) {
     std::vector<std::string> inputs;
     std::string out_dir;
     CLI::App* thumbs = app.add_subcommand("thumbs", "Render a thumbnail PNG of every model in files and directories");
-    thumbs->add_option("inputs", inputs, "Model files and directories (searched recursively)")->required();
+    thumbs->add_option("inputs", inputs, "Model files and directories (searched recursively); or give --manifest");
     thumbs->add_option("-o,--output", out_dir, "Output directory")->required();
+    CollectionOptions collection;
+    thumbs->add_option("--manifest", collection.manifest,
+                       "Objects from this file ('-': stdin): a path per line, or JSON Lines with \"path\", \"id\" and "
+                       "per-object \"size\", \"up_axis\", \"views\", \"passes\"; outputs are named by the id");
+    thumbs->add_option("--shard", collection.shard,
+                       "K/N: only the objects whose id hashes into shard K of N (0 <= K < N), the same on every machine");
+    thumbs->add_option("--log", collection.log,
+                       "Append one JSON line per finished object to this file (id, status, error, times, outputs, "
+                       "options hash)");
+    thumbs->add_flag("--resume", collection.resume,
+                     "Skip the objects the --log has done with the same options whose outputs exist; redo the rest");
     add_render_options(*thumbs, thumbs_options);
     thumbs->get_option("--size")->description("Thumbnail size N (square) or WxH");
     add_worker_options(*thumbs, thumbs_options, /*in_process_option=*/false);
@@ -73,7 +84,7 @@ int main(int argc, char** argv) {
             }
             return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render), reference);
         }
-        if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options);
+        if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options, collection);
         if (diff->parsed()) return run_diff(diff_a, diff_b, diff_options);
         if (view->parsed() && view_args.options.print_config)
             return print_view_config(view_args, has_camera_options(*view));

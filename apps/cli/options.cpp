@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <sstream>
 #include <system_error>
+#include <tuple>
 
 #include "facet/isa.hpp"
 
@@ -162,13 +163,22 @@ bool has_camera_options(const CLI::App& c) {
     return false;
 }
 
+Result<std::pair<int, int>> parse_image_size(const std::string& name, const std::string& text, int ssaa, bool square) {
+    int w = 0, h = 0;
+    const std::string wxh = square && text.find('x') == std::string::npos ? text + "x" + text : text;
+    if (!parse_size(wxh, w, h)) return usage(name + (square ? " must be N or WxH, got '" : " must be WxH, got '") + text + "'");
+    if (static_cast<long>(w) * ssaa > k_max_target_size || static_cast<long>(h) * ssaa > k_max_target_size)
+        return usage(name + " times --ssaa must stay within " + std::to_string(k_max_target_size) + " pixels per side");
+    return std::pair{w, h};
+}
+
 Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) {
     RenderPlan p;
-    if (!parse_size(o.size, p.width, p.height)) return usage("--size must be WxH, got '" + o.size + "'");
     if (o.ssaa < 1 || o.ssaa > 8) return usage("--ssaa must be 1..8, got " + std::to_string(o.ssaa));
     p.ssaa = o.ssaa;
-    if (static_cast<long>(p.width) * o.ssaa > k_max_target_size || static_cast<long>(p.height) * o.ssaa > k_max_target_size)
-        return usage("--size times --ssaa must stay within " + std::to_string(k_max_target_size) + " pixels per side");
+    Result<std::pair<int, int>> size = parse_image_size("--size", o.size, o.ssaa, false);
+    if (!size) return size.error();
+    std::tie(p.width, p.height) = *size;
     if (o.threads < 0) return usage("--threads must be 0 (all cores) or more");
     // Process-wide, and inherited by worker processes.
     if (!select_isa(o.isa)) return usage("--isa must be best or one of " + isa_list() + " on this CPU, got '" + o.isa + "'");

@@ -66,6 +66,10 @@ void add_worker_options(CLI::App& command, RenderOptions& options, bool in_proce
 // shared among them); the error message names the offending option.
 Result<WorkerLimits> make_worker_limits(const RenderOptions& options, unsigned workers);
 
+// An image size "WxH" (with `square`, also "N" for NxN), each side at least 1 and, times `ssaa`,
+// within the largest target; the error names `name`, the option or key it came from.
+Result<std::pair<int, int>> parse_image_size(const std::string& name, const std::string& text, int ssaa, bool square);
+
 // The options after validation, ready to render with.
 struct RenderPlan {
     int width = 0, height = 0;
@@ -187,6 +191,14 @@ int check_reference(const std::string& output, const ReferenceCheck& check);
 int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
                std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given,
                const ReferenceCheck& reference);
-int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options);
+// `facet thumbs`' options for collections (README, "Collections").
+struct CollectionOptions {
+    std::string manifest;  // inputs from this manifest instead of the command line ("-": stdin)
+    std::string shard;     // "K/N": only the objects of shard K of N
+    std::string log;       // the results log to append to
+    bool resume = false;   // skip what the log says is done with the same options
+};
+int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options,
+               const CollectionOptions& collection);
 
 }  // namespace facet::cli

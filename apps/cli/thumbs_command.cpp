@@ -1,57 +1,111 @@
 // `facet thumbs`: many models to one PNG each, all cores busy, progress on stderr, a summary, and
 // an exit code that says whether everything rendered. One broken file never stops the batch.
+// Collections (README, "Collections"): the objects may come from a manifest (collection.hpp), be
+// cut into shards, be logged as they finish (results_log.hpp) and be resumed from that log.
 //
 // Each file is loaded, rendered and written by a worker process of its own (worker.hpp), up to
-// --threads at a time, while this process only schedules them, shows progress and collects results.
-// A file that makes a reader hang, crash or allocate without bound (assimp cannot be interrupted,
-// and a crash in it would take every other file with it) then costs only its own worker: past
-// --timeout seconds the worker is killed and the file reported as "gave up after N s"; a crash is
-// reported with its signal. The worker writes its thumbnail atomically (a temporary file renamed
-// into place); the temporary of a killed worker is removed here, so an abandoned file leaves
-// nothing behind. This process is single-threaded, so forking is safe, and each worker draws with
-// one thread.
+// --threads at a time, while this process only schedules them, shows progress, logs and collects
+// results. A file that makes a reader hang, crash or allocate without bound (assimp cannot be
+// interrupted, and a crash in it would take every other file with it) then costs only its own
+// worker: past --timeout seconds the worker is killed and the file reported as "gave up after N s";
+// a crash is reported with its signal. The worker writes its thumbnail atomically (a temporary file
+// renamed into place) before this process logs it, so a log line always stands for a finished
+// file; the temporary of a killed worker is removed here, and those of a killed run by the next
+// one. This process is single-threaded, so forking is safe, and each worker draws with one thread.
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <unordered_set>
 
+#include "collection.hpp"
 #include "facet/io.hpp"
 #include "options.hpp"
+#include "results_log.hpp"
 #include "worker.hpp"
 
 namespace facet::cli {
 namespace {
 
 namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
 
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// What a worker measured, sent back through its report (WorkerReport::figures) as text.
+struct JobFigures {
+    std::optional<std::size_t> triangles;
+    std::optional<double> load_ms, render_ms, write_ms;
+    FailReason reason = FailReason::none;
+
+    std::string text() const {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%lld %.3f %.3f %.3f %d", triangles ? static_cast<long long>(*triangles) : -1LL,
+                      load_ms.value_or(-1), render_ms.value_or(-1), write_ms.value_or(-1), static_cast<int>(reason));
+        return buf;
+    }
+    static JobFigures parse(const std::string& text) {
+        JobFigures f;
+        long long t = -1;
+        double l = -1, r = -1, w = -1;
+        int reason = 0;
+        if (std::sscanf(text.c_str(), "%lld %lf %lf %lf %d", &t, &l, &r, &w, &reason) != 5) return f;
+        if (t >= 0) f.triangles = static_cast<std::size_t>(t);
+        if (l >= 0) f.load_ms = l;
+        if (r >= 0) f.render_ms = r;
+        if (w >= 0) f.write_ms = w;
+        if (reason >= 0 && reason <= static_cast<int>(FailReason::failed)) f.reason = static_cast<FailReason>(reason);
+        return f;
+    }
+};
+
+// One object of the run and what became of it.
 struct Job {
-    fs::path input;
-    fs::path output;
-    std::string error;  // empty: rendered
+    ObjectEntry entry;  // entry.reason set: failed before rendering (a bad entry, a missing input)
+    std::optional<std::pair<int, int>> size;  // the entry's own options, checked
+    std::optional<UpAxis> up_axis;
+    std::string options_hash;
+    bool done_before = false;  // --resume: the log has it with these options and its outputs exist
+    // The outcome.
+    FailReason reason = FailReason::none;
+    std::string error;
+    JobFigures figures;
+    double total_ms = 0;
+
+    // Outputs, relative to the output directory. Several per object (views, passes) will be the
+    // files of the folder <stem>/; until then the one thumbnail.
+    std::vector<std::string> outputs() const { return {entry.stem + ".png"}; }
 };
 
 // A name for the thumbnail that keeps the model's relative path and extension, so "a/b.obj" and
-// "a_b.obj" or "b.stl" cannot meet; what still collides gets -2, -3, ... in sorted order.
+// "a_b.obj" or "b.stl" cannot meet; what still collides gets -2, -3, ... in sorted order. The
+// name without ".png" is the object's id.
 std::string flat_name(const fs::path& relative) {
     std::string name;
     for (const auto& part : relative) {
         if (!name.empty()) name += "__";
         name += part.string();
     }
-    return name + ".png";
+    return name;
 }
 
-// Expands the inputs: files as given, directories recursively (model files only), sorted per input.
-std::vector<Job> collect_jobs(const std::vector<std::string>& inputs, const fs::path& out_dir, std::vector<Job>& failed) {
-    std::vector<Job> jobs;
+// Expands the command line's inputs: files as given, directories recursively (model files only),
+// sorted per input. An input that does not exist is an entry that failed.
+std::vector<ObjectEntry> collect_inputs(const std::vector<std::string>& inputs) {
+    std::vector<ObjectEntry> entries;
     std::map<std::string, int> used;
     auto add = [&](const fs::path& input, const fs::path& relative) {
         std::string name = flat_name(relative);
-        if (int n = ++used[name]; n > 1) name = name.substr(0, name.size() - 4) + "-" + std::to_string(n) + ".png";
-        jobs.push_back({input, out_dir / name, {}});
+        if (int n = ++used[name]; n > 1) name.append("-").append(std::to_string(n));
+        ObjectEntry& e = entries.emplace_back();
+        e.id = e.stem = name;
+        e.path = e.origin = input.string();
     };
     for (const std::string& in : inputs) {
         std::error_code ec;
@@ -66,23 +120,88 @@ std::vector<Job> collect_jobs(const std::vector<std::string>& inputs, const fs::
         } else if (fs::exists(path, ec)) {
             add(path, path.filename());
         } else {
-            failed.push_back({path, {}, in + ": no such file or directory"});
+            ObjectEntry& e = entries.emplace_back();
+            e.id = e.path = e.origin = in;
+            e.reason = FailReason::missing;
+            e.error = in + ": no such file or directory";
         }
     }
-    return jobs;
+    return entries;
+}
+
+// The settings of --print-config that say how the run goes, not what the image looks like; the
+// options hash leaves them out, so that a resume on another machine, with other --threads or
+// another --isa (same bytes) keeps what is done.
+bool describes_the_run(const std::string& key) {
+    static const char* const k_keys[] = {"threads",    "isa",     "tile-size",  "batch-triangles", "load-threads",
+                                         "isolation", "timeout", "max-memory"};
+    return std::find(std::begin(k_keys), std::end(k_keys), key) != std::end(k_keys);
+}
+
+// The options hash: FNV-1a 64 of what --print-config says of the object's plan (the keys that
+// shape the image), its views and passes, and facet's version, as 16 hex digits.
+std::string options_hash(const RenderPlan& plan, const ObjectOptions& options, const Renderer& renderer,
+                         const WorkerLimits& limits) {
+    ConfigText config("thumbs");
+    describe_run(config, plan, nullptr, renderer, limits, true);
+    std::string text = std::string("version = ") + FACET_VERSION + "\n";
+    std::size_t pos = config.str().find('\n') + 1;  // after the comment line
+    while (pos < config.str().size()) {
+        const std::size_t end = config.str().find('\n', pos);
+        const std::string line = config.str().substr(pos, end - pos + 1);
+        if (!describes_the_run(line.substr(0, line.find(" = ")))) text += line;
+        pos = end + 1;
+    }
+    text += "views = " + options.views.value_or("") + "\npasses =";
+    for (const std::string& p : options.passes) text += " " + p;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a_64(text + "\n")));
+    return hex;
+}
+
+RenderPlan object_plan(const RenderPlan& plan, const Job& job) {
+    RenderPlan p = plan;
+    if (job.size) std::tie(p.width, p.height) = *job.size;
+    if (job.up_axis) p.load.up_axis = *job.up_axis;
+    return p;
+}
+
+// Checks an entry's own options into the job; a bad one fails the job as a bad entry.
+void check_object_options(Job& job, const RenderPlan& plan) {
+    const ObjectOptions& o = job.entry.options;
+    std::string problem;
+    if (o.size) {
+        if (Result<std::pair<int, int>> size = parse_image_size("size", *o.size, plan.ssaa, true)) job.size = *size;
+        else problem = size.error().message;
+    }
+    if (problem.empty() && o.up_axis) {
+        if (*o.up_axis == "y" || *o.up_axis == "z") job.up_axis = *o.up_axis == "z" ? UpAxis::z : UpAxis::y;
+        else problem = "up_axis must be \"y\" or \"z\", got '" + *o.up_axis + "'";
+    }
+    if (problem.empty() && o.views)
+        if (Status s = check_view_rig(*o.views); !s) problem = s.error().message;
+    if (problem.empty() && !o.passes.empty())
+        if (Status s = check_passes(o.passes); !s) problem = s.error().message;
+    if (!problem.empty()) {
+        job.entry.reason = FailReason::bad_entry;
+        job.entry.error = job.entry.origin + ": " + problem;
+    } else if (o.views || !o.passes.empty()) {
+        job.entry.reason = FailReason::not_supported_yet;
+        job.entry.error = job.entry.origin + ": views and passes are not rendered by this version of facet yet";
+    }
 }
 
 class Progress {
 public:
     explicit Progress(std::size_t total) : total_(total), tty_(isatty(STDERR_FILENO)) {}
-    void done(const Job& job) {
+    void done(const Job& job, const fs::path& output) {
         std::lock_guard lock(mutex_);
         ++finished_;
         failed_ += job.error.empty() ? 0 : 1;
         if (!tty_) {
             if (job.error.empty())
-                std::fprintf(stderr, "facet thumbs: [%zu/%zu] %s -> %s\n", finished_, total_, job.input.c_str(),
-                             job.output.c_str());
+                std::fprintf(stderr, "facet thumbs: [%zu/%zu] %s -> %s\n", finished_, total_, job.entry.path.c_str(),
+                             output.c_str());
             else
                 std::fprintf(stderr, "facet thumbs: [%zu/%zu] FAILED %s\n", finished_, total_, job.error.c_str());
             return;
@@ -90,7 +209,7 @@ public:
         constexpr int k_bar = 30;
         const int filled = static_cast<int>(k_bar * finished_ / std::max<std::size_t>(total_, 1));
         std::fprintf(stderr, "\r[%.*s%*s] %zu/%zu  %zu failed  %-40.40s", filled, "==============================",
-                     k_bar - filled, "", finished_, total_, failed_, job.input.filename().c_str());
+                     k_bar - filled, "", finished_, total_, failed_, fs::path(job.entry.path).filename().c_str());
         if (finished_ == total_) std::fprintf(stderr, "\n");
         std::fflush(stderr);
     }
@@ -104,102 +223,297 @@ private:
 // Each worker's renderer: loading is single-threaded, so one process per file keeps every core busy.
 constexpr int k_worker_threads = 1;
 
-// Renders one model to its thumbnail; fills job.error on failure.
-void render_job(Job& job, const RenderPlan& plan, Renderer& renderer, Framebuffer& target, Image& colour,
-                const WorkerReport& report) {
-    report.phase(WorkerPhase::loading);
-    Result<Scene> scene = load_scene(job.input.string(), plan, "facet thumbs");
-    if (!scene) {
-        job.error = scene.error().message;
-        return;
+FailReason reason_for_load_error(const Error& e, const std::string& path) {
+    switch (e.code) {
+    case ErrorCode::io: {
+        std::error_code ec;
+        return fs::exists(path, ec) ? FailReason::unreadable : FailReason::missing;
     }
-    report.phase(WorkerPhase::rendering);
-    try {
-        render_plan(renderer, *scene, plan, plan_camera(*scene, plan), target, colour, nullptr);
-    } catch (const std::exception& e) {
-        job.error = job.input.string() + ": " + e.what();
-        return;
+    case ErrorCode::bad_format:
+    case ErrorCode::invalid_argument: return FailReason::bad_file;
+    case ErrorCode::unsupported: return FailReason::unsupported;
+    case ErrorCode::limit_exceeded: return FailReason::too_large;
     }
-    report.phase(WorkerPhase::writing);
-    if (Status s = write_png(job.output.string(), colour); !s) job.error = s.error().message;
+    return FailReason::failed;
 }
 
-// The worker's side: load, render, write; an error goes to the parent through the report.
-int thumbnail_job(Job job, const RenderPlan& plan, const WorkerReport& report) {
-    test_hook_sleep(job.input.string());
-    Renderer renderer({.threads = k_worker_threads});
-    Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
-    Image colour;
-    render_job(job, plan, renderer, target, colour, report);
-    if (job.error.empty()) return k_exit_ok;
-    report.error(job.error);
+// The worker's side: load, render, write, timing each; the figures and any error go to the parent
+// through the report.
+int thumbnail_job(const Job& job, const RenderPlan& global_plan, const fs::path& output, const WorkerReport& report) {
+    test_hook_sleep(job.entry.path);
+    const RenderPlan plan = object_plan(global_plan, job);
+    JobFigures f;
+    std::string error;
+    try {
+        Renderer renderer({.threads = k_worker_threads});
+        Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
+        Image colour;
+        report.phase(WorkerPhase::loading);
+        Clock::time_point start = Clock::now();
+        Result<Scene> scene = load_scene(job.entry.path, plan, "facet thumbs");
+        f.load_ms = ms_since(start);
+        if (!scene) {
+            error = scene.error().message;
+            f.reason = reason_for_load_error(scene.error(), job.entry.path);
+        } else {
+            f.triangles = scene->triangle_count();
+            report.phase(WorkerPhase::rendering);
+            start = Clock::now();
+            try {
+                render_plan(renderer, *scene, plan, plan_camera(*scene, plan), target, colour, nullptr);
+            } catch (const std::bad_alloc&) {
+                throw;
+            } catch (const std::exception& e) {
+                error = job.entry.path + ": " + e.what();
+                f.reason = FailReason::render_failed;
+            }
+            f.render_ms = ms_since(start);
+        }
+        if (error.empty()) {
+            report.phase(WorkerPhase::writing);
+            start = Clock::now();
+            if (Status s = write_png(output.string(), colour); !s) {
+                error = s.error().message;
+                f.reason = FailReason::write_failed;
+            }
+            f.write_ms = ms_since(start);
+        }
+    } catch (const std::bad_alloc&) {
+        error = job.entry.path + ": out of memory";
+        f.reason = FailReason::out_of_memory;
+    }
+    report.figures(f.text());
+    if (error.empty()) return k_exit_ok;
+    report.error(error);
     return k_exit_failed;
 }
 
-// Runs every job in worker processes, at most `workers` at a time, each within `limits`,
-// reporting each finished job to `progress`.
-void run_jobs(std::vector<Job>& jobs, const RenderPlan& plan, unsigned workers, const WorkerLimits& limits,
-              Progress& progress) {
+// How a worker that did not finish its job by itself ended, as a reason.
+FailReason reason_for_abnormal_end(const WorkerOutcome& outcome) {
+    switch (outcome.end) {
+    case WorkerOutcome::End::timed_out: return FailReason::timed_out;
+    case WorkerOutcome::End::signalled: return FailReason::crashed;
+    case WorkerOutcome::End::exited:
+    case WorkerOutcome::End::not_started: break;
+    }
+    return FailReason::failed;
+}
+
+// Appends jobs' lines to the log, if there is one; a log that cannot be written is said once.
+class ResultsLog {
+public:
+    explicit ResultsLog(std::optional<LogWriter> writer) : writer_(std::move(writer)) {}
+    bool enabled() const { return writer_.has_value(); }
+    void add(const Job& job) {
+        if (!writer_) return;
+        LogRecord r;
+        r.id = job.entry.id;
+        r.path = job.entry.path;
+        r.line = job.entry.line;
+        r.reason = job.reason;
+        r.error = job.error;
+        r.triangles = job.figures.triangles;
+        r.load_ms = job.figures.load_ms;
+        r.render_ms = job.figures.render_ms;
+        r.write_ms = job.figures.write_ms;
+        r.total_ms = job.total_ms;
+        if (job.reason == FailReason::none) r.outputs = job.outputs();
+        r.options_hash = job.options_hash;
+        if (Status s = writer_->append(format_log_line(r)); !s && !failed_) {
+            std::fprintf(stderr, "facet thumbs: %s\n", s.error().message.c_str());
+            failed_ = true;
+        }
+    }
+    bool failed() const { return failed_; }
+
+private:
+    std::optional<LogWriter> writer_;
+    bool failed_ = false;
+};
+
+// Runs the jobs in `order` in worker processes, at most `workers` at a time, each within `limits`,
+// reporting each finished job to `progress` and the log.
+void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, const RenderPlan& plan,
+              const fs::path& out_dir, unsigned workers, const WorkerLimits& limits, Progress& progress,
+              ResultsLog& log) {
     std::vector<Worker> running;
+    std::vector<Clock::time_point> started(jobs.size());
     std::size_t next = 0;
-    auto finish = [&](std::size_t i, const std::string& error) {
-        jobs[i].error = error;
-        progress.done(jobs[i]);
+    auto output_of = [&](std::size_t i) { return out_dir / jobs[i].outputs().front(); };
+    auto finish = [&](std::size_t i, FailReason reason, const std::string& error) {
+        Job& job = jobs[i];
+        job.reason = reason;
+        job.error = error;
+        job.total_ms = ms_since(started[i]);
+        progress.done(job, output_of(i));
+        log.add(job);
     };
-    while (next < jobs.size() || !running.empty()) {
-        while (running.size() < workers && next < jobs.size()) {
-            const std::size_t i = next++;
+    while (next < order.size() || !running.empty()) {
+        while (running.size() < workers && next < order.size()) {
+            const std::size_t i = order[next++];
+            started[i] = Clock::now();
             WorkerOutcome failed;
+            const fs::path output = output_of(i);
             std::optional<Worker> w = start_worker(
-                [&, i](const WorkerReport& report) { return thumbnail_job(jobs[i], plan, report); }, limits, running, failed);
+                [&, i, output](const WorkerReport& report) { return thumbnail_job(jobs[i], plan, output, report); }, limits,
+                running, failed);
             if (!w) {
-                finish(i, describe_abnormal_end(failed, jobs[i].input.string(), limits));
+                finish(i, FailReason::failed, describe_abnormal_end(failed, jobs[i].entry.path, limits));
                 continue;
             }
             w->tag = i;
             running.push_back(std::move(*w));
         }
         for (auto& [w, outcome] : wait_for_workers(running)) {
-            const Job& job = jobs[w.tag];
+            Job& job = jobs[w.tag];
+            job.figures = JobFigures::parse(outcome.figures);
             if (exited(outcome) && outcome.status == k_exit_ok) {
-                finish(w.tag, {});
+                finish(w.tag, FailReason::none, {});
             } else if (exited(outcome) && outcome.status == k_exit_failed && !outcome.message.empty()) {
-                finish(w.tag, outcome.message);
+                const FailReason reason = job.figures.reason == FailReason::none ? FailReason::failed : job.figures.reason;
+                finish(w.tag, reason, outcome.message);
             } else {
-                remove_temporaries(job.output);  // of a worker killed while writing
-                finish(w.tag, describe_abnormal_end(outcome, job.input.string(), limits));
+                remove_temporaries(output_of(w.tag));  // of a worker killed while writing
+                finish(w.tag, reason_for_abnormal_end(outcome), describe_abnormal_end(outcome, job.entry.path, limits));
             }
         }
     }
 }
 
+// The end of the run on stderr: the counts, the speed, and the failures grouped by reason (all of
+// them, or without a log the first few of each reason when there are many).
+void print_summary(const std::vector<Job>& jobs, std::size_t attempted, std::size_t rendered, std::size_t skipped,
+                   double seconds, bool logged) {
+    std::map<FailReason, std::vector<const Job*>> failures;
+    for (const Job& j : jobs)
+        if (j.reason != FailReason::none) failures[j.reason].push_back(&j);
+    std::size_t failed = 0;
+    for (const auto& [reason, list] : failures) failed += list.size();
+    std::fprintf(stderr, "facet thumbs: %zu rendered, %zu failed", rendered, failed);
+    if (skipped > 0) std::fprintf(stderr, ", %zu skipped (done before)", skipped);
+    if (attempted > 0) std::fprintf(stderr, " in %.1f s (%.1f objects/s)", seconds, static_cast<double>(attempted) / seconds);
+    std::fprintf(stderr, "\n");
+    constexpr std::size_t k_listed_with_log = 10;
+    for (const auto& [reason, list] : failures) {
+        std::fprintf(stderr, "  %s: %zu\n", reason_label(reason), list.size());
+        const std::size_t shown = logged ? std::min(list.size(), k_listed_with_log) : list.size();
+        for (std::size_t i = 0; i < shown; ++i) std::fprintf(stderr, "    failed: %s\n", list[i]->error.c_str());
+        if (shown < list.size()) std::fprintf(stderr, "    ... and %zu more (all in the log)\n", list.size() - shown);
+    }
+}
+
+// Removes the temporaries of our outputs that a killed run left (one pass over the folder).
+void remove_stale_temporaries(const fs::path& out_dir, const std::vector<Job>& jobs) {
+    std::unordered_set<std::string> outputs;
+    for (const Job& j : jobs)
+        if (j.entry.reason == FailReason::none)
+            for (const std::string& o : j.outputs()) outputs.insert(o);
+    remove_temporaries(out_dir, outputs);
+}
+
+// --resume: marks the jobs whose latest "ok" line has the same options hash and the same outputs,
+// all of them present; a job logged before with anything else loses its old outputs first, so that
+// a run killed before its new line cannot leave them standing for the old one.
+void mark_done_before(std::vector<Job>& jobs, const LogContents& log, const fs::path& out_dir) {
+    for (Job& job : jobs) {
+        if (job.entry.reason != FailReason::none) continue;
+        const auto it = log.finished.find(job.entry.id);
+        if (it == log.finished.end()) continue;
+        const std::vector<std::string> outputs = job.outputs();
+        std::error_code ec;
+        const bool present = std::all_of(outputs.begin(), outputs.end(), [&](const std::string& o) {
+            return fs::is_regular_file(out_dir / o, ec) && fs::file_size(out_dir / o, ec) > 0;
+        });
+        job.done_before = present && it->second.options_hash == job.options_hash && it->second.outputs == outputs;
+        if (!job.done_before)
+            for (const std::string& o : outputs) fs::remove(out_dir / o, ec);
+    }
+}
+
 }  // namespace
 
-int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options) {
+int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options,
+               const CollectionOptions& collection) {
+    const char* command = "facet thumbs";
     RenderOptions o = options;
     if (o.size.find('x') == std::string::npos) o.size += "x" + o.size;  // --size N means N x N
     Result<RenderPlan> plan = make_plan(o, /*camera_options_given=*/true);  // models are always framed
     if (!plan) {
-        std::fprintf(stderr, "facet thumbs: %s\n", plan.error().message.c_str());
+        std::fprintf(stderr, "%s: %s\n", command, plan.error().message.c_str());
         return k_exit_usage;
     }
-    std::vector<Job> failed;
-    std::vector<Job> jobs = collect_jobs(inputs, output_dir, failed);
+    if (collection.manifest.empty() == inputs.empty()) {
+        std::fprintf(stderr, "%s: give model files and directories, or --manifest, not both\n", command);
+        return k_exit_usage;
+    }
+    if (collection.resume && collection.log.empty()) {
+        std::fprintf(stderr, "%s: --resume needs --log, the log it resumes from\n", command);
+        return k_exit_usage;
+    }
+    Shard shard;
+    if (!collection.shard.empty()) {
+        Result<Shard> s = parse_shard(collection.shard);
+        if (!s) {
+            std::fprintf(stderr, "%s: %s\n", command, s.error().message.c_str());
+            return k_exit_usage;
+        }
+        shard = *s;
+    }
+
+    std::vector<ObjectEntry> entries;
+    if (!collection.manifest.empty()) {
+        Result<std::vector<ObjectEntry>> read = read_manifest(collection.manifest, shard);
+        if (!read) {
+            std::fprintf(stderr, "%s: %s\n", command, read.error().message.c_str());
+            return k_exit_usage;
+        }
+        entries = std::move(*read);
+    } else {
+        std::vector<ObjectEntry> found = collect_inputs(inputs);
+        if (found.empty()) {
+            std::fprintf(stderr, "%s: no model files found in the inputs\n", command);
+            return k_exit_failed;
+        }
+        for (ObjectEntry& e : found)
+            if (shard_of(e.id, shard.count) == shard.index) entries.push_back(std::move(e));
+    }
     // Files in parallel, one process each drawing with one thread: loading is single-threaded, so
     // this keeps every core busy.
     const auto cores = static_cast<unsigned>(resolve_threads(options.threads));
-    const unsigned workers = std::max(1u, static_cast<unsigned>(std::min<std::size_t>(cores, jobs.size())));
+    const unsigned workers = std::max(1u, static_cast<unsigned>(std::min<std::size_t>(cores, entries.size())));
     Result<WorkerLimits> limits = make_worker_limits(options, workers);
     if (!limits) {
-        std::fprintf(stderr, "facet thumbs: %s\n", limits.error().message.c_str());
+        std::fprintf(stderr, "%s: %s\n", command, limits.error().message.c_str());
         return k_exit_usage;
     }
+    const Renderer renderer({.threads = k_worker_threads});  // as each worker's (starts no thread)
+
+    std::vector<Job> jobs;
+    jobs.reserve(entries.size());
+    std::map<std::string, std::string> hashes;  // by the object's own options: few distinct ones
+    for (ObjectEntry& e : entries) {
+        Job& job = jobs.emplace_back();
+        job.entry = std::move(e);
+        if (job.entry.reason != FailReason::none) continue;
+        check_object_options(job, *plan);
+        if (job.entry.reason != FailReason::none) continue;
+        const ObjectOptions& oo = job.entry.options;
+        std::string key = oo.size.value_or("") + "|" + oo.up_axis.value_or("") + "|" + oo.views.value_or("") + "|";
+        for (const std::string& p : oo.passes) key += p + ",";
+        auto [it, inserted] = hashes.try_emplace(key);
+        if (inserted) it->second = options_hash(object_plan(*plan, job), oo, renderer, *limits);
+        job.options_hash = it->second;
+    }
+
     if (options.print_config) {
         ConfigText out("thumbs");
-        out.add("inputs", std::to_string(jobs.size()) + " model files");
+        out.add("inputs", std::to_string(jobs.size()) + (collection.manifest.empty() ? " model files" : " objects"));
         out.add("output", output_dir);
+        if (!collection.manifest.empty()) out.add("manifest", collection.manifest);
+        out.add("shard", std::to_string(shard.index) + "/" + std::to_string(shard.count));
+        out.add("log", collection.log.empty() ? "none" : collection.log);
+        out.add("resume", collection.resume ? "yes" : "no");
         out.add("workers", std::to_string(workers));
-        const Renderer renderer({.threads = k_worker_threads});  // as each worker's (starts no thread)
         describe_run(out, *plan, nullptr, renderer, *limits, true);
         std::fputs(out.str().c_str(), stdout);
         return k_exit_ok;
@@ -207,25 +521,62 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
     std::error_code ec;
     fs::create_directories(output_dir, ec);
     if (ec || !fs::is_directory(output_dir)) {
-        std::fprintf(stderr, "facet thumbs: %s: cannot create the output directory: %s\n", output_dir.c_str(),
+        std::fprintf(stderr, "%s: %s: cannot create the output directory: %s\n", command, output_dir.c_str(),
                      ec.message().c_str());
         return k_exit_failed;
     }
-
-    Progress progress(jobs.size());
-    run_jobs(jobs, *plan, workers, *limits, progress);
-
-    const std::size_t rendered =
-        static_cast<std::size_t>(std::count_if(jobs.begin(), jobs.end(), [](const Job& j) { return j.error.empty(); }));
-    for (const Job& j : jobs)
-        if (!j.error.empty()) failed.push_back(j);
-    std::fprintf(stderr, "facet thumbs: %zu rendered, %zu failed\n", rendered, failed.size());
-    for (const Job& j : failed) std::fprintf(stderr, "  failed: %s\n", j.error.c_str());
-    if (jobs.empty() && failed.empty()) {
-        std::fprintf(stderr, "facet thumbs: no model files found in the inputs\n");
-        return k_exit_failed;
+    std::optional<LogWriter> writer;
+    if (!collection.log.empty()) {
+        if (collection.resume) {
+            Result<LogContents> previous = read_log(collection.log);
+            if (!previous) {
+                std::fprintf(stderr, "%s: %s\n", command, previous.error().message.c_str());
+                return k_exit_failed;
+            }
+            mark_done_before(jobs, *previous, output_dir);
+            if (previous->unreadable > 0)
+                std::fprintf(stderr, "%s: warning: %s: %zu lines are not log records and were skipped\n", command,
+                             collection.log.c_str(), previous->unreadable);
+        }
+        Result<LogWriter> opened = LogWriter::open(collection.log);
+        if (!opened) {
+            std::fprintf(stderr, "%s: %s\n", command, opened.error().message.c_str());
+            return k_exit_failed;
+        }
+        writer.emplace(std::move(*opened));
     }
-    return failed.empty() ? k_exit_ok : k_exit_failed;
+    ResultsLog log(std::move(writer));
+    remove_stale_temporaries(output_dir, jobs);
+
+    // Bad entries are finished already: logged first, then the rest rendered in order.
+    std::vector<std::size_t> order;
+    std::size_t skipped = 0;
+    for (std::size_t i = 0; i < jobs.size(); ++i) {
+        Job& job = jobs[i];
+        if (job.entry.reason != FailReason::none) {
+            job.reason = job.entry.reason;
+            job.error = job.entry.error;
+            log.add(job);
+        } else if (job.done_before) {
+            ++skipped;
+        } else {
+            order.push_back(i);
+        }
+    }
+    if (skipped > 0)
+        std::fprintf(stderr, "%s: resuming: %zu of %zu objects done before (%s), %zu to render\n", command, skipped,
+                     jobs.size(), collection.log.c_str(), order.size());
+
+    const Clock::time_point start = Clock::now();
+    Progress progress(order.size());
+    run_jobs(jobs, order, *plan, output_dir, workers, *limits, progress, log);
+    const double seconds = ms_since(start) / 1000;
+
+    const std::size_t rendered = static_cast<std::size_t>(std::count_if(
+        order.begin(), order.end(), [&](std::size_t i) { return jobs[i].reason == FailReason::none; }));
+    print_summary(jobs, order.size(), rendered, skipped, seconds, log.enabled());
+    const bool all_good = std::none_of(jobs.begin(), jobs.end(), [](const Job& j) { return j.reason != FailReason::none; });
+    return all_good && !log.failed() ? k_exit_ok : k_exit_failed;
 }
 
 }  // namespace facet::cli

@@ -27,9 +27,11 @@
 namespace facet::cli {
 namespace {
 
-// Report records: a phase is k_phase_mark and one WorkerPhase character; the error message is
-// k_error_mark and everything after it. Neither mark can appear in a phase, so the phases before
-// the message parse unambiguously whatever the message holds.
+// Report records: a phase is k_phase_mark and one WorkerPhase character; figures are
+// k_figures_mark and text up to the next mark; the error message is k_error_mark and everything
+// after it. No mark can appear in a phase or in figures, so the records before the message parse
+// unambiguously whatever the message holds.
+constexpr char k_figures_mark = '\x1d';
 constexpr char k_phase_mark = '\x1e';
 constexpr char k_error_mark = '\x1f';
 // The parent reads a report only once the worker has closed the pipe (waking up for every phase
@@ -67,6 +69,11 @@ void parse_report(const std::string& report, WorkerOutcome& outcome) {
             return;
         }
         if (report[i] == k_phase_mark && i + 1 < report.size()) outcome.phase = static_cast<WorkerPhase>(report[++i]);
+        if (report[i] == k_figures_mark) {
+            const std::size_t end = report.find_first_of("\x1d\x1e\x1f", i + 1);
+            outcome.figures = report.substr(i + 1, end == std::string::npos ? std::string::npos : end - i - 1);
+            if (end != std::string::npos) i = end - 1;
+        }
     }
 }
 
@@ -181,6 +188,13 @@ void WorkerReport::phase(WorkerPhase p) const {
     write_all(fd_, record, sizeof record);
 }
 
+void WorkerReport::figures(const std::string& text) const {
+    if (fd_ < 0) return;
+    std::string record(1, k_figures_mark);
+    for (const char c : text.substr(0, 256)) record += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
+    write_all(fd_, record.data(), record.size());
+}
+
 void WorkerReport::error(const std::string& message) const {
     if (fd_ < 0) return;
     write_all(fd_, &k_error_mark, 1);
@@ -288,14 +302,19 @@ void test_hook_sleep(const std::string& input) {
 }
 
 void remove_temporaries(const std::filesystem::path& output) {
+    remove_temporaries(output.has_parent_path() ? output.parent_path() : std::filesystem::path("."),
+                       {output.filename().string()});
+}
+
+void remove_temporaries(const std::filesystem::path& dir, const std::unordered_set<std::string>& names) {
     namespace fs = std::filesystem;
-    const std::string prefix = output.filename().string() + ".tmp";
-    const fs::path dir = output.has_parent_path() ? output.parent_path() : fs::path(".");
     std::error_code ec;
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        // "<name>.tmp<digits>", as write_file_atomic names them.
         const std::string name = it->path().filename().string();
-        if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
-            name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+        const std::size_t tmp = name.rfind(".tmp");
+        if (tmp != std::string::npos && tmp + 4 < name.size() &&
+            name.find_first_not_of("0123456789", tmp + 4) == std::string::npos && names.count(name.substr(0, tmp)))
             fs::remove(it->path(), ec);
     }
 }

@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <sys/types.h>
+#include <unordered_set>
 #include <vector>
 
 namespace facet::cli {
@@ -54,6 +55,9 @@ public:
     void phase(WorkerPhase p) const;
     // The job's error message (thumbs: the parent prints it in its summary). Last in the report.
     void error(const std::string& message) const;
+    // Figures about the job for the parent (thumbs: triangles and times for its log), as text
+    // without control characters; before error().
+    void figures(const std::string& text) const;
 
 private:
     int fd_;
@@ -68,6 +72,7 @@ struct WorkerOutcome {
     int status = 0;  // exited: the exit status; signalled: the signal
     WorkerPhase phase = WorkerPhase::starting;
     std::string message;  // exited: the error the job reported; not_started: why
+    std::string figures;  // what the job sent with WorkerReport::figures, if anything
 };
 
 using WorkerClock = std::chrono::steady_clock;
@@ -111,6 +116,9 @@ void test_hook_sleep(const std::string& input);
 // Removes the temporaries write_file_atomic makes for `output` ("<name>.tmp<digits>"): a worker
 // killed while writing leaves one behind.
 void remove_temporaries(const std::filesystem::path& output);
+// The same for every output named in `names` (file names in `dir`), in one pass over the folder:
+// what a killed run left.
+void remove_temporaries(const std::filesystem::path& dir, const std::unordered_set<std::string>& names);
 
 // Lets glibc's malloc serve large buffers (the model, the framebuffers) from its heap and keep what
 // is freed instead of mapping and unmapping each one: a job's memory freed after loading is reused

@@ -1,0 +1,306 @@
+// facet command line: a collection's objects (collection.hpp): manifests read line by line into
+// entries, ids turned into output names and shards.
+#include "collection.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+#include <unordered_map>
+
+#include "json.hpp"
+
+namespace facet::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+Error usage(const std::string& message) { return Error{ErrorCode::invalid_argument, message}; }
+
+std::string_view trim(std::string_view s) {
+    const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; };
+    while (!s.empty() && space(s.front())) s.remove_prefix(1);
+    while (!s.empty() && space(s.back())) s.remove_suffix(1);
+    return s;
+}
+
+// A whole number in [lo, hi] spelled in decimal digits only.
+bool parse_count(std::string_view text, std::uint64_t lo, std::uint64_t hi, std::uint64_t& out) {
+    if (text.empty() || text.size() > 19) return false;
+    out = 0;
+    for (const char c : text) {
+        if (c < '0' || c > '9') return false;
+        out = out * 10 + static_cast<std::uint64_t>(c - '0');
+    }
+    return out >= lo && out <= hi;
+}
+
+constexpr const char* k_known_keys = "\"id\", \"path\", \"size\", \"up_axis\", \"views\", \"passes\"";
+
+// One JSON Lines entry into `e`; returns what is wrong with it (the id, when readable, is kept
+// even then: the line still claims it).
+std::string read_json_entry(const json::Value& v, ObjectEntry& e) {
+    using T = json::Value::Type;
+    if (!v.is(T::object)) return std::string("expected a JSON object, found ") + json::type_name(v.type);
+    if (const json::Value* id = v.find("id")) {
+        if (!id->is(T::string)) return std::string("\"id\" must be a string, found ") + json::type_name(id->type);
+        e.id = id->text;
+    }
+    const json::Value* path = v.find("path");
+    if (path && path->is(T::string) && !path->text.empty()) {
+        e.path = path->text;
+        if (!v.find("id")) e.id = path->text;
+    }
+    for (const auto& [key, value] : v.members) {
+        if (key == "id") continue;
+        if (key == "path") {
+            if (!value.is(T::string) || value.text.empty())
+                return "\"path\" must be a non-empty string, found " + (value.is(T::string) ? std::string("\"\"") : json::type_name(value.type));
+        } else if (key == "size") {
+            if (value.is(T::number)) {
+                if (!(value.number >= 1 && value.number <= 1e6 && std::floor(value.number) == value.number))
+                    return "\"size\" must be a whole number of pixels or \"WxH\"";
+                e.options.size = std::to_string(static_cast<long>(value.number));
+            } else if (value.is(T::string)) {
+                e.options.size = value.text;
+            } else {
+                return std::string("\"size\" must be a number or \"WxH\", found ") + json::type_name(value.type);
+            }
+        } else if (key == "up_axis") {
+            if (!value.is(T::string)) return std::string("\"up_axis\" must be \"y\" or \"z\", found ") + json::type_name(value.type);
+            e.options.up_axis = value.text;
+        } else if (key == "views") {
+            if (!value.is(T::string)) return std::string("\"views\" must be a string such as \"orbit:8\", found ") + json::type_name(value.type);
+            e.options.views = value.text;
+        } else if (key == "passes") {
+            if (value.is(T::string)) {
+                std::stringstream in(value.text);
+                for (std::string item; std::getline(in, item, ',');) e.options.passes.emplace_back(trim(item));
+            } else if (value.is(T::array)) {
+                for (const json::Value& item : value.items) {
+                    if (!item.is(T::string)) return "\"passes\" must hold strings only";
+                    e.options.passes.push_back(item.text);
+                }
+            } else {
+                return std::string("\"passes\" must be an array of names or a comma-separated string, found ") +
+                       json::type_name(value.type);
+            }
+            if (e.options.passes.empty()) return "\"passes\" must name at least one pass";
+        } else {
+            return "unknown key \"" + key + "\" (the keys are " + k_known_keys + ")";
+        }
+    }
+    if (!path) return "no \"path\"";
+    return {};
+}
+
+Result<std::string> read_all(const std::string& manifest) {
+    std::ostringstream text;
+    if (manifest == "-") {
+        text << std::cin.rdbuf();
+        return text.str();
+    }
+    std::error_code ec;
+    if (fs::is_directory(manifest, ec)) return Error{ErrorCode::io, manifest + ": is a directory, not a manifest"};
+    std::ifstream in(manifest, std::ios::binary);
+    if (!in) return Error{ErrorCode::io, manifest + ": cannot open the manifest: " + std::strerror(errno)};
+    text << in.rdbuf();
+    if (in.bad()) return Error{ErrorCode::io, manifest + ": cannot read the manifest"};
+    return text.str();
+}
+
+}  // namespace
+
+const char* reason_code(FailReason r) {
+    switch (r) {
+    case FailReason::none: return "none";
+    case FailReason::missing: return "missing";
+    case FailReason::unreadable: return "unreadable";
+    case FailReason::bad_file: return "bad_file";
+    case FailReason::unsupported: return "unsupported";
+    case FailReason::too_large: return "too_large";
+    case FailReason::crashed: return "crashed";
+    case FailReason::timed_out: return "timed_out";
+    case FailReason::out_of_memory: return "out_of_memory";
+    case FailReason::render_failed: return "render_failed";
+    case FailReason::write_failed: return "write_failed";
+    case FailReason::bad_entry: return "bad_entry";
+    case FailReason::duplicate_id: return "duplicate_id";
+    case FailReason::not_supported_yet: return "not_supported_yet";
+    case FailReason::failed: return "failed";
+    }
+    return "failed";
+}
+
+const char* reason_label(FailReason r) {
+    switch (r) {
+    case FailReason::none: return "none";
+    case FailReason::missing: return "missing file";
+    case FailReason::unreadable: return "unreadable file";
+    case FailReason::bad_file: return "not a valid model";
+    case FailReason::unsupported: return "unsupported model";
+    case FailReason::too_large: return "over a limit";
+    case FailReason::crashed: return "crashed";
+    case FailReason::timed_out: return "timed out";
+    case FailReason::out_of_memory: return "out of memory";
+    case FailReason::render_failed: return "render failed";
+    case FailReason::write_failed: return "write failed";
+    case FailReason::bad_entry: return "bad manifest entry";
+    case FailReason::duplicate_id: return "duplicate id";
+    case FailReason::not_supported_yet: return "not supported yet";
+    case FailReason::failed: return "failed";
+    }
+    return "failed";
+}
+
+Result<Shard> parse_shard(const std::string& text) {
+    const std::size_t slash = text.find('/');
+    std::uint64_t k = 0, n = 0;
+    if (slash == std::string::npos || !parse_count(std::string_view(text).substr(0, slash), 0, UINT32_MAX, k) ||
+        !parse_count(std::string_view(text).substr(slash + 1), 1, UINT32_MAX, n))
+        return usage("--shard must be K/N with whole numbers 0 <= K < N, got '" + text + "'");
+    if (k >= n) return usage("--shard K/N needs K below N (shards are numbered from 0), got '" + text + "'");
+    return Shard{static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(n)};
+}
+
+std::uint64_t fnv1a_64(std::string_view bytes) {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (const char c : bytes) {
+        h ^= static_cast<unsigned char>(c);
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+std::uint64_t shard_hash(std::string_view id) {
+    std::uint64_t h = fnv1a_64(id);
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ull;
+    h ^= h >> 33;
+    return h;
+}
+
+std::uint32_t shard_of(std::string_view id, std::uint32_t count) { return static_cast<std::uint32_t>(shard_hash(id) % count); }
+
+Result<std::string> output_stem_for_id(std::string_view id) {
+    if (id.empty()) return usage("the id is empty");
+    if (!json::valid_utf8(id)) return usage("the id is not valid UTF-8");
+    std::string stem;
+    for (std::size_t i = 0; i < id.size(); ++i) {
+        const auto b = static_cast<unsigned char>(id[i]);
+        const bool keep = (b >= 'A' && b <= 'Z') || (b >= 'a' && b <= 'z') || (b >= '0' && b <= '9') || b == '-' ||
+                          b == '_' || b == '~' || (b == '.' && i > 0);
+        if (keep) {
+            stem += static_cast<char>(b);
+        } else {
+            char buf[4];
+            std::snprintf(buf, sizeof buf, "%%%02X", b);
+            stem += buf;
+        }
+    }
+    if (stem.size() > k_max_stem)
+        return usage("the id is too long for a file name (" + std::to_string(stem.size()) + " bytes once encoded, at most " +
+                     std::to_string(k_max_stem) + ")");
+    return stem;
+}
+
+Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, const Shard& shard) {
+    Result<std::string> text = read_all(manifest);
+    if (!text) return text.error();
+    const std::string name = manifest == "-" ? "stdin" : manifest;
+    const fs::path base = manifest == "-" ? fs::path() : fs::path(manifest).parent_path();
+    std::vector<ObjectEntry> entries;
+    std::unordered_map<std::string, std::size_t> first_line;  // of each id in the shard
+    enum class Form { unknown, paths, json_lines } form = Form::unknown;
+    std::size_t line_number = 0;
+    for (std::size_t pos = 0; pos < text->size();) {
+        std::size_t end = text->find('\n', pos);
+        if (end == std::string::npos) end = text->size();
+        const std::string_view line = trim(std::string_view(*text).substr(pos, end - pos));
+        pos = end + 1;
+        ++line_number;
+        if (line.empty() || line.front() == '#') continue;
+        if (form == Form::unknown) form = line.front() == '{' ? Form::json_lines : Form::paths;
+
+        ObjectEntry e;
+        e.line = line_number;
+        e.origin = name + ":" + std::to_string(line_number);
+        std::string problem;
+        if (form == Form::paths) {
+            e.id = e.path = std::string(line);
+        } else if (Result<json::Value> v = json::parse(line); !v) {
+            problem = "not valid JSON: " + v.error().message;
+        } else {
+            problem = read_json_entry(*v, e);
+        }
+        // The shard of a line without an id is its text's, so that exactly one shard reports it.
+        if (shard_of(e.id.empty() ? line : std::string_view(e.id), shard.count) != shard.index) continue;
+        if (!e.path.empty() && fs::path(e.path).is_relative() && !base.empty()) e.path = (base / e.path).string();
+        if (problem.empty()) {
+            if (Result<std::string> stem = output_stem_for_id(e.id)) e.stem = *stem;
+            else problem = stem.error().message;
+        }
+        if (!e.id.empty()) {
+            const auto [it, inserted] = first_line.emplace(e.id, line_number);
+            if (!inserted) {
+                e.reason = FailReason::duplicate_id;
+                e.error = e.origin + ": duplicate id " + json::quote(e.id) +
+                          " (first on line " + std::to_string(it->second) + ")";
+            }
+        }
+        if (!problem.empty() && e.reason == FailReason::none) {
+            e.reason = FailReason::bad_entry;
+            e.error = e.origin + ": " + problem;
+        }
+        entries.push_back(std::move(e));
+    }
+    return entries;
+}
+
+Status check_view_rig(const std::string& spec) {
+    const std::string form = "views must be orbit:N[:ELEVATION], sphere:N, random:N:SEED or file:CAMERAS.json, got '" + spec + "'";
+    std::vector<std::string> parts;
+    std::stringstream in(spec);
+    for (std::string part; std::getline(in, part, ':');) parts.push_back(part);
+    if (parts.empty()) return usage(form);
+    std::uint64_t n = 0, seed = 0;
+    const auto count_ok = [&] { return parts.size() >= 2 && parse_count(parts[1], 1, 10000, n); };
+    if (parts[0] == "file") {
+        if (spec.size() <= 5) return usage(form);
+        return Ok{};
+    }
+    if (!count_ok()) return usage(form + " (N: 1 to 10000 views)");
+    if (parts[0] == "sphere" && parts.size() == 2) return Ok{};
+    if (parts[0] == "random" && parts.size() == 3 && parse_count(parts[2], 0, UINT64_MAX / 10, seed)) return Ok{};
+    if (parts[0] == "orbit" && parts.size() == 2) return Ok{};
+    if (parts[0] == "orbit" && parts.size() == 3) {
+        char* end = nullptr;
+        const double elevation = std::strtod(parts[2].c_str(), &end);
+        if (!parts[2].empty() && *end == '\0' && elevation >= -90 && elevation <= 90) return Ok{};
+        return usage(form + " (ELEVATION: -90 to 90 degrees)");
+    }
+    return usage(form);
+}
+
+Status check_passes(const std::vector<std::string>& passes) {
+    static const char* const k_passes[] = {"color", "alpha", "depth", "range", "normal", "instance", "material", "primitive", "uv"};
+    if (passes.empty()) return usage("passes must name at least one pass");
+    for (std::size_t i = 0; i < passes.size(); ++i) {
+        if (std::find(std::begin(k_passes), std::end(k_passes), passes[i]) == std::end(k_passes))
+            return usage("unknown pass '" + passes[i] + "' (passes: color, alpha, depth, range, normal, instance, material, primitive, uv)");
+        if (std::find(passes.begin(), passes.begin() + static_cast<long>(i), passes[i]) != passes.begin() + static_cast<long>(i))
+            return usage("the pass '" + passes[i] + "' is named twice");
+    }
+    return Ok{};
+}
+
+}  // namespace facet::cli
