@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <functional>
 #include <iomanip>
 #include <iterator>
 #include <sstream>
@@ -74,7 +75,10 @@ int sweep_size(int n, int minimum) {
 
 fs::path test_temp_dir(const std::string& prefix) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = prefix + "_" + std::to_string(geteuid());
+    // The build folder's hash: several checkouts' test runs on one machine (one user, one /tmp)
+    // must not clear each other's folders.
+    std::string name = prefix + "_" + std::to_string(geteuid()) + "_" +
+                       std::to_string(std::hash<std::string>{}(FACET_BINARY_DIR) % 1000000);
     if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
     for (char& c : name)
         if (c == '/') c = '_';  // parameterized test names
