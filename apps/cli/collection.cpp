@@ -213,29 +213,32 @@ Result<std::string> output_stem_for_id(std::string_view id) {
     return stem;
 }
 
-Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, const Shard& shard) {
-    Result<std::string> text = read_all(manifest);
-    if (!text) return text.error();
-    const std::string name = manifest == "-" ? "stdin" : manifest;
-    const fs::path base = manifest == "-" ? fs::path() : fs::path(manifest).parent_path();
-    std::vector<ObjectEntry> entries;
-    std::unordered_map<std::string, std::size_t> first_line;  // of each id in the shard
-    enum class Form { unknown, paths, json_lines } form = Form::unknown;
-    std::size_t line_number = 0;
-    for (std::size_t pos = 0; pos < text->size();) {
-        std::size_t end = text->find('\n', pos);
-        if (end == std::string::npos) end = text->size();
-        const std::string_view line = trim(std::string_view(*text).substr(pos, end - pos));
-        pos = end + 1;
-        ++line_number;
-        if (line.empty() || line.front() == '#') continue;
-        if (form == Form::unknown) form = line.front() == '{' ? Form::json_lines : Form::paths;
+namespace {
 
+// Turns manifest lines into entries, one at a time, in file order.
+class ManifestReader {
+public:
+    ManifestReader(const std::string& manifest, const Shard& shard)
+        : name_(manifest == "-" ? "stdin" : manifest),
+          base_(manifest == "-" ? fs::path() : fs::path(manifest).parent_path()),
+          shard_(shard) {}
+
+    // Whether `line` (trimmed) is an entry rather than a blank line or a comment; the first entry
+    // sets the manifest's form.
+    bool is_entry(std::string_view line) {
+        if (line.empty() || line.front() == '#') return false;
+        if (form_ == Form::unknown) form_ = line.front() == '{' ? Form::json_lines : Form::paths;
+        return true;
+    }
+
+    void add(std::string_view raw, std::size_t line_number) {
+        const std::string_view line = trim(raw);
+        if (!is_entry(line)) return;
         ObjectEntry e;
         e.line = line_number;
-        e.origin = name + ":" + std::to_string(line_number);
+        e.origin = name_ + ":" + std::to_string(line_number);
         std::string problem;
-        if (form == Form::paths) {
+        if (form_ == Form::paths) {
             e.id = e.path = std::string(line);
         } else if (Result<json::Value> v = json::parse(line); !v) {
             problem = "not valid JSON: " + v.error().message;
@@ -243,27 +246,94 @@ Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, cons
             problem = read_json_entry(*v, e);
         }
         // The shard of a line without an id is its text's, so that exactly one shard reports it.
-        if (shard_of(e.id.empty() ? line : std::string_view(e.id), shard.count) != shard.index) continue;
-        if (!e.path.empty() && fs::path(e.path).is_relative() && !base.empty()) e.path = (base / e.path).string();
+        if (shard_of(e.id.empty() ? line : std::string_view(e.id), shard_.count) != shard_.index) return;
+        if (!e.path.empty() && fs::path(e.path).is_relative() && !base_.empty()) e.path = (base_ / e.path).string();
         if (problem.empty()) {
             if (Result<std::string> stem = output_stem_for_id(e.id)) e.stem = *stem;
             else problem = stem.error().message;
         }
         if (!e.id.empty()) {
-            const auto [it, inserted] = first_line.emplace(e.id, line_number);
+            const auto [it, inserted] = first_line_.emplace(e.id, line_number);
             if (!inserted) {
                 e.reason = FailReason::duplicate_id;
-                e.error = e.origin + ": duplicate id " + json::quote(e.id) +
-                          " (first on line " + std::to_string(it->second) + ")";
+                e.error = e.origin + ": duplicate id " + json::quote(e.id) + " (first on line " + std::to_string(it->second) + ")";
             }
         }
         if (!problem.empty() && e.reason == FailReason::none) {
             e.reason = FailReason::bad_entry;
             e.error = e.origin + ": " + problem;
         }
-        entries.push_back(std::move(e));
+        entries_.push_back(std::move(e));
     }
-    return entries;
+
+    const std::string& name() const { return name_; }
+    std::vector<ObjectEntry> take() { return std::move(entries_); }
+
+private:
+    std::string name_;
+    fs::path base_;
+    Shard shard_;
+    enum class Form { unknown, paths, json_lines } form_ = Form::unknown;
+    std::unordered_map<std::string, std::size_t> first_line_;  // of each id in the shard
+    std::vector<ObjectEntry> entries_;
+};
+
+// The lines at `only`'s offsets, after the form is read off the file's first entry.
+Result<std::vector<ObjectEntry>> read_lines(const std::string& manifest, ManifestReader& reader,
+                                            std::vector<ManifestLine> only) {
+    if (manifest == "-") return usage("--manifest-lines needs a manifest file, not standard input");
+    std::ifstream in(manifest, std::ios::binary);
+    if (!in) return Error{ErrorCode::io, manifest + ": cannot open the manifest: " + std::strerror(errno)};
+    std::string line;
+    while (std::getline(in, line) && !reader.is_entry(trim(line))) {}
+    std::sort(only.begin(), only.end(), [](const ManifestLine& a, const ManifestLine& b) { return a.offset < b.offset; });
+    for (const ManifestLine& l : only) {
+        in.clear();
+        char before = '\n';
+        if (l.offset > 0 && !(in.seekg(static_cast<std::streamoff>(l.offset - 1)) && in.get(before)))
+            return usage(manifest + ": --manifest-lines offset " + std::to_string(l.offset) + " is past the end");
+        if (before != '\n')
+            return usage(manifest + ": --manifest-lines offset " + std::to_string(l.offset) + " is not the start of a line");
+        in.seekg(static_cast<std::streamoff>(l.offset));
+        std::getline(in, line);
+        reader.add(line, l.number);
+    }
+    if (in.bad()) return Error{ErrorCode::io, manifest + ": cannot read the manifest"};
+    return reader.take();
+}
+
+}  // namespace
+
+Result<std::vector<ManifestLine>> parse_manifest_lines(const std::string& spec) {
+    std::vector<ManifestLine> lines;
+    std::stringstream in(spec);
+    for (std::string item; std::getline(in, item, ',');) {
+        const std::size_t colon = item.find(':');
+        std::uint64_t offset = 0, number = 0;
+        if (colon == std::string::npos || !parse_count(std::string_view(item).substr(0, colon), 0, UINT64_MAX / 10, offset) ||
+            !parse_count(std::string_view(item).substr(colon + 1), 1, UINT64_MAX / 10, number))
+            return usage("--manifest-lines takes OFFSET:LINE pairs, comma-separated (byte offsets of line starts and "
+                         "their line numbers), got '" + item + "'");
+        lines.push_back({offset, static_cast<std::size_t>(number)});
+    }
+    if (lines.empty() || spec.back() == ',') return usage("--manifest-lines takes OFFSET:LINE pairs, comma-separated, got '" + spec + "'");
+    return lines;
+}
+
+Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, const Shard& shard,
+                                               const std::vector<ManifestLine>* only) {
+    ManifestReader reader(manifest, shard);
+    if (only) return read_lines(manifest, reader, *only);
+    Result<std::string> text = read_all(manifest);
+    if (!text) return text.error();
+    std::size_t line_number = 0;
+    for (std::size_t pos = 0; pos < text->size();) {
+        std::size_t end = text->find('\n', pos);
+        if (end == std::string::npos) end = text->size();
+        reader.add(std::string_view(*text).substr(pos, end - pos), ++line_number);
+        pos = end + 1;
+    }
+    return reader.take();
 }
 
 Status check_view_rig(const std::string& spec) {

@@ -89,8 +89,17 @@ Result<std::string> output_stem_for_id(std::string_view id);
 // Relative paths are resolved against the manifest's folder (standard input: the current one). An
 // id seen on an earlier line is a bad entry (duplicate_id; every entry with that id falls into the
 // same shard, so each shard sees its duplicates); a line whose id cannot be read falls into the
-// shard of its text. Fails only when the manifest itself cannot be read.
-Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, const Shard& shard);
+// shard of its text. Fails only when the manifest itself cannot be read. With `only`, reads just
+// those lines (each at its byte offset, in file order, numbered as given), so that a task of a few
+// objects of a large manifest does not read all of it (facet.distributed's tasks).
+struct ManifestLine {
+    std::uint64_t offset = 0;  // of the line's first byte
+    std::size_t number = 0;    // its line number, for messages and the log
+};
+Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, const Shard& shard,
+                                               const std::vector<ManifestLine>* only = nullptr);
+// --manifest-lines: "OFFSET:LINE,OFFSET:LINE,...".
+Result<std::vector<ManifestLine>> parse_manifest_lines(const std::string& spec);
 
 // The camera rigs of multi-view rendering (`views`): orbit:N[:ELEVATION], sphere:N, random:N:SEED,
 // file:CAMERAS.json, with 1 <= N <= 10000, ELEVATION in [-90, 90] degrees, SEED a whole number.

@@ -56,6 +56,10 @@ int main(int argc, char** argv) {
     thumbs->add_option("--log", collection.log,
                        "Append one JSON line per finished object to this file (id, status, error, times, outputs, "
                        "options hash)");
+    thumbs->add_option("--manifest-lines", collection.manifest_lines,
+                       "Only these lines of the --manifest file, as OFFSET:LINE pairs (byte offset of the line's start, "
+                       "line number), comma-separated: a task of a few objects that need not read the whole manifest "
+                       "(facet.distributed's tasks; temporaries of killed runs are then left to the caller)");
     thumbs->add_flag("--resume", collection.resume,
                      "Skip the objects the --log has done with the same options whose outputs exist; redo the rest");
     add_render_options(*thumbs, thumbs_options);

