@@ -120,6 +120,11 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--max-texture-size", o.max_texture_size,
                  "Largest texture side in pixels (and at most N*N, 64 Mpixels by default); larger ones are not used")
         ->capture_default_str();
+    c.add_option("--resource-dir", o.resource_dirs,
+                 "A folder whose files models may read besides their own folder (textures, MTL files, glTF buffers); "
+                 "repeatable. References elsewhere are refused with a warning")
+        ->expected(1)
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
     c.add_flag("--print-config", o.print_config,
                "Print the settings this run would use, every default resolved, as 'key = value' lines, and exit "
                "without rendering");
@@ -220,6 +225,11 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     if (o.max_texture_size < 1) return usage("--max-texture-size must be 1 or more");
     p.load.max_triangles = static_cast<std::size_t>(o.max_triangles);
     p.load.texture_limits.max_size = o.max_texture_size;
+    for (const std::string& dir : o.resource_dirs) {
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec)) return usage("--resource-dir '" + dir + "' is not a directory");
+    }
+    p.load.resource_dirs = o.resource_dirs;
     const auto side = static_cast<std::size_t>(o.max_texture_size);
     p.load.texture_limits.max_pixels = std::min(p.load.texture_limits.max_pixels, side * side);
     p.use_default_scene_camera = !camera_options_given;

@@ -46,6 +46,8 @@ struct RenderOptions {
     // Resource limits for loading (LoadOptions, TextureLimits): checked before anything is allocated.
     long long max_triangles = static_cast<long long>(defaults::k_max_triangles);  // signed: -1 is an error, not 2^64 - 1
     int max_texture_size = defaults::k_max_texture_size;
+    // Folders besides the model's own whose files the model may read (LoadOptions::resource_dirs).
+    std::vector<std::string> resource_dirs;
     // The worker process each file is loaded and rendered in (render, thumbs; worker.hpp).
     double timeout = defaults::k_timeout_seconds;  // seconds a file may take (load, render, write); 0: no limit
     std::string max_memory;  // the worker's memory cap (parse_memory_size); empty: the default

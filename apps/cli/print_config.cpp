@@ -129,6 +129,9 @@ void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera,
     out.add("max-file-bytes", count(load.max_file_bytes));
     out.add("max-scene-bytes", count(load.max_scene_bytes));
     out.add("load-threads", std::to_string(resolve_threads(load.threads)));
+    std::string dirs;
+    for (const std::string& d : load.resource_dirs) dirs += (dirs.empty() ? "" : ", ") + d;
+    out.add("resource-dirs", dirs.empty() ? "(only the model's folder)" : dirs);
 
     out.add("threads", std::to_string(renderer.threads()));
     out.add("isa", active_isa());
@@ -136,6 +139,7 @@ void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera,
     out.add("batch-triangles", count(renderer.batch_triangles()));
 
     out.add("isolation", isolated ? "worker-process" : "none");
+    out.add("sandbox", describe_sandbox(isolated));
     out.add("timeout", isolated ? short_number(limits.timeout_seconds) : "0");
     out.add("max-memory", isolated ? memory_size(limits.max_memory_bytes) : "0");
 }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "facet/io.hpp"
+#include "facet/sandbox.hpp"
 #include "options.hpp"
 #include "worker.hpp"
 
@@ -86,6 +87,7 @@ void print_config(const RenderRequest& r, const Scene& scene, const Renderer& re
 // Load, render, write, printing its own messages; returns the exit status.
 int render_job(const RenderRequest& r, const WorkerReport& report) {
     const RenderPlan& plan = r.plan;
+    sandbox_test_probe();
     report.phase(WorkerPhase::loading);
     const Clock::time_point load_start = Clock::now();
     Result<Scene> scene = load_scene(r.model, plan, "facet render");
@@ -208,6 +210,7 @@ int run_render(const std::string& model, const std::string& output, const std::s
         [&](const WorkerReport& report) {
             if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
             test_hook_sleep(model);
+            confine_worker(model, {output, depth_out}, plan->load.resource_dirs);
             return render_job(request, report);
         },
         *limits);

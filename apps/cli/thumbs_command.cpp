@@ -24,6 +24,7 @@
 
 #include "collection.hpp"
 #include "facet/io.hpp"
+#include "facet/sandbox.hpp"
 #include "options.hpp"
 #include "results_log.hpp"
 #include "worker.hpp"
@@ -242,6 +243,8 @@ FailReason reason_for_load_error(const Error& e, const std::string& path) {
 int thumbnail_job(const Job& job, const RenderPlan& global_plan, const fs::path& output, const WorkerReport& report) {
     test_hook_sleep(job.entry.path);
     const RenderPlan plan = object_plan(global_plan, job);
+    confine_worker(job.entry.path, {output.string()}, plan.load.resource_dirs);
+    sandbox_test_probe();
     JobFigures f;
     std::string error;
     try {

@@ -23,6 +23,7 @@
 
 #include "facet/defaults.hpp"
 #include "facet/model.hpp"
+#include "facet/sandbox.hpp"
 
 namespace facet::cli {
 namespace {
@@ -39,18 +40,6 @@ constexpr char k_error_mark = '\x1f';
 // buffer (64 KiB on Linux, at least 4 KiB by POSIX) or the worker would block: a few phases and
 // a message cut to this length do.
 constexpr std::size_t k_max_message = 3500;
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool k_sanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-constexpr bool k_sanitized = true;
-#else
-constexpr bool k_sanitized = false;
-#endif
-#else
-constexpr bool k_sanitized = false;
-#endif
 
 void write_all(int fd, const char* data, std::size_t size) {
     for (std::size_t done = 0; done < size;) {
@@ -173,7 +162,7 @@ int poll_timeout_ms(const std::vector<Worker>& running) {
 
 }  // namespace
 
-bool memory_cap_supported() { return !k_sanitized; }
+bool memory_cap_supported() { return !sanitizer_build(); }
 
 std::uint64_t default_max_memory_bytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
@@ -299,6 +288,31 @@ void test_hook_sleep(const std::string& input) {
     const char* pattern = std::getenv("FACET_TEST_SLEEP_ON");
     if (pattern && *pattern && input.find(pattern) != std::string::npos)
         for (;;) pause();  // until the parent kills this worker
+}
+
+void confine_worker(const std::string& model, const std::vector<std::string>& outputs,
+                    const std::vector<std::string>& resource_dirs) {
+    namespace fs = std::filesystem;
+    SandboxRules rules = sandbox_rules_for_model(model, resource_dirs);
+    for (const std::string& out : outputs) {
+        if (out.empty()) continue;
+        const fs::path folder = fs::path(out).parent_path();
+        rules.write_dirs.push_back(folder.empty() ? "." : folder.string());
+        std::error_code ec;
+        if (fs::exists(out, ec) && !fs::is_regular_file(out, ec)) rules.write_files.push_back(out);  // /dev/null
+    }
+    if (const char* without = std::getenv("FACET_TEST_SANDBOX_WITHOUT")) {
+        const std::string_view w = without;
+        rules.landlock = w.find("landlock") == std::string_view::npos;
+        rules.seccomp = w.find("seccomp") == std::string_view::npos;
+    }
+    enter_sandbox(rules);  // what it could not apply, it leaves out: documented, not an error
+}
+
+std::string describe_sandbox(bool isolated) {
+    if (!isolated) return "none";
+    const int abi = landlock_abi();
+    return abi > 0 ? "seccomp, landlock (ABI " + std::to_string(abi) + ")" : "seccomp (this kernel has no Landlock)";
 }
 
 void remove_temporaries(const std::filesystem::path& output) {

@@ -113,6 +113,19 @@ inline bool exited(const WorkerOutcome& o) { return o.end == WorkerOutcome::End:
 // nothing.
 void test_hook_sleep(const std::string& input);
 
+// Confines this worker before it reads its model (facet/sandbox.hpp): files are read only in the
+// model's folder and the resource folders (and what any job reads: the processor list,
+// /dev/urandom), written only in the folders of `outputs` (and to outputs that are devices, such as
+// /dev/null); no sockets, no exec, no new processes. What the kernel lacks is left out, never
+// failing the job. No model (the built-in scene): nothing is read. TEST HOOK: FACET_TEST_SANDBOX_WITHOUT
+// set to "landlock" or "seccomp" leaves that part out, as a kernel without it would.
+void confine_worker(const std::string& model, const std::vector<std::string>& outputs,
+                    const std::vector<std::string>& resource_dirs);
+
+// What confine_worker applies on this machine, for --print-config: "seccomp, landlock (ABI 7)",
+// "seccomp (this kernel has no Landlock)"; "none" when the job runs in facet's own process.
+std::string describe_sandbox(bool isolated);
+
 // Removes the temporaries write_file_atomic makes for `output` ("<name>.tmp<digits>"): a worker
 // killed while writing leaves one behind.
 void remove_temporaries(const std::filesystem::path& output);

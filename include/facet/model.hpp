@@ -36,6 +36,12 @@ struct LoadOptions {
     // Threads for the work after reading (normals) of large meshes, 0: one per core. The default
     // keeps loading on the calling thread, for callers that load several files at once.
     int threads = defaults::k_load_threads;
+    // Where a model may read the files it names (textures, MTL files, glTF buffers and images, the
+    // scenes and meshes some formats pull in): its own folder and subfolders, and these folders.
+    // A reference that leads elsewhere once symbolic links and ".." are resolved (an absolute path,
+    // a "file://" URI, "../..", a link pointing out) is not read: a warning names the model and the
+    // reference, and the material falls back as for a missing texture. Embedded data is unaffected.
+    std::vector<std::string> resource_dirs;
 };
 
 struct LoadedModel {
@@ -58,8 +64,10 @@ struct IsolationLimits {
 // load_model in a child process (Linux: fork, an anonymous memory file for the result): a file
 // that crashes, hangs or exhausts memory inside the reader gives an Error naming the file and what
 // happened ("the importer crashed (SIGSEGV: Segmentation fault)", "gave up after 60 s", "needs more
-// memory than is available") and the calling program goes on. Costs a fork and a copy of the scene
-// (about a millisecond per megabyte). Call it while the program has one thread, or at least while no
+// memory than is available") and the calling program goes on. The child is sandboxed as facet's
+// worker processes are (facet/sandbox.hpp: it reads only the model's folder and the resource
+// folders, and opens no socket, runs no program, starts no process). Costs a fork and a copy of the
+// scene (about a millisecond per megabyte). Call it while the program has one thread, or at least while no
 // other thread holds a lock the reader needs (a forked child gets only the calling thread).
 Result<LoadedModel> load_model_isolated(const std::string& path, const LoadOptions& options = {},
                                         const IsolationLimits& limits = {});

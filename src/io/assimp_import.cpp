@@ -6,6 +6,7 @@
 // below). Not the checks made before assimp sees a file (model_loader.cpp), nor facet's own readers.
 #include "io/assimp_import.hpp"
 
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/Logger.hpp>
@@ -14,6 +15,7 @@
 #include <assimp/scene.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <stdexcept>
@@ -23,6 +25,7 @@
 
 #include "io/assimp_scene.hpp"
 #include "io/load_common.hpp"
+#include "io/resources.hpp"
 
 // assimp's internal consistency checks (ai_assert) are compiled into Debian's libassimp and call
 // std::abort() when they fail; malformed input reaches some of them (a truncated ASCII PLY trips
@@ -39,16 +42,6 @@ void aiAssertViolation(const char* expression, const char* file, int line) {
 
 namespace facet::io_detail {
 namespace {
-
-// assimp's messages sometimes quote the text they failed on, up to the whole file; keep the start
-// and replace control characters so that one bad file cannot flood or garble a terminal or a log.
-std::string readable_reason(const std::string& why) {
-    constexpr std::size_t k_max = 200;
-    std::string out;
-    for (char c : why.substr(0, k_max)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? ' ' : c;
-    if (why.size() > k_max) out += "...";
-    return out;
-}
 
 // Not used: GenNormals/GenSmoothNormals (facet computes creased normals itself), FindInvalidData
 // (it deletes a whole mesh for one non-finite position; facet drops just those triangles) and
@@ -132,6 +125,39 @@ private:
     LoggedErrors errors_;
 };
 
+// assimp opens every file through its IOSystem: the model, and whatever the model names (OBJ's MTL
+// files, glTF's buffers, the scenes and meshes LWS, IRR or X3D pull in, ...). This one opens for
+// reading only what the model's resource folders allow; a refused file reads as missing to the
+// importer, which then works around it or fails, and is named in a warning or the error.
+class ConfinedIOSystem final : public Assimp::DefaultIOSystem {
+public:
+    explicit ConfinedIOSystem(const ResourceRoots& roots) : roots_(roots) {}
+
+    bool Exists(const char* file) const override { return allowed(file) && DefaultIOSystem::Exists(file); }
+
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        const std::string_view m = mode ? mode : "rb";
+        if (m.find_first_of("wa+") != std::string_view::npos || !allowed(file)) return nullptr;
+        return DefaultIOSystem::Open(file, mode);
+    }
+
+    // The files refused that exist (resources.hpp), in order, each once.
+    const std::vector<std::string>& refused() const { return refused_; }
+
+private:
+    bool allowed(const char* file) const {
+        if (file && roots_.allows(file)) return true;
+        const std::string name = file ? file : "";
+        std::error_code ec;
+        if (std::filesystem::exists(name, ec) && std::find(refused_.begin(), refused_.end(), name) == refused_.end())
+            refused_.push_back(name);
+        return false;
+    }
+
+    const ResourceRoots& roots_;
+    mutable std::vector<std::string> refused_;  // Exists is const
+};
+
 }  // namespace
 
 bool assimp_reads_extension(const std::string& ext) {
@@ -148,20 +174,30 @@ Result<LoadedModel> load_with_assimp(const std::string& path, const std::string&
         importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS, aiComponent_NORMALS);
         flags |= aiProcess_RemoveComponent;
     }
+    const ResourceRoots roots(path, options.resource_dirs);
+    auto* io = new ConfinedIOSystem(roots);
+    importer.SetIOHandler(io);  // the importer owns it
     AssimpErrors logged;
     const aiScene* scene = importer.ReadFile(path, flags);
+    std::vector<std::string> refusals;
+    for (const std::string& file : io->refused()) refusals.push_back(roots.refusal(file));
     if (!scene) {
         const std::string why = importer.GetErrorString();
         // assimp catches the std::bad_alloc of a reader that asked for more than there is
         // (a damaged count in a header, or a process memory cap) and keeps only its name.
         if (why == "std::bad_alloc") return out_of_memory(path);
-        if (means_no_triangles(why)) return fail(ErrorCode::bad_format, path, "contains no triangles (" + why + ")");
-        return fail(ErrorCode::bad_format, path, "cannot be read as a model (" + readable_reason(why) + ")");
+        std::string refused;  // what the model wanted to read and may not: maybe why it failed
+        for (const std::string& r : refusals) refused += "; " + r;
+        if (means_no_triangles(why)) return fail(ErrorCode::bad_format, path, "contains no triangles (" + why + ")" + refused);
+        return fail(ErrorCode::bad_format, path, "cannot be read as a model (" + readable(why) + ")" + refused);
     }
     if (logged.bad_index()) return fail(ErrorCode::bad_format, path, "has out-of-range indices (" + *logged.bad_index() + ")");
-    Result<LoadedModel> model = convert_scene(path, *scene, options);
-    if (model)
+    Result<LoadedModel> model = convert_scene(path, *scene, options, roots);
+    if (model) {
         if (std::optional<std::string> w = logged.warning(path)) model->warnings.insert(model->warnings.begin(), *w);
+        for (std::size_t i = 0; i < refusals.size(); ++i)
+            model->warnings.insert(model->warnings.begin() + static_cast<std::ptrdiff_t>(i), path + ": " + refusals[i]);
+    }
     return model;
 }
 

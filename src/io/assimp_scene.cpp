@@ -3,7 +3,7 @@
 // space, the accumulated node transform as `model`); triangles with non-finite or out-of-range
 // vertices are dropped with a warning; missing normals are computed with the crease angle; materials
 // give base colour, opacity, alpha mode, sidedness and the base-colour texture (embedded, or a file
-// next to the model, found leniently). Not the reading itself, nor facet's own readers.
+// the model's resource folders allow, found leniently: resources.hpp). Not the reading itself, nor facet's own readers.
 #include "io/assimp_scene.hpp"
 
 #include <assimp/GltfMaterial.h>
@@ -25,6 +25,7 @@
 
 #include "facet/mesh.hpp"
 #include "io/load_common.hpp"
+#include "io/resources.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -149,35 +150,6 @@ ConvertedMesh convert_mesh(const aiMesh& in, bool use_file_normals, float crease
 
 // ---- materials and textures
 
-// A file named `name` in `dir`, in any letter case (textures authored on Windows or macOS).
-std::optional<fs::path> find_any_case(const fs::path& dir, const std::string& name) {
-    std::error_code ec;
-    const std::string wanted = lower(name);
-    for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, ec), end; !ec && it != end; it.increment(ec))
-        if (lower(it->path().filename().string()) == wanted && it->is_regular_file(ec)) return it->path();
-    return std::nullopt;
-}
-
-// Finds a texture file named in a model: as written (relative to the model's directory); an
-// absolute path also as if it were relative ("\..\tex\a.png" from Windows tools); then its file
-// name alone in the model's directory (absolute paths from the author's machine, "C:\...").
-// Each candidate exactly first, then in any letter case.
-std::optional<fs::path> find_texture_file(const fs::path& model_dir, std::string name) {
-    std::replace(name.begin(), name.end(), '\\', '/');
-    const fs::path as_written(name);
-    const std::string file_name = name.substr(name.find_last_of('/') + 1);
-    if (file_name.empty()) return std::nullopt;
-    std::vector<fs::path> candidates = {as_written.is_absolute() ? as_written : model_dir / as_written};
-    if (as_written.is_absolute()) candidates.push_back(model_dir / as_written.relative_path());
-    candidates.push_back(model_dir / file_name);
-    std::error_code ec;
-    for (const fs::path& c : candidates)
-        if (fs::is_regular_file(c, ec)) return c;
-    for (const fs::path& c : candidates)
-        if (auto found = find_any_case(c.parent_path(), file_name)) return found;
-    return std::nullopt;
-}
-
 Wrap to_wrap(int mode) {
     switch (mode) {
         case aiTextureMapMode_Clamp:
@@ -190,8 +162,8 @@ Wrap to_wrap(int mode) {
 // Everything about one file's conversion that outlives a single mesh.
 class Converter {
 public:
-    Converter(const std::string& path, const aiScene& scene, const LoadOptions& options)
-        : path_(path), dir_(fs::path(path).parent_path()), scene_(scene), options_(options) {
+    Converter(const std::string& path, const aiScene& scene, const LoadOptions& options, const ResourceRoots& roots)
+        : path_(path), dir_(fs::path(path).parent_path()), scene_(scene), options_(options), roots_(roots) {
         const std::string ext = model_extension(path);
         gltf_ = ext == "gltf" || ext == "glb";
         // STL's normals are per facet (often zero or stale): they are removed on import (see
@@ -293,10 +265,8 @@ private:
         if (const aiTexture* embedded = scene_.GetEmbeddedTexture(name.c_str())) return decode_embedded(*embedded, name);
         if (!name.empty() && name[0] == '*')
             return Error{ErrorCode::bad_format, "embedded texture " + name + " does not exist in the file"};
-        const std::optional<fs::path> file = find_texture_file(dir_, name);
-        if (!file)
-            return Error{ErrorCode::io, "file not found (looked for '" + name + "' in '" +
-                                            (dir_.empty() ? std::string(".") : dir_.string()) + "')"};
+        const Result<fs::path> file = find_texture_file(roots_, dir_, name);
+        if (!file) return file.error();
         return Texture::load(file->string(), options_.texture_limits);
     }
 
@@ -335,6 +305,7 @@ private:
     fs::path dir_;
     const aiScene& scene_;
     const LoadOptions& options_;
+    const ResourceRoots& roots_;
     bool gltf_ = false, use_file_normals_ = true;
     std::map<unsigned, ConvertedMesh> meshes_;
     std::map<unsigned, ConvertedMaterial> materials_;
@@ -344,7 +315,8 @@ private:
 
 }  // namespace
 
-Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options) {
+Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options,
+                                  const ResourceRoots& roots) {
     const Mat4 root = up_axis_root(options.up_axis);
 
     // The limits count every instance, since each becomes a mesh of its own.
@@ -367,7 +339,7 @@ Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene,
     if (instance_triangles == 0)
         return fail(ErrorCode::bad_format, path, "contains no triangles (only points or lines, or nothing placed in the scene)");
 
-    Converter converter(path, scene, options);
+    Converter converter(path, scene, options, roots);
     LoadedModel out;
     std::size_t dropped = 0, kept = 0, degenerate = 0;
     std::unordered_set<unsigned> counted_meshes;

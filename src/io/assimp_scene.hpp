@@ -10,6 +10,10 @@ struct aiScene;
 
 namespace facet::io_detail {
 
-Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options);
+class ResourceRoots;
+
+// Texture files are looked for where `roots` allows.
+Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options,
+                                  const ResourceRoots& roots);
 
 }  // namespace facet::io_detail

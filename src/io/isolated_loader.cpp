@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "facet/model.hpp"
+#include "facet/sandbox.hpp"
 
 namespace facet {
 namespace {
@@ -199,6 +200,11 @@ bool write_all(int fd, const std::vector<char>& bytes) {
         const rlimit cap{limits.max_memory_bytes, limits.max_memory_bytes};
         setrlimit(RLIMIT_DATA, &cap);
     }
+    // The confinement of facet's worker processes (facet/sandbox.hpp): files read only in the model's
+    // folders, none written (the result goes to the memory file already open), no sockets, exec or
+    // new processes.
+    enter_sandbox(sandbox_rules_for_model(path, options.resource_dirs));
+    sandbox_test_probe();
     int status = 1;
     try {
         Writer w;

@@ -28,6 +28,15 @@ inline Error too_many_triangles(const std::string& path, std::uint64_t n, const 
                 "has " + std::to_string(n) + " triangles, more than the limit of " + std::to_string(options.max_triangles));
 }
 
+// Text from a file or a library quoted in a message: the start of it, control characters replaced,
+// so that one bad file cannot flood or garble a terminal or a log.
+inline std::string readable(const std::string& text, std::size_t max = 200) {
+    std::string out;
+    for (char c : text.substr(0, max)) out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? ' ' : c;
+    if (text.size() > max) out += "...";
+    return out;
+}
+
 // A reader asked for more memory than there is (a damaged count in a header, or a process memory cap).
 inline Error out_of_memory(const std::string& path) {
     return fail(ErrorCode::limit_exceeded, path, "needs more memory than is available");

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <iomanip>
 #include <iterator>
 #include <sstream>
@@ -75,13 +75,10 @@ int sweep_size(int n, int minimum) {
 
 fs::path test_temp_dir(const std::string& prefix) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    // The build tree's own: several checkouts tested at once on one machine (by one user) must not
-    // clear each other's directories.
-    std::uint32_t tree = 2166136261u;  // FNV-1a 32 of the build directory
-    for (const char c : std::string(FACET_BINARY_DIR)) tree = (tree ^ static_cast<unsigned char>(c)) * 16777619u;
-    char tree_hex[9];
-    std::snprintf(tree_hex, sizeof tree_hex, "%08x", tree);
-    std::string name = prefix + "_" + std::to_string(geteuid()) + "_" + tree_hex;
+    // The build folder's hash: several checkouts' test runs on one machine (one user, one /tmp)
+    // must not clear each other's folders.
+    std::string name = prefix + "_" + std::to_string(geteuid()) + "_" +
+                       std::to_string(std::hash<std::string>{}(FACET_BINARY_DIR) % 1000000);
     if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
     for (char& c : name)
         if (c == '/') c = '_';  // parameterized test names

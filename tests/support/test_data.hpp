@@ -29,9 +29,8 @@ std::optional<std::filesystem::path> cgal_meshes();
 std::string assimp_models_missing();
 std::string cgal_meshes_missing();
 
-// An empty directory for the running test: <tmp>/<prefix>_<uid>_<tree>_<suite>_<test>, cleared
-// first. Per user, because a directory left by another user's run could not be cleared, and per
-// build tree (<tree>: a hash of its path), because two checkouts' suites may run at once.
+// An empty directory for the running test: <tmp>/<prefix>_<uid>_<suite>_<test>, cleared first.
+// Per user, because a directory left by another user's run could not be cleared.
 std::filesystem::path test_temp_dir(const std::string& prefix);
 
 // The size of a random sweep: `n`, divided by FACET_TEST_SWEEP_DIVISOR (a whole number >= 1) when

@@ -17,6 +17,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using facet_test::k_box_obj;
 using facet_test::CliRun;
 using facet_test::decode_png;
 using facet_test::DecodedPng;
@@ -25,9 +26,6 @@ using facet_test::write_text;
 
 fs::path temp_dir() { return facet_test::test_temp_dir("facet_cli_thumbs"); }
 
-const char* k_box_obj =
-    "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
-    "f 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\n";
 const char* k_triangle_obj = "v -1 -1 0\nv 1 -1 0\nv 0 2 0\nf 1 2 3\n";
 const char* k_tetra_stl =
     "solid t\n"

@@ -24,13 +24,11 @@
 namespace {
 
 namespace fs = std::filesystem;
+using facet_test::k_box_obj;
+using facet_test::ScopedEnv;
 using facet_test::CliRun;
 using facet_test::run_facet;
 using facet_test::write_text;
-
-const char* k_box_obj =
-    "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
-    "f 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\n";
 
 // Every file name under `dir` (recursively), relative to it.
 std::vector<std::string> files_in(const fs::path& dir) {
@@ -41,17 +39,6 @@ std::vector<std::string> files_in(const fs::path& dir) {
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-// Sets an environment variable for the facet processes this test starts (each test runs in a
-// process of its own under CTest), and removes it again.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const char* value) : name_(name) { setenv(name, value, 1); }
-    ~ScopedEnv() { unsetenv(name_); }
-
-private:
-    const char* name_;
-};
 
 // ---- facet thumbs --timeout ----------------------------------------------------------------------
 

@@ -21,6 +21,8 @@
 namespace {
 
 namespace fs = std::filesystem;
+using facet_test::k_box_obj;
+using facet_test::ScopedEnv;
 using facet_test::CliRun;
 using facet_test::run_facet;
 using facet_test::write_text;
@@ -35,10 +37,6 @@ constexpr bool k_sanitized = true;
 #else
 constexpr bool k_sanitized = false;
 #endif
-
-const char* k_box_obj =
-    "v -1 -1 -1\nv 1 -1 -1\nv -1 1 -1\nv 1 1 -1\nv -1 -1 1\nv 1 -1 1\nv -1 1 1\nv 1 1 1\n"
-    "f 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\n";
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
@@ -57,23 +55,6 @@ std::vector<fs::path> crash_inputs(bool hanging) {
     std::sort(files.begin(), files.end());
     return files;
 }
-
-// Sets an environment variable for the facet processes a test starts, and restores it.
-class ScopedEnv {
-public:
-    ScopedEnv(const char* name, const std::string& value) : name_(name) {
-        if (const char* old = std::getenv(name)) old_ = old;
-        setenv(name, value.c_str(), 1);
-    }
-    ~ScopedEnv() {
-        if (old_) setenv(name_, old_->c_str(), 1);
-        else unsetenv(name_);
-    }
-
-private:
-    const char* name_;
-    std::optional<std::string> old_;
-};
 
 // Under a sanitizer the memory cap is off; its allocator refusing allocations over 1 GiB instead
 // (returning null, so operator new throws as under the cap) keeps the out-of-memory inputs from
