@@ -8,6 +8,7 @@
 #include <string>
 
 #include "geometry/project.hpp"
+#include "tile/passes.hpp"
 #include "tile/tile_pass.hpp"
 
 namespace facet {
@@ -34,6 +35,7 @@ Renderer::Renderer(RendererConfig config)
     require(s >= 8 && s <= detail::k_max_tile_size && (s & (s - 1)) == 0,
             [&] { return "RendererConfig::tile_size must be a power of two from 8 to 64, got " + std::to_string(s); });
     tiles_ = std::make_unique<detail::TilePass>(pool_.size());
+    passes_ = std::make_unique<detail::PassState>();
     require(config.batch_triangles >= 0, [&] {
         return "RendererConfig::batch_triangles must not be negative, got " + std::to_string(config.batch_triangles);
     });
@@ -42,7 +44,7 @@ Renderer::Renderer(RendererConfig config)
 Renderer::~Renderer() = default;
 
 Renderer::Plan Renderer::begin_draw(Framebuffer& target, const DrawState& state, const DrawInput& input,
-                                    const detail::TileShading& shading) {
+                                    const detail::TileShading& shading, const DrawPasses* passes) {
     Rect vp = state.viewport;
     if (vp.width == 0 && vp.height == 0) vp = Rect{0, 0, target.width(), target.height()};
     require(vp.width > 0 && vp.height > 0, [] { return std::string("draw: the viewport must have a positive size"); });
@@ -66,11 +68,23 @@ Renderer::Plan Renderer::begin_draw(Framebuffer& target, const DrawState& state,
     plan.batch_size = batch_size_;
     plan.chunk_count = 0;
     plan.clear_tiles = state.clear.has_value();
+    plan.passes = passes != nullptr;
+    if (passes) {
+        detail::PassDraw& d = passes_->draw;
+        d = {passes, detail::pass_layout(*passes), &passes_->vertices, input.indices, state.front_face, target.width()};
+        passes_->vertices.stride = d.layout.count;
+        passes_->vertices.varyings.resize(std::size_t{input.vertex_count} * static_cast<std::size_t>(d.layout.count));
+    }
     if (plan.clear_tiles && shading.order == detail::DrawOrder::nothing) {
         target.clear(state.clear->colour, state.clear->depth);
+        if (passes) detail::clear_pass_targets(passes->targets, {0, 0, target.width(), target.height()}, target.width());
         plan.clear_tiles = false;
     }
     return plan;
+}
+
+void Renderer::run_pass_vertex_stage(std::size_t begin, std::size_t end) {
+    detail::run_pass_vertex_stage(*passes_->draw.passes, passes_->draw.layout, begin, end, passes_->vertices);
 }
 
 void Renderer::project_vertices(std::size_t begin, std::size_t end, const Plan& plan) {
@@ -87,13 +101,15 @@ void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t fir
     pool_.parallel_for(plan.chunk_count, [&](std::size_t c) {
         const std::size_t chunk_first = std::min(end, first + c * per_chunk);
         const std::size_t chunk_end = std::min(end, chunk_first + per_chunk);
-        chunks_[c].reset(tiles, plan.stride);
-        detail::run_front_end(vertices_, input, chunk_first, chunk_end, plan.params, chunks_[c]);
+        chunks_[c].reset(tiles, plan.stride, plan.passes ? passes_->draw.layout.count : -1);
+        detail::run_front_end(vertices_, input, chunk_first, chunk_end, plan.params, chunks_[c],
+                              plan.passes ? &passes_->vertices : nullptr);
     });
 }
 
 void Renderer::run_tiles(Framebuffer& target, Plan& plan, const detail::TileShading& shading) {
-    tiles_->run(pool_, {chunks_.data(), plan.chunk_count, vertices_, plan.params}, target, shading, plan.clear_tiles);
+    tiles_->run(pool_, {chunks_.data(), plan.chunk_count, vertices_, plan.params}, target, shading, plan.clear_tiles,
+                plan.passes ? &passes_->draw : nullptr);
     plan.clear_tiles = false;  // done by the first batch's tiles
 }
 

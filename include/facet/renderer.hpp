@@ -22,11 +22,13 @@
 #include "facet/defaults.hpp"
 #include "facet/error.hpp"
 #include "facet/image.hpp"
+#include "facet/passes.hpp"
 #include "facet/pipeline.hpp"
 
-// The tile pass, private to the library (src/tile/tile_pass.hpp): not exported.
+// The tile pass and the render passes' state, private to the library (src/tile/): not exported.
 namespace facet::detail {
 class TilePass;
+struct PassState;
 }  // namespace facet::detail
 
 FACET_API_BEGIN
@@ -53,9 +55,12 @@ public:
 
     // Draws triangles with `shader`. Invalid geometry (indices out of range, NaN or infinite
     // positions, zero-area triangles, parts behind the eye) is dropped and counted in the returned
-    // stats; the rest renders. Throws FacetError for an empty or off-target viewport.
+    // stats; the rest renders. Throws FacetError for an empty or off-target viewport. With `passes`,
+    // also writes the render passes of the pixels where the draw's triangles end up visible
+    // (facet/passes.hpp; its targets of the target's size); without, a draw costs nothing more.
     template <Shader S>
-    DrawStats draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader);
+    DrawStats draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader,
+                   const DrawPasses* passes = nullptr);
 
 private:
     struct Plan {
@@ -65,10 +70,13 @@ private:
         std::size_t batch_size;   // triangles per batch
         std::size_t chunk_count;  // of the current batch
         bool clear_tiles;         // DrawState::clear, still to be done by the tiles of the next batch
+        bool passes;              // the draw writes render passes (passes_)
     };
     // Checks the viewport and plans the draw. A clear that no tile will do (DrawOrder::nothing) is done here.
     Plan begin_draw(Framebuffer& target, const DrawState& state, const DrawInput& input,
-                    const detail::TileShading& shading);
+                    const detail::TileShading& shading, const DrawPasses* passes);
+    // The pass vertex stage (src/tile/passes.hpp) over vertices [begin, end), for a draw with passes.
+    void run_pass_vertex_stage(std::size_t begin, std::size_t end);
     template <class S>
     void run_vertex_stage(const S& shader, std::uint32_t vertex_count, const Plan& plan);
     // The projection pass (src/geometry/project.hpp) over vertices [begin, end) of the vertex stage.
@@ -84,6 +92,7 @@ private:
     detail::ClipVertices vertices_;
     std::vector<detail::FrontEndChunk> chunks_;
     std::unique_ptr<detail::TilePass> tiles_;
+    std::unique_ptr<detail::PassState> passes_;  // the current draw's render passes, and their vertices
 };
 
 // ---- implementation of the templated stages ----
@@ -121,6 +130,7 @@ void Renderer::run_vertex_stage(const S& shader, std::uint32_t vertex_count, con
                                                 vertices_.varyings.data() + begin * N);
         else
             detail::run_vertex_shader(shader, begin, end, vertices_);
+        if (plan.passes) run_pass_vertex_stage(begin, end);
         project_vertices(begin, end, plan);
     });
 }
@@ -128,10 +138,11 @@ void Renderer::run_vertex_stage(const S& shader, std::uint32_t vertex_count, con
 // The pipeline, stage by stage. Front end and tiles run batch by batch, in submission order, so
 // every pixel sees the same sequence of triangles and memory stays bounded whatever the draw's size.
 template <Shader S>
-DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader) {
+DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader,
+                         const DrawPasses* passes) {
     const detail::TileShading shading = detail::tile_shading(shader, state, input.triangle_count());  // the order
-    Plan plan = begin_draw(target, state, input, shading);  // viewport, tiles, batches
-    run_vertex_stage(shader, input.vertex_count, plan);     // vertex(), then projection
+    Plan plan = begin_draw(target, state, input, shading, passes);  // viewport, tiles, batches, passes
+    run_vertex_stage(shader, input.vertex_count, plan);             // vertex(), then projection
     DrawStats stats;
     for (std::size_t first = 0; first < plan.triangle_count; first += plan.batch_size) {
         run_front_end(input, plan, first, std::min(plan.triangle_count, first + plan.batch_size));  // set up, bin

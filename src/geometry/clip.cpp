@@ -26,8 +26,20 @@ T plane_distance(int plane, Vec4 p, GuardBand g) {
 // in float, in + (out - in) * t cancels catastrophically when the ends differ greatly in size
 // (w = 1e6 far ahead, 0.01 at the near plane) and could return w <= 0, a point behind the eye that
 // made the front end drop the whole triangle; and out - in can overflow although both ends are finite.
+// The varyings of the new vertex `index` of `extras`, each interpolated from the ends' as lerp does.
+template <class Lerp>
+void interpolate_varyings(const ClipVertex& in, const ClipVertex& out, std::uint32_t index, const ClipVertices& vertices,
+                          ClipVertices& extras, const Lerp& lerp) {
+    const int n = extras.stride;
+    extras.varyings.resize(extras.varyings.size() + static_cast<std::size_t>(n));
+    const float* a = varyings_of(in.ref, vertices, extras);  // fetched after the resize above
+    const float* b = varyings_of(out.ref, vertices, extras);
+    float* dst = extras.varyings.data() + static_cast<std::size_t>(index) * n;
+    for (int k = 0; k < n; ++k) dst[k] = static_cast<float>(lerp(a[k], b[k]));
+}
+
 ClipVertex intersect(const ClipVertex& in, const ClipVertex& out, int plane, GuardBand g,
-                     const ClipVertices& vertices, ClipVertices& extras) {
+                     const ClipVertices& vertices, ClipVertices& extras, const ClipPassVaryings* passes) {
     const double d_in = plane_distance<double>(plane, in.pos, g), d_out = plane_distance<double>(plane, out.pos, g);
     const double t = d_in / (d_in - d_out);
     const auto lerp = [t](float a, float b) { return a + (static_cast<double>(b) - a) * t; };
@@ -43,13 +55,9 @@ ClipVertex intersect(const ClipVertex& in, const ClipVertex& out, int plane, Gua
         default: y = static_cast<double>(g.gy) * w; break;
     }
     const std::uint32_t index = static_cast<std::uint32_t>(extras.pos.size());
-    const int n = extras.stride;
     extras.pos.push_back({static_cast<float>(x), static_cast<float>(y), static_cast<float>(z), static_cast<float>(w)});
-    extras.varyings.resize(extras.varyings.size() + static_cast<std::size_t>(n));
-    const float* a = varyings_of(in.ref, vertices, extras);  // fetched after the resize above
-    const float* b = varyings_of(out.ref, vertices, extras);
-    float* dst = extras.varyings.data() + static_cast<std::size_t>(index) * n;
-    for (int k = 0; k < n; ++k) dst[k] = static_cast<float>(lerp(a[k], b[k]));
+    interpolate_varyings(in, out, index, vertices, extras, lerp);
+    if (passes) interpolate_varyings(in, out, index, passes->vertices, passes->extras, lerp);
     return {extras.pos.back(), index | k_clipped_bit};
 }
 
@@ -63,7 +71,7 @@ std::uint32_t outcode(Vec4 p, GuardBand g) {
 }
 
 int clip_triangle(const ClipVertex (&tri)[3], std::uint32_t planes, GuardBand g, const ClipVertices& vertices,
-                  ClipVertices& extras, ClipVertex (&out)[k_max_clip_polygon]) {
+                  ClipVertices& extras, ClipVertex (&out)[k_max_clip_polygon], const ClipPassVaryings* passes) {
     ClipVertex buffer[2][k_max_clip_polygon];
     ClipVertex* src = buffer[0];
     ClipVertex* dst = buffer[1];
@@ -80,8 +88,8 @@ int clip_triangle(const ClipVertex (&tri)[3], std::uint32_t planes, GuardBand g,
             const bool a_in = da >= 0, b_in = db >= 0;
             if (n + 2 > k_max_clip_polygon) return 0;
             if (a_in) dst[n++] = a;
-            if (a_in && !b_in) dst[n++] = intersect(a, b, plane, g, vertices, extras);
-            if (!a_in && b_in) dst[n++] = intersect(b, a, plane, g, vertices, extras);
+            if (a_in && !b_in) dst[n++] = intersect(a, b, plane, g, vertices, extras, passes);
+            if (!a_in && b_in) dst[n++] = intersect(b, a, plane, g, vertices, extras, passes);
         }
         count = n;
         std::swap(src, dst);

@@ -26,11 +26,19 @@ struct ClipVertex {
     std::uint32_t ref;  // vertex index, or k_clipped_bit | index into `extras`
 };
 
+// The render passes' own varyings (DrawPasses: the pass vertex stage's output) and where the
+// clip-made vertices' go: at the same index as in the shader's extras.
+struct ClipPassVaryings {
+    const ClipVertices& vertices;
+    ClipVertices& extras;
+};
+
 // Clips the triangle against the planes in `planes` (an outcode union). New vertices and their
-// interpolated varyings are appended to `extras`. Interpolation always runs from the inside vertex
-// to the outside one, so two triangles sharing an edge create the very same vertex on it (no cracks).
-// Returns the number of polygon vertices written to `out` (0 when nothing is left).
+// interpolated varyings are appended to `extras` (and to `passes`' when given, with the same
+// weights). Interpolation always runs from the inside vertex to the outside one, so two triangles
+// sharing an edge create the very same vertex on it (no cracks). Returns the number of polygon
+// vertices written to `out` (0 when nothing is left).
 int clip_triangle(const ClipVertex (&tri)[3], std::uint32_t planes, GuardBand g, const ClipVertices& vertices,
-                  ClipVertices& extras, ClipVertex (&out)[k_max_clip_polygon]);
+                  ClipVertices& extras, ClipVertex (&out)[k_max_clip_polygon], const ClipPassVaryings* passes = nullptr);
 
 }  // namespace facet::detail

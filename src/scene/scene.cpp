@@ -6,6 +6,9 @@
 #include <string>
 
 #include "facet/shaders.hpp"
+#include "facet/views.hpp"
+#include "scene/scene_passes.hpp"
+#include "tile/passes.hpp"
 
 #include <utility>
 
@@ -67,38 +70,39 @@ void require_aligned_arrays(const Scene& scene) {
 }
 
 template <class S>
-DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o, const S& shader) {
-    return r.draw(target, state, DrawInput{o.vertex_count, o.indices}, shader);
+DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o, const S& shader,
+                    const DrawPasses* passes) {
+    return r.draw(target, state, DrawInput{o.vertex_count, o.indices}, shader, passes);
 }
 
 TextureBinding binding_of(const Material& m) {
     return {m.base_colour_texture.get(), m.sampler, m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff : -1.0f};
 }
 
-// Picks the shader for the mode and the object's data, then draws.
+// Picks the shader for the mode and the object's data, then draws (with `passes`, if given).
 DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o,
-                      const ShadingUniforms& u, MeshArrays arrays, Shading shading) {
+                      const ShadingUniforms& u, MeshArrays arrays, Shading shading, const DrawPasses* passes) {
     const Material& material = *o.material;
     const bool has_normals = arrays.normals != nullptr;
     const bool textured = material.base_colour_texture && arrays.uvs;
     const TextureBinding tex = textured ? binding_of(material) : TextureBinding{nullptr, {}, binding_of(material).alpha_cutoff};
     switch (shading) {
         case Shading::lit:
-            if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
-            if (material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex});
-            if (textured) return draw_with(r, target, state, o, shaders::TexturedOpaque{arrays, u, tex});
-            if (!arrays.colours) return draw_with(r, target, state, o, shaders::BlinnPhongBaseColour{arrays, u});
-            return draw_with(r, target, state, o, shaders::BlinnPhong{arrays, u});
+            if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u}, passes);
+            if (material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex}, passes);
+            if (textured) return draw_with(r, target, state, o, shaders::TexturedOpaque{arrays, u, tex}, passes);
+            if (!arrays.colours) return draw_with(r, target, state, o, shaders::BlinnPhongBaseColour{arrays, u}, passes);
+            return draw_with(r, target, state, o, shaders::BlinnPhong{arrays, u}, passes);
         case Shading::lambert:
-            if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u});
-            return draw_with(r, target, state, o, shaders::LambertBaseColour{arrays, u});  // colours are off
-        case Shading::flat: return draw_with(r, target, state, o, shaders::Flat{arrays, u});
-        case Shading::normals: return draw_with(r, target, state, o, shaders::Normals{arrays, u});
-        case Shading::mask: return draw_with(r, target, state, o, shaders::Mask{arrays, u});
-        case Shading::vertex_color: return draw_with(r, target, state, o, shaders::VertexColour{arrays, u});
+            if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u}, passes);
+            return draw_with(r, target, state, o, shaders::LambertBaseColour{arrays, u}, passes);  // colours are off
+        case Shading::flat: return draw_with(r, target, state, o, shaders::Flat{arrays, u}, passes);
+        case Shading::normals: return draw_with(r, target, state, o, shaders::Normals{arrays, u}, passes);
+        case Shading::mask: return draw_with(r, target, state, o, shaders::Mask{arrays, u}, passes);
+        case Shading::vertex_color: return draw_with(r, target, state, o, shaders::VertexColour{arrays, u}, passes);
         case Shading::texture:
-            if (material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::TextureUnlit{arrays, u, tex});
-            return draw_with(r, target, state, o, shaders::TextureUnlitOpaque{arrays, u, tex});
+            if (material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::TextureUnlit{arrays, u, tex}, passes);
+            return draw_with(r, target, state, o, shaders::TextureUnlitOpaque{arrays, u, tex}, passes);
     }
     return {};
 }
@@ -205,11 +209,9 @@ Camera frame_sphere(FramingSphere s, float azimuth, float elevation, float fovy,
     return c;
 }
 
-template <class Objects>
-Camera make_camera_for(const Objects& objects, const ViewSpec& view, float aspect) {
-    // One pass over the vertices for the bounds and one for the radius, shared by the framing and
-    // the explicit view's defaults.
-    const FramingSphere sphere = framing_sphere(objects);
+// The camera of `view` for a scene framed by `sphere` (framing_sphere: one pass over the vertices
+// for the bounds and one for the radius, shared by the framing and the explicit view's defaults).
+Camera camera_for(const FramingSphere& sphere, const ViewSpec& view, float aspect) {
     const Vec3 centre = sphere.centre;
     const float r = sphere.radius;
     // The clip planes of an explicit eye: from the bounding sphere, unless given.
@@ -256,21 +258,37 @@ CullMode cull_mode(const SceneObject& object, const RenderSettings& settings) { 
 
 namespace {
 
+// With `passes`, every draw writes render passes too (the blended ones' write none: they write no
+// depth), object i as instance i + 1.
 template <class Objects>
 DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects& objects, const Camera& camera,
-                         const RenderSettings& settings) {
+                         const RenderSettings& settings, const detail::ScenePasses* passes = nullptr) {
     // The clear goes with the first draw, which does it tile by tile (DrawState::clear).
     std::optional<ClearValues> clear = ClearValues{settings.background, 1.0f};
     const Mat4 clip_from_world = facet::clip_from_world(camera, target);
     const bool lambert = settings.shading == Shading::lambert;
+    DrawPasses draw_passes;
+    if (passes) {
+        draw_passes.targets = passes->targets;
+        detail::set_camera_passes(draw_passes, camera, target.width(), target.height(), passes->normal_space);
+    }
 
     // Opaque objects first, in the file's order; blended ones last, farthest first. Only a scene with
     // blended objects needs a list (and its allocation) for that order.
     auto blends = [&](const ObjectView& o) {
         return o.material->alpha_mode == AlphaMode::blend && !lambert && settings.shading != Shading::mask;
     };
-    auto draw = [&](const ObjectView& o, bool blended) {
+    auto draw = [&](const ObjectView& o, std::size_t index, bool blended) {
         const ShadingUniforms u = uniforms_for(o, camera, clip_from_world, settings);
+        if (passes) {
+            draw_passes.instance = static_cast<std::uint32_t>(index + 1);
+            draw_passes.material = passes->material_ids ? passes->material_ids[index] : 0;
+            draw_passes.positions = o.positions;
+            draw_passes.normals = o.normals;
+            draw_passes.uvs = o.uvs;
+            draw_passes.model = o.model;
+            draw_passes.normal_to_world = u.normal_to_world;
+        }
         MeshArrays arrays{o.positions, o.normals, o.colours, o.uvs};
         if (lambert) arrays.colours = nullptr;  // the contract ignores materials
         DrawState state;
@@ -280,14 +298,14 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
             state.depth_write = false;
         }
         state.clear = std::exchange(clear, std::nullopt);
-        return draw_object(renderer, target, state, o, u, arrays, settings.shading);
+        return draw_object(renderer, target, state, o, u, arrays, settings.shading, passes ? &draw_passes : nullptr);
     };
     DrawStats total;
     std::vector<std::pair<float, std::size_t>> blended;
     for (std::size_t i = 0; i < object_count(objects); ++i) {
         const ObjectView o = object_at(objects, i);
         if (!blends(o)) {
-            total += draw(o, false);
+            total += draw(o, i, false);
             continue;
         }
         Aabb box;
@@ -295,8 +313,11 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
         blended.push_back({-length(box.centre() - camera.position), i});
     }
     std::stable_sort(blended.begin(), blended.end());
-    for (const auto& b : blended) total += draw(object_at(objects, b.second), true);
-    if (clear) target.clear(clear->colour, clear->depth);  // nothing was drawn
+    for (const auto& b : blended) total += draw(object_at(objects, b.second), b.second, true);
+    if (clear) {  // nothing was drawn
+        target.clear(clear->colour, clear->depth);
+        if (passes) detail::clear_pass_targets(passes->targets, {0, 0, target.width(), target.height()}, target.width());
+    }
     return total;
 }
 
@@ -306,10 +327,20 @@ Camera frame_scene(const Scene& scene, float azimuth, float elevation, float fov
     return frame_sphere(framing_sphere(scene), azimuth, elevation, fovy, aspect);
 }
 
-Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) { return make_camera_for(scene, view, aspect); }
+Camera make_camera(const Scene& scene, const ViewSpec& view, float aspect) {
+    return camera_for(framing_sphere(scene), view, aspect);
+}
 
 Camera make_camera(std::span<const ObjectView> objects, const ViewSpec& view, float aspect) {
-    return make_camera_for(objects, view, aspect);
+    return camera_for(framing_sphere(objects), view, aspect);
+}
+
+std::vector<Camera> make_cameras(std::span<const ObjectView> objects, std::span<const ViewSpec> views, float aspect) {
+    const FramingSphere sphere = framing_sphere(objects);
+    std::vector<Camera> cameras;
+    cameras.reserve(views.size());
+    for (const ViewSpec& v : views) cameras.push_back(camera_for(sphere, v, aspect));
+    return cameras;
 }
 
 Aabb bounds(std::span<const ObjectView> objects) { return bounds_of(objects); }
@@ -324,6 +355,44 @@ DrawStats render_scene(Renderer& renderer, Framebuffer& target, std::span<const 
                        const Camera& camera, const RenderSettings& settings) {
     return render_objects(renderer, target, objects, camera, settings);
 }
+
+namespace detail {
+
+DrawStats render_scene_passes(Renderer& renderer, Framebuffer& target, std::span<const ObjectView> objects,
+                              const Camera& camera, const RenderSettings& settings, const ScenePasses& passes) {
+    return render_objects(renderer, target, objects, camera, settings, &passes);
+}
+
+void set_camera_passes(DrawPasses& out, const Camera& camera, int width, int height, NormalSpace space) {
+    const Mat4 p = camera.projection(static_cast<float>(width) / static_cast<float>(height));
+    // Depth along the viewing axis d = h z_view, h = -1 for right-handed view spaces (looking down
+    // -Z), +1 for left-handed ones.
+    const double h = camera.handedness == Handedness::right ? -1.0 : 1.0;
+    out.normal_space = space == NormalSpace::camera ? camera.view().upper3x3() : Mat3::identity();
+    out.ray = {};
+    if (p(3, 3) != 0) {
+        // Orthographic: window depth z = P22 z_view + P23, so d = h (z - P23) / P22; rays are parallel
+        // to the axis (range = depth).
+        out.depth_offset = static_cast<float>(-h * p(2, 3) / p(2, 2));
+        out.depth_scale = static_cast<float>(h / p(2, 2));
+        return;
+    }
+    // Perspective: clip w = P32 z_view = d (P32 = h), which the draw interpolates as q = 1/w. The ray
+    // through the pixel centre (px, py) at depth d is (a d, b d, h d) in view space, where
+    // x_ndc = P00 a + P01 b + P02 h and y_ndc = P10 a + P11 b + P12 h, x_ndc = 2 px / W - 1 and
+    // y_ndc = 1 - 2 py / H: (a, b) is affine in (px, py), its coefficients solved here in double.
+    out.depth_offset = 0;
+    out.depth_scale = 0;
+    const double p00 = p(0, 0), p01 = p(0, 1), p10 = p(1, 0), p11 = p(1, 1);
+    const double inv = 1.0 / (p00 * p11 - p01 * p10);
+    const double cx = -1 - h * p(0, 2), cy = 1 - h * p(1, 2);  // x_ndc, y_ndc minus P02 h, P12 h at (0, 0)
+    const double sx = 2.0 / width, sy = -2.0 / height;       // their steps per pixel
+    out.ray = {static_cast<float>(inv * (p11 * cx - p01 * cy)), static_cast<float>(inv * p11 * sx),
+               static_cast<float>(-inv * p01 * sy), static_cast<float>(inv * (p00 * cy - p10 * cx)),
+               static_cast<float>(-inv * p10 * sx), static_cast<float>(inv * p00 * sy)};
+}
+
+}  // namespace detail
 
 void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, std::vector<float>* depth) {
     if (factor < 1 || source.width() % factor != 0 || source.height() % factor != 0)

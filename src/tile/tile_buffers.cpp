@@ -7,18 +7,30 @@
 #include <utility>
 
 #include "tile/depth_pass.hpp"
+#include "tile/passes.hpp"
 #include "tile/tile_store.hpp"
 
 namespace facet::detail {
 
-void TileBuffers::reserve(std::size_t count, int varyings_) {
+void TileBuffers::reserve(std::size_t count, int varyings_, int pass_varyings) {
     triangles.reserve(count);
     records.reserve(count * static_cast<std::size_t>(shading_record_floats(varyings_)));
+    if (pass_varyings >= 0) {
+        pass_stride = pass_record_floats(pass_varyings);
+        pass_records.reserve(count * static_cast<std::size_t>(pass_stride));
+    }
+}
+
+void TileBuffers::begin_owners(PixelRect tile) {
+    triangles.clear();
+    pass_records.clear();
+    for (int r = 0; r < tile.y1 - tile.y0; ++r) std::fill_n(owner + r * k_max_tile_size, tile.x1 - tile.x0, k_none);
 }
 
 void TileBuffers::begin(PixelRect tile, int varyings_, TargetView target, const Clear* clear) {
     triangles.clear();
     records.clear();
+    pass_records.clear();
     varyings = varyings_;
     stride = shading_record_floats(varyings_);
     const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;

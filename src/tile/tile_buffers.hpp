@@ -12,6 +12,7 @@
 #include "facet/detail/front_end.hpp"
 #include "facet/detail/visible_tile.hpp"
 #include "tile/deferred_fills.hpp"
+#include "tile/passes.hpp"
 
 namespace facet::detail {
 
@@ -67,12 +68,17 @@ struct TileBuffers {
     std::uint64_t covered[k_max_tile_size];
     // Empty tiles this worker was handed, written between the blocks of the shading pass.
     DeferredFills fills;
+    // A draw with render passes (tile/passes.hpp): each listed triangle's pass record, `pass_stride`
+    // floats apart (pass_record_floats).
+    std::vector<float> pass_records;
+    int pass_stride = 0;
+    PassRow pass_row;  // a row of the passes of a tile the draw clears, before it goes to the targets
 
     static_assert(VisibleTile::k_row == k_max_tile_size, "owner and depth rows are VisibleTile's");
 
     // Room for `count` triangles with `varyings` each, so that drawing a tile of that many allocates
     // nothing.
-    void reserve(std::size_t count, int varyings);
+    void reserve(std::size_t count, int varyings, int pass_varyings = -1);  // -1: no render passes
     struct Clear {
         Rgba8 colour;
         float depth;
@@ -80,6 +86,9 @@ struct TileBuffers {
     // Starts a tile: its depth copied from the target, or, when the draw clears it, its depth and
     // colour set to the clear values (then the target's tile is neither read nor cleared first).
     void begin(PixelRect tile, int varyings, TargetView target, const Clear* clear = nullptr);
+    // Starts a tile of the one-pass order with render passes: no owner yet, no triangle listed. (Then
+    // each triangle drawn is listed, and owns the pixels whose depth it writes.)
+    void begin_owners(PixelRect tile);
     // The shading records of the triangles listed from `first` on (the depth pass lists them), their
     // varyings found in `source`.
     void write_shading_records(std::size_t first, const VaryingsSource& source);

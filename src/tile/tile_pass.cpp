@@ -7,6 +7,7 @@
 
 #include "tile/deferred_fills.hpp"
 #include "tile/depth_pass.hpp"
+#include "tile/passes.hpp"
 #include "tile/tile_buffers.hpp"
 #include "tile/tile_store.hpp"
 
@@ -45,10 +46,15 @@ TileJob tile_job(std::size_t index, const TileBatch& batch, int width, int heigh
 // tile's triangles read them right after.
 enum class TileClear { none, by_buffers, deferred, now };
 
+// Whether the whole tile is inside the scissor (the draw's triangles may reach every pixel of it).
+bool inside(const TileJob& job) {
+    const PixelRect& w = job.whole;
+    return job.rect.x0 == w.x0 && job.rect.y0 == w.y0 && job.rect.x1 == w.x1 && job.rect.y1 == w.y1;
+}
+
 TileClear tile_clear(const TileJob& job, bool visible_only, TargetView target) {
     const PixelRect& w = job.whole;
-    const bool inside = job.rect.x0 == w.x0 && job.rect.y0 == w.y0 && job.rect.x1 == w.x1 && job.rect.y1 == w.y1;
-    if (visible_only && job.busy && inside) return TileClear::by_buffers;
+    if (visible_only && job.busy && inside(job)) return TileClear::by_buffers;
     if (visible_only && !job.busy && DeferredFills::fits(target, w)) return TileClear::deferred;
     return TileClear::now;
 }
@@ -63,9 +69,11 @@ void for_each_bin(const TileBatch& batch, std::size_t tile, const Each& each) {
     }
 }
 
-// The visible-only order: the depth pass of every bin, then the shader's pass over the VisibleTile.
+// The visible-only order: the depth pass of every bin, then the shader's pass over the VisibleTile
+// (and with render passes, theirs).
 void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJob& job, TargetView target,
-                       const TileShading& shading, ResolveBinKernel resolve_bin, const TileBuffers::Clear* clear) {
+                       const TileShading& shading, ResolveBinKernel resolve_bin, const TileBuffers::Clear* clear,
+                       const PassDraw* passes, PassRow* pass_rows) {
     const PixelRect tile = job.rect;
     buffers.begin(tile, shading.varyings, target, clear);
     for_each_bin(batch, job.index, [&](const FrontEndChunk& chunk, const TileBin& bin) {
@@ -73,9 +81,12 @@ void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJ
         const std::size_t first = buffers.triangles.size();
         resolve_bin(bin.data(), bin.size(), tile, buffers);
         buffers.write_shading_records(first, {batch.vertices, chunk.extras});
+        if (passes) write_pass_records(buffers, first, *passes, chunk, bin, chunk.primitives[job.index]);
     });
     buffers.end(tile, target, shading.depth_write);
-    shading.shade_visible(shading.shader, buffers.visible(tile), buffers.colour_view(tile, target));
+    const VisibleTile visible = buffers.visible(tile);
+    shading.shade_visible(shading.shader, visible, buffers.colour_view(tile, target));
+    if (passes) write_pass_pixels(visible, buffers.pass_records.data(), buffers.pass_stride, *passes, pass_rows);
     buffers.store_colour(tile, target);
     fence_fills(buffers.fills);
 }
@@ -95,19 +106,31 @@ void prefetch_ahead(const VaryingsSource& source, const TileBin& bin, std::size_
 }
 
 // The one-pass order: each triangle's coverage, then its covered pixels tested, shaded and written.
-void draw_one_pass(const TileBatch& batch, const TileJob& job, TargetView target, const TileShading& shading) {
+// With render passes, each triangle drawn is listed and owns the pixels whose depth it writes; the
+// passes are then written from those owners as in the visible-only order.
+void draw_one_pass(TileBuffers& buffers, const TileBatch& batch, const TileJob& job, TargetView target,
+                   const TileShading& shading, const PassDraw* passes, PassRow* pass_rows) {
     TileCoverage coverage;
+    std::uint32_t* owner = passes ? buffers.owner : nullptr;
+    if (passes) buffers.begin_owners(job.rect);
     for_each_bin(batch, job.index, [&](const FrontEndChunk& chunk, const TileBin& bin) {
         const VaryingsSource source{batch.vertices, chunk.extras};
+        const std::size_t first = buffers.triangles.size();
         for (std::size_t b = 0; b < bin.size(); ++b) {
             prefetch_ahead(source, bin, b);
             const TriangleSetup& t = bin[b];
             if (!rasterize_tile(t, job.rect, coverage)) continue;
             const float* var[3];
             source.find(t, var);
-            shading.shade_covered(shading.shader, t, coverage, job.rect, var, target, shading.depth_test);
+            const auto id = static_cast<std::uint32_t>(buffers.triangles.size());
+            if (passes) buffers.triangles.push_back(&t);
+            shading.shade_covered(shading.shader, t, coverage, job.rect, var, target, shading.depth_test, owner, id);
         }
+        if (passes) write_pass_records(buffers, first, *passes, chunk, bin, chunk.primitives[job.index]);
     });
+    if (!passes) return;
+    find_owned_pixels(buffers, job.rect);
+    write_pass_pixels(buffers.visible(job.rect), buffers.pass_records.data(), buffers.pass_stride, *passes, pass_rows);
 }
 
 }  // namespace
@@ -119,7 +142,7 @@ TilePass::TilePass(int workers) {
 TilePass::~TilePass() = default;
 
 void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target, const TileShading& shading,
-                   bool clear) {
+                   bool clear, const PassDraw* passes) {
     if (shading.order == DrawOrder::nothing) return;
     const std::size_t max_tile_triangles = order_tiles(batch);
     const TargetView view{target.colour_data(), target.depth_data(), target.width()};
@@ -127,13 +150,14 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
     const ClearValues clear_values = batch.params.state.clear.value_or(ClearValues{});
     const TileBuffers::Clear clear_to{to_rgba8(clear_values.colour), clear_values.depth};
     ResolveBinKernel resolve_bin = nullptr;
-    if (visible_only) {
-        resolve_bin = resolve_bin_kernel(shading.depth_test, shading.depth_write);
+    const int pass_varyings = passes ? passes->layout.count : -1;
+    if (visible_only || passes) {
+        if (visible_only) resolve_bin = resolve_bin_kernel(shading.depth_test, shading.depth_write);
         // Every worker's lists sized for the fullest tile now: after the first draw of a scene they
         // no longer grow, whichever tiles each worker is given.
         for (const auto& b : buffers_) {
-            b->reserve(max_tile_triangles, shading.varyings);
-            b->fills.start(view, clear_to.colour, clear_to.depth, order_.size());
+            b->reserve(max_tile_triangles, shading.varyings, pass_varyings);
+            if (visible_only) b->fills.start(view, clear_to.colour, clear_to.depth, order_.size());
         }
     }
     pool.parallel_for(order_.size(), [&](std::size_t n, int worker) {
@@ -142,12 +166,16 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
         const TileClear how = clear ? tile_clear(job, visible_only, view) : TileClear::none;
         if (how == TileClear::deferred) buffers.fills.add(view, job.whole);
         if (how == TileClear::now) fill_rect(view, job.whole, clear_to.colour, clear_to.depth, !job.busy);
+        // The passes of a busy tile wholly inside the scissor are written whole, row by row, by its
+        // pass writer; the others' are cleared first (streamed when no triangle reaches the tile).
+        PassRow* pass_rows = clear && passes && job.busy && inside(job) ? &buffers.pass_row : nullptr;
+        if (clear && passes && !pass_rows) clear_pass_targets(passes->passes->targets, job.whole, passes->stride, !job.busy);
         if (!job.busy) return;
         if (visible_only)
             draw_visible_only(buffers, batch, job, view, shading, resolve_bin,
-                              how == TileClear::by_buffers ? &clear_to : nullptr);
+                              how == TileClear::by_buffers ? &clear_to : nullptr, passes, pass_rows);
         else
-            draw_one_pass(batch, job, view, shading);
+            draw_one_pass(buffers, batch, job, view, shading, passes, pass_rows);
     });
     // The empty tiles the kernels did not get to, before the next batch reads the target.
     bool pending = false;

@@ -4,8 +4,9 @@
 // thread, in the order tile_order gives: cleared when the draw clears (by the tile's own buffers,
 // directly, or deferred between other work when no triangle reaches it), then either the depth pass
 // of all its triangles followed by the shader's pass over the VisibleTile, or each covered triangle
-// shaded in turn (DrawOrder). Out: the target's pixels. Compiled once, not per shader; it knows the
-// shader only through TileShading's entry points.
+// shaded in turn (DrawOrder); with render passes, then the passes of its visible pixels
+// (tile/passes.hpp). Out: the target's pixels. Compiled once, not per shader; it knows the shader
+// only through TileShading's entry points.
 #pragma once
 
 #include <cstddef>
@@ -21,6 +22,7 @@
 namespace facet::detail {
 
 struct TileBuffers;
+struct PassDraw;
 
 // What the tile pass reads of one batch.
 struct TileBatch {
@@ -35,9 +37,11 @@ public:
     explicit TilePass(int workers);  // the pool's workers: one set of tile buffers each
     ~TilePass();
 
-    // Draws every tile of `batch` into `target`. With `clear`, each tile is first cleared to
-    // DrawState::clear (params.state.clear), the whole tile, inside the viewport or not.
-    void run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target, const TileShading& shading, bool clear);
+    // Draws every tile of `batch` into `target`, and with `passes` its render passes into their
+    // targets. With `clear`, each tile is first cleared to DrawState::clear (params.state.clear), and
+    // its passes to their background, the whole tile, inside the viewport or not.
+    void run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target, const TileShading& shading, bool clear,
+             const PassDraw* passes = nullptr);
 
 private:
     // Fills order_ from the bins, and returns the most triangles binned to one tile.

@@ -24,7 +24,8 @@ namespace hn = hwy::HWY_NAMESPACE;
 // specification, store_tile_rows_reference, for rows that cannot be streamed). With `covered`, a
 // pixel whose bit is clear gets `fill` instead.
 void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, const std::uint64_t* covered,
-                   std::uint32_t fill, std::uint32_t* HWY_RESTRICT target, int width, int height, int target_stride) {
+                   std::uint32_t fill, std::uint32_t* HWY_RESTRICT target, int width, int height, int target_stride,
+                   bool fence) {
     const hn::ScalableTag<std::uint32_t> du;
     const int lanes = static_cast<int>(hn::Lanes(du));
     constexpr int k_line = 64 / sizeof(std::uint32_t);
@@ -50,8 +51,10 @@ void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, cons
         streamed = true;
     }
     // Streaming stores are weakly ordered: make them visible before the tile is reported done.
-    if (streamed) hwy::FlushStream();
+    if (streamed && fence) hwy::FlushStream();
 }
+
+void FenceStreams() { hwy::FlushStream(); }
 
 void FenceFills(DeferredFills& fills) {
     if (fills.streamed) hwy::FlushStream();
@@ -72,19 +75,25 @@ HWY_AFTER_NAMESPACE();
 namespace facet::detail {
 
 HWY_EXPORT(StoreTileRows);
+HWY_EXPORT(FenceStreams);
 HWY_EXPORT(DrainFills);
 HWY_EXPORT(FenceFills);
 
 void drain_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(DrainFills)(fills); }
 void fence_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(FenceFills)(fills); }
 
+void fence_streams() {
+    if (!use_scalar_kernels()) HWY_DYNAMIC_DISPATCH(FenceStreams)();
+}
+
 void store_tile_rows(const void* rows, int rows_stride, void* target_origin, PixelRect tile, int target_stride,
-                     bool stream, const std::uint64_t* covered, std::uint32_t fill) {
+                     bool stream, const std::uint64_t* covered, std::uint32_t fill, bool fence) {
     const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
     const auto* from = static_cast<const std::uint32_t*>(rows);
     auto* to = static_cast<std::uint32_t*>(target_origin);
     if (stream && !use_scalar_kernels())
-        return HWY_DYNAMIC_DISPATCH(StoreTileRows)(from, rows_stride, covered, fill, to, width, height, target_stride);
+        return HWY_DYNAMIC_DISPATCH(StoreTileRows)(from, rows_stride, covered, fill, to, width, height, target_stride,
+                                                   fence);
     for (int row = 0; row < height; ++row)
         store_tile_row_reference(from + row * rows_stride, covered ? covered + row : nullptr, fill,
                                  to + static_cast<std::size_t>(row) * static_cast<std::size_t>(target_stride), width);

@@ -12,6 +12,7 @@
 #include "facet/renderer.hpp"
 #include "facet/scene.hpp"
 #include "facet/shaders.hpp"
+#include "facet/views.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -115,6 +116,33 @@ TEST_P(SteadyStateDraws, DrawAllocatesNothingOnceWarm) {
         }
     });
     EXPECT_EQ(during, 0) << "threads " << GetParam();
+}
+
+// Render passes: a warm ViewRenderer rendering every pass of views into the caller's memory, with
+// and without supersampling, allocates nothing either.
+TEST_P(SteadyStateDraws, RenderingViewsWithEveryPassAllocatesNothingOnceWarm) {
+    Scene scene = test_scene();
+    scene.objects[1].mesh.normals.clear();  // face normals
+    ViewRenderer renderer(RendererConfig{.threads = GetParam()});
+    ViewRequest request;
+    request.width = 200, request.height = 150;
+    request.passes = PassSet::all();
+    const Camera cameras[] = {frame_scene(scene, 0.4f, 0.3f, 0.8f, 4.0f / 3), frame_scene(scene, 2.0f, -0.3f, 0.8f, 4.0f / 3)};
+    ViewImages a, b;
+    for (ViewImages* v : {&a, &b}) {
+        const std::size_t n = 200 * 150;
+        v->colour.resize(n), v->alpha.resize(n), v->depth.resize(n), v->range.resize(n), v->normal.resize(n);
+        v->instance.resize(n), v->material.resize(n), v->primitive.resize(n), v->uv.resize(n);
+    }
+    const PassImages out[] = {a.images(), b.images()};
+    for (int ssaa : {1, 2}) {
+        request.ssaa = ssaa;
+        for (int warm = 0; warm < 3; ++warm) renderer.render(scene, cameras, request, out);
+        const long during = allocations_during([&] {
+            for (int frame = 0; frame < 3; ++frame) renderer.render(scene, cameras, request, out);
+        });
+        EXPECT_EQ(during, 0) << "ssaa " << ssaa << ", threads " << GetParam();
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Threads, SteadyStateDraws, ::testing::Values(1, 2, 4));

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "facet/api.hpp"
 #include "facet/detail/fragment.hpp"
@@ -31,9 +32,12 @@ struct TileShading {
     // visible_only: the shading pass of one tile, its colours written to `colour` (the target, or the
     // tile's own buffer).
     void (*shade_visible)(const void* shader, const VisibleTile& tile, TargetView colour) = nullptr;
-    // one_pass: the covered pixels of triangle t in `tile` tested, shaded and written to the target.
+    // one_pass: the covered pixels of triangle t in `tile` tested, shaded and written to the target;
+    // with `owner` (a draw with render passes: rows VisibleTile::k_row apart from the tile's corner),
+    // `id` is written there for each pixel whose depth it writes.
     void (*shade_covered)(const void* shader, const TriangleSetup& t, const TileCoverage& coverage, PixelRect tile,
-                          const float* const (&var)[3], TargetView target, DepthTest test) = nullptr;
+                          const float* const (&var)[3], TargetView target, DepthTest test, std::uint32_t* owner,
+                          std::uint32_t id) = nullptr;
 };
 
 template <class S>
@@ -47,8 +51,9 @@ void shade_visible_tile(const void* shader, const VisibleTile& tile, TargetView 
 
 template <class S, bool DepthWrite, Blend B>
 void shade_covered(const void* shader, const TriangleSetup& t, const TileCoverage& coverage, PixelRect tile,
-                   const float* const (&var)[3], TargetView target, DepthTest test) {
-    shade_tile<S, DepthWrite, B>(*static_cast<const S*>(shader), test, t, coverage, tile, var, target);
+                   const float* const (&var)[3], TargetView target, DepthTest test, std::uint32_t* owner,
+                   std::uint32_t id) {
+    shade_tile<S, DepthWrite, B>(*static_cast<const S*>(shader), test, t, coverage, tile, var, target, owner, id);
 }
 
 // The drawing order of a draw of `triangles` triangles with `shader` and `state`, and the entry points

@@ -112,10 +112,13 @@ inline std::uint32_t depth_pass_set(DepthTest test) {
     return (pass_set >> outcome) & 1u;
 }
 
-// One pass: test, shade, write each covered pixel of one triangle in turn.
+// One pass: test, shade, write each covered pixel of one triangle in turn. With `owner` (render
+// passes), `id` is written at each pixel whose depth the triangle writes (rows VisibleTile::k_row
+// apart from the tile's corner), so that the passes see what the depth buffer holds.
 template <class S, bool DepthWrite, Blend B>
 void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
-                const float* const (&var)[3], TargetView target) {
+                const float* const (&var)[3], TargetView target, std::uint32_t* owner = nullptr,
+                std::uint32_t id = 0) {
     const VaryingPlanes<S::k_varyings> planes(var);
     FragmentIn<S::k_varyings> in;
     const std::uint32_t pass_set = depth_pass_set(test);
@@ -137,7 +140,10 @@ void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const T
             } else {
                 c = fragment_at(shader, t, planes.p, x, y, z, in);
             }
-            if constexpr (DepthWrite) depth_row[x] = z;
+            if constexpr (DepthWrite) {
+                depth_row[x] = z;
+                if (owner) owner[row * VisibleTile::k_row + (x - tile.x0)] = id;
+            }
             if constexpr (B == Blend::alpha) {
                 const Vec4 dst = to_vec4(colour_row[x]);
                 const float a = c.w > 0 ? (c.w < 1 ? c.w : 1) : 0;

@@ -54,12 +54,22 @@ using TileBin = std::vector<TriangleSetup, UninitialisedAllocator<TriangleSetup>
 struct FrontEndChunk {
     std::vector<TileBin> bins;  // per tile, row-major
     ClipVertices extras;        // vertices made by clipping
+    // Only for a draw with render passes (DrawPasses), else left empty: beside each record of
+    // bins[tile], the index of the triangle of the draw it came from (primitives[tile][k] for
+    // bins[tile][k]: a side array, so that records stay 128 bytes and draws without passes pay
+    // nothing), and the pass varyings of the clip-made vertices (at the indices of `extras`).
+    std::vector<std::vector<std::uint32_t>> primitives;
+    ClipVertices pass_extras;
     DrawStats stats;
-    void reset(std::size_t tile_count, int stride);
+    // `pass_stride`: the pass varyings per vertex of a draw with render passes, or -1 without.
+    void reset(std::size_t tile_count, int stride, int pass_stride = -1);
 };
 
+// With `pass_vertices` (the pass vertex stage's output, for a draw with render passes) the chunk's
+// primitives and pass_extras are filled too.
 void run_front_end(const ClipVertices& vertices, const DrawInput& input, std::size_t first_triangle,
-                   std::size_t end_triangle, const FrontEndParams& params, FrontEndChunk& out);
+                   std::size_t end_triangle, const FrontEndParams& params, FrontEndChunk& out,
+                   const ClipVertices* pass_vertices = nullptr);
 
 }  // namespace facet::detail
 FACET_API_END

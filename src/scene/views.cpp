@@ -1,0 +1,312 @@
+// facet scene: views of a scene with render passes (facet/views.hpp): the pass names, the request's
+// checks, each view rendered (colour at the supersampled size, the surface passes at 1x), alpha
+// from the samples' depth, the material ids, the cameras of many views and the camera rigs.
+#include "facet/views.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "scene/scene_passes.hpp"
+
+namespace facet {
+namespace {
+
+constexpr const char* k_pass_names[k_pass_count] = {"color",    "alpha",    "depth",     "range", "normal",
+                                                    "instance", "material", "primitive", "uv"};
+
+[[noreturn]] void bad_request(const std::string& message) {
+    throw FacetError(Error{ErrorCode::invalid_argument, "ViewRenderer::render: " + message});
+}
+
+void check(const ViewRequest& r, std::size_t cameras, std::span<const PassImages> out) {
+    if (r.width < 1 || r.height < 1 || r.width > k_max_target_size || r.height > k_max_target_size)
+        bad_request("the size must be 1.." + std::to_string(k_max_target_size) + " per side, got " +
+                    std::to_string(r.width) + "x" + std::to_string(r.height));
+    if (r.ssaa < 1 || r.ssaa > 8) bad_request("ssaa must be 1..8, got " + std::to_string(r.ssaa));
+    if (static_cast<long>(r.width) * r.ssaa > k_max_target_size || static_cast<long>(r.height) * r.ssaa > k_max_target_size)
+        bad_request("the size times ssaa must stay within " + std::to_string(k_max_target_size));
+    if (r.passes.empty()) bad_request("no pass asked for");
+    if (out.size() != cameras)
+        bad_request(std::to_string(cameras) + " cameras but " + std::to_string(out.size()) + " sets of images");
+    for (const PassImages& o : out) {
+        const PassTargets& p = o.passes;
+        const void* pointers[k_pass_count] = {o.colour,   p.alpha,    p.depth,     p.range, p.normal,
+                                              p.instance, p.material, p.primitive, p.uv};
+        for (Pass pass : k_all_passes)
+            if (r.passes.has(pass) && !pointers[static_cast<int>(pass)])
+                bad_request(std::string("the ") + pass_name(pass) + " pass is asked for but has no image");
+    }
+}
+
+// The share of each pixel's samples a surface covers: where the draw wrote depth (the clear value
+// is 1, which the depth test never lets a surface write; blended surfaces write none).
+void resolve_alpha(const Framebuffer& samples, int factor, float* out) {
+    const int w = samples.width() / factor, h = samples.height() / factor;
+    const float per_sample = 1.0f / static_cast<float>(factor * factor);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            int covered = 0;
+            for (int sy = 0; sy < factor; ++sy)
+                for (int sx = 0; sx < factor; ++sx) covered += samples.depth(x * factor + sx, y * factor + sy) < 1.0f;
+            out[static_cast<std::size_t>(y) * w + x] = static_cast<float>(covered) * per_sample;
+        }
+}
+
+bool same_material(const Material& a, const Material& b) {
+    return a.base_colour == b.base_colour && a.base_colour_texture == b.base_colour_texture &&
+           a.sampler.wrap_u == b.sampler.wrap_u && a.sampler.wrap_v == b.sampler.wrap_v &&
+           a.sampler.filter == b.sampler.filter && a.alpha_mode == b.alpha_mode &&
+           a.alpha_cutoff == b.alpha_cutoff && a.double_sided == b.double_sided;
+}
+
+// splitmix64: a small generator whose sequence is fixed by its definition, on every platform.
+std::uint64_t next_random(std::uint64_t& state) {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+double unit_random(std::uint64_t& state) { return static_cast<double>(next_random(state) >> 11) * 0x1.0p-53; }
+
+ViewSpec looking_from(const ViewSpec& base, double azimuth, double elevation) {
+    ViewSpec v = base;
+    v.azimuth = static_cast<float>(azimuth);
+    v.elevation = static_cast<float>(elevation);
+    return v;
+}
+
+// A whole number in 1..max from `text`, or nothing.
+std::optional<long long> parse_count(std::string_view text, long long max) {
+    if (text.empty() || text.size() > 18) return std::nullopt;
+    long long n = 0;
+    for (char c : text) {
+        if (c < '0' || c > '9') return std::nullopt;
+        n = n * 10 + (c - '0');
+    }
+    if (n < 1 || n > max) return std::nullopt;
+    return n;
+}
+
+}  // namespace
+
+const char* pass_name(Pass pass) { return k_pass_names[static_cast<int>(pass)]; }
+
+Result<PassSet> parse_passes(std::string_view list) {
+    auto known = [] {
+        std::string s;
+        for (Pass p : k_all_passes) {
+            if (!s.empty()) s += ", ";
+            s += pass_name(p);
+        }
+        return s;
+    };
+    PassSet set;
+    std::size_t start = 0;
+    while (start <= list.size()) {
+        const std::size_t end = std::min(list.find(',', start), list.size());
+        const std::string_view name = list.substr(start, end - start);
+        const auto* found = std::find_if(k_all_passes.begin(), k_all_passes.end(), [&](Pass p) { return name == pass_name(p); });
+        if (name.empty()) return Error{ErrorCode::invalid_argument, "an empty pass name in '" + std::string(list) + "' (known: " + known() + ")"};
+        if (found == k_all_passes.end())
+            return Error{ErrorCode::invalid_argument, "unknown pass '" + std::string(name) + "' (known: " + known() + ")"};
+        if (set.has(*found)) return Error{ErrorCode::invalid_argument, "the pass '" + std::string(name) + "' is named twice"};
+        set.add(*found);
+        start = end + 1;
+    }
+    return set;
+}
+
+std::string to_string(PassSet passes) {
+    std::string s;
+    for (Pass p : k_all_passes)
+        if (passes.has(p)) {
+            if (!s.empty()) s += ',';
+            s += pass_name(p);
+        }
+    return s;
+}
+
+PassImages ViewImages::images() {
+    auto at = [](auto& v) { return v.empty() ? nullptr : v.data(); };
+    return {at(colour), {at(alpha), at(depth), at(range), at(normal), at(instance), at(material), at(primitive), at(uv)}};
+}
+
+void material_ids(std::span<const ObjectView> objects, std::vector<std::uint32_t>& ids,
+                  std::vector<const Material*>& distinct) {
+    ids.resize(objects.size());
+    distinct.clear();
+    for (std::size_t i = 0; i < objects.size(); ++i) {
+        const Material& m = *objects[i].material;
+        std::size_t k = 0;
+        while (k < distinct.size() && !same_material(*distinct[k], m)) ++k;
+        if (k == distinct.size()) distinct.push_back(&m);
+        ids[i] = static_cast<std::uint32_t>(k + 1);
+    }
+}
+
+ViewRenderer::ViewRenderer(RendererConfig config) : renderer_(config) {}
+
+ViewRenderer::~ViewRenderer() = default;
+
+void ViewRenderer::render_view(std::span<const ObjectView> objects, const Camera& camera, const ViewRequest& r,
+                               const PassImages& out, DrawStats& stats) {
+    const PassSet passes = r.passes;
+    auto sized = [](std::optional<Framebuffer>& fb, int w, int h) -> Framebuffer& {
+        if (!fb || fb->width() != w || fb->height() != h) fb.emplace(w, h);
+        return *fb;
+    };
+    // Only what was asked for: a pass left out costs nothing.
+    detail::ScenePasses surface{.targets = {},
+                                .material_ids = passes.has(Pass::material) ? material_ids_.data() : nullptr,
+                                .normal_space = r.normal_space};
+    PassTargets& t = surface.targets;
+    if (passes.has(Pass::depth)) t.depth = out.passes.depth;
+    if (passes.has(Pass::range)) t.range = out.passes.range;
+    if (passes.has(Pass::normal)) t.normal = out.passes.normal;
+    if (passes.has(Pass::instance)) t.instance = out.passes.instance;
+    if (passes.has(Pass::material)) t.material = out.passes.material;
+    if (passes.has(Pass::primitive)) t.primitive = out.passes.primitive;
+    if (passes.has(Pass::uv)) t.uv = out.passes.uv;
+    Rgba8* colour = passes.has(Pass::colour) ? out.colour : nullptr;
+    float* alpha = passes.has(Pass::alpha) ? out.passes.alpha : nullptr;
+
+    if (r.ssaa == 1) {
+        // One draw per object for everything, colour straight into the caller's image. (direct_ keeps
+        // pointing there afterwards: going back to memory of its own would allocate at every view.)
+        Framebuffer& fb = colour ? sized(direct_, r.width, r.height) : sized(target_, r.width, r.height);
+        if (colour) fb.use_colour_memory(colour);
+        t.alpha = alpha;
+        stats += passes.needs_surface() || alpha ? detail::render_scene_passes(renderer_, fb, objects, camera, r.settings, surface)
+                                                 : render_scene(renderer_, fb, objects, camera, r.settings);
+        return;
+    }
+    Framebuffer& samples = sized(samples_, r.width * r.ssaa, r.height * r.ssaa);
+    stats += render_scene(renderer_, samples, objects, camera, r.settings);
+    if (colour) resolve_supersampled(samples, r.ssaa, colour, nullptr);
+    if (alpha) resolve_alpha(samples, r.ssaa, alpha);
+    if (passes.needs_surface()) {
+        // The surface at each pixel's centre: a draw at 1x (its colour is not used).
+        Framebuffer& fb = sized(target_, r.width, r.height);
+        detail::render_scene_passes(renderer_, fb, objects, camera, r.settings, surface);
+    }
+}
+
+DrawStats ViewRenderer::render(std::span<const ObjectView> objects, std::span<const Camera> cameras,
+                               const ViewRequest& request, std::span<const PassImages> out) {
+    check(request, cameras.size(), out);
+    if (request.passes.has(Pass::material)) material_ids(objects, material_ids_, materials_);
+    DrawStats stats;
+    for (std::size_t i = 0; i < cameras.size(); ++i) render_view(objects, cameras[i], request, out[i], stats);
+    return stats;
+}
+
+DrawStats ViewRenderer::render(const Scene& scene, std::span<const Camera> cameras, const ViewRequest& request,
+                               std::span<const PassImages> out) {
+    scene_views_.clear();
+    for (const SceneObject& o : scene.objects) scene_views_.push_back(view_of(o));
+    return render(scene_views_, cameras, request, out);
+}
+
+std::vector<ViewImages> ViewRenderer::render(std::span<const ObjectView> objects, std::span<const Camera> cameras,
+                                             const ViewRequest& request) {
+    const std::size_t n = static_cast<std::size_t>(std::max(request.width, 0)) * static_cast<std::size_t>(std::max(request.height, 0));
+    std::vector<ViewImages> images(cameras.size());
+    std::vector<PassImages> out;
+    for (ViewImages& v : images) {
+        v.width = request.width, v.height = request.height;
+        const PassSet p = request.passes;
+        if (p.has(Pass::colour)) v.colour.resize(n);
+        if (p.has(Pass::alpha)) v.alpha.resize(n);
+        if (p.has(Pass::depth)) v.depth.resize(n);
+        if (p.has(Pass::range)) v.range.resize(n);
+        if (p.has(Pass::normal)) v.normal.resize(n);
+        if (p.has(Pass::instance)) v.instance.resize(n);
+        if (p.has(Pass::material)) v.material.resize(n);
+        if (p.has(Pass::primitive)) v.primitive.resize(n);
+        if (p.has(Pass::uv)) v.uv.resize(n);
+        out.push_back(v.images());
+    }
+    render(objects, cameras, request, out);
+    return images;
+}
+
+std::vector<ViewImages> ViewRenderer::render(const Scene& scene, std::span<const Camera> cameras,
+                                             const ViewRequest& request) {
+    scene_views_.clear();
+    for (const SceneObject& o : scene.objects) scene_views_.push_back(view_of(o));
+    return render(std::span<const ObjectView>(scene_views_), cameras, request);
+}
+
+std::vector<ViewSpec> orbit_views(int n, float elevation, const ViewSpec& base) {
+    std::vector<ViewSpec> views;
+    for (int k = 0; k < n; ++k) views.push_back(looking_from(base, 2 * std::numbers::pi * k / n, elevation));
+    return views;
+}
+
+std::vector<ViewSpec> sphere_views(int n, const ViewSpec& base) {
+    const double golden_angle = std::numbers::pi * (3 - std::sqrt(5.0));
+    std::vector<ViewSpec> views;
+    for (int k = 0; k < n; ++k) {
+        const double y = 1 - (2.0 * k + 1) / n;
+        views.push_back(looking_from(base, std::fmod(golden_angle * k, 2 * std::numbers::pi), std::asin(y)));
+    }
+    return views;
+}
+
+std::vector<ViewSpec> random_views(int n, std::uint64_t seed, const ViewSpec& base) {
+    std::uint64_t state = seed;
+    std::vector<ViewSpec> views;
+    for (int k = 0; k < n; ++k) {
+        const double y = 2 * unit_random(state) - 1;  // uniform height: uniform on the sphere
+        const double azimuth = 2 * std::numbers::pi * unit_random(state);
+        views.push_back(looking_from(base, azimuth, std::asin(y)));
+    }
+    return views;
+}
+
+Result<std::vector<ViewSpec>> parse_rig(std::string_view spec, const ViewSpec& base) {
+    std::vector<std::string_view> parts;
+    for (std::size_t start = 0;;) {
+        const std::size_t end = spec.find(':', start);
+        parts.push_back(spec.substr(start, end == std::string_view::npos ? std::string_view::npos : end - start));
+        if (end == std::string_view::npos) break;
+        start = end + 1;
+    }
+    const std::string text(spec);
+    auto bad = [&](const std::string& why) {
+        return Error{ErrorCode::invalid_argument, "bad view rig '" + text + "': " + why +
+                                                      " (orbit:N[:ELEVATION], sphere:N, random:N:SEED or file:CAMERAS.json)"};
+    };
+    const std::string count_rule = "N must be a whole number from 1 to " + std::to_string(k_max_rig_views);
+    const std::string_view kind = parts[0];
+    if (kind != "orbit" && kind != "sphere" && kind != "random") return bad("unknown kind '" + std::string(kind) + "'");
+    if (parts.size() < 2) return bad("the number of views N is missing");
+    const std::optional<long long> n = parse_count(parts[1], k_max_rig_views);
+    if (!n) return bad(count_rule + ", got '" + std::string(parts[1]) + "'");
+    const int count = static_cast<int>(*n);
+    if (kind == "orbit") {
+        if (parts.size() > 3) return bad("too many fields");
+        float elevation = base.elevation;
+        if (parts.size() == 3) {
+            const std::string e(parts[2]);
+            char* end = nullptr;
+            const float degrees = std::strtof(e.c_str(), &end);
+            if (e.empty() || *end != '\0' || !std::isfinite(degrees) || degrees < -90 || degrees > 90)
+                return bad("ELEVATION must be degrees from -90 to 90, got '" + e + "'");
+            elevation = radians(degrees);
+        }
+        return orbit_views(count, elevation, base);
+    }
+    if (kind == "sphere") {
+        if (parts.size() > 2) return bad("too many fields");
+        return sphere_views(count, base);
+    }
+    if (parts.size() != 3) return bad(parts.size() < 3 ? "the SEED is missing" : "too many fields");
+    const std::optional<long long> seed = parse_count(parts[2], 999'999'999'999'999'999);
+    if (!seed && parts[2] != "0") return bad("SEED must be a whole number, got '" + std::string(parts[2]) + "'");
+    return random_views(count, seed ? static_cast<std::uint64_t>(*seed) : 0, base);
+}
+
+}  // namespace facet
