@@ -112,7 +112,7 @@ std::vector<ViewSpec> sphere_views(int n, const ViewSpec& base = {});
 std::vector<ViewSpec> random_views(int n, std::uint64_t seed, const ViewSpec& base = {});
 // "orbit:N[:ELEVATION]" (degrees; default: base's elevation), "sphere:N", "random:N:SEED", N in
 // 1..k_max_rig_views. The error says what is wrong with the spec. ("file:" is the command line's.)
-inline constexpr int k_max_rig_views = 100000;
+inline constexpr int k_max_rig_views = 10000;
 Result<std::vector<ViewSpec>> parse_rig(std::string_view spec, const ViewSpec& base = {});
 
 }  // namespace facet

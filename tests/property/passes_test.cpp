@@ -689,7 +689,7 @@ TEST(Passes, CameraRigsGiveTheViewsTheirSpecsDescribe) {
     }
     EXPECT_TRUE(differ);
     for (const char* bad : {"orbit", "orbit:0", "orbit:x", "orbit:4:95", "orbit:4:10:1", "sphere:-3", "sphere:3:1", "random:5",
-                            "random:5:x", "spiral:4", "", "orbit:1000000"}) {
+                            "random:5:x", "spiral:4", "", "orbit:10001"}) {
         const Result<std::vector<ViewSpec>> r = parse_rig(bad, base);
         ASSERT_FALSE(r) << bad;
         EXPECT_NE(r.error().message.find("bad view rig"), std::string::npos);
