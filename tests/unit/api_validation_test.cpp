@@ -269,10 +269,12 @@ TEST(ApiValidation, RenderSceneRefusesObjectsWithMismatchedAttributeArrays) {
         if (which == 1) m.colours.resize(3);
         if (which == 2) m.uvs.resize(1);
         const Camera camera = frame_scene(scene, 0.3f, 0.2f, radians(45.0f), 1.0f);
-        for (Shading shading : {Shading::lit, Shading::vertex_color, Shading::texture})
-            EXPECT_EQ(code_thrown_by([&] { render_scene(r, fb, scene, camera, RenderSettings{.shading = shading}); }),
-                      ErrorCode::invalid_argument)
+        for (Shading shading : {Shading::lit, Shading::vertex_color, Shading::texture}) {
+            RenderSettings settings;
+            settings.shading = shading;
+            EXPECT_EQ(code_thrown_by([&] { render_scene(r, fb, scene, camera, settings); }), ErrorCode::invalid_argument)
                 << which;
+        }
     }
 }
 
