@@ -58,7 +58,9 @@ std::string read_json_entry(const json::Value& v, ObjectEntry& e) {
         e.path = path->text;
         if (!v.find("id")) e.id = path->text;
     }
-    for (const auto& [key, value] : v.members) {
+    for (std::size_t i = 0; i < v.keys.size(); ++i) {
+        const std::string& key = v.keys[i];
+        const json::Value& value = v.items[i];
         if (key == "id") continue;
         if (key == "path") {
             if (!value.is(T::string) || value.text.empty())

@@ -117,7 +117,8 @@ private:
             skip_space();
             Value member;
             if (!value(member, depth + 1)) return false;
-            v.members.emplace_back(std::move(key), std::move(member));
+            v.keys.push_back(std::move(key));
+            v.items.push_back(std::move(member));
             skip_space();
             if (i_ < s_.size() && s_[i_] == ',') {
                 ++i_;
@@ -236,8 +237,9 @@ private:
 }  // namespace
 
 const Value* Value::find(std::string_view key) const {
-    for (const auto& [k, v] : members)
-        if (k == key) return &v;
+    if (type != Type::object) return nullptr;
+    for (std::size_t i = 0; i < keys.size(); ++i)
+        if (keys[i] == key) return &items[i];
     return nullptr;
 }
 

@@ -18,8 +18,10 @@ struct Value {
     bool boolean = false;
     double number = 0;
     std::string text;                                   // string: its UTF-8 bytes, unescaped
-    std::vector<Value> items;                           // array
-    std::vector<std::pair<std::string, Value>> members; // object, in the text's order (keys unique)
+    // An array's items; an object's values, keys[i] naming items[i], in the text's order (keys
+    // unique). Two vectors rather than one of pairs: a pair cannot hold the incomplete Value.
+    std::vector<Value> items;
+    std::vector<std::string> keys;
 
     bool is(Type t) const { return type == t; }
     // The member named `key` of an object, or null when there is none (or this is not an object).
