@@ -172,6 +172,35 @@ Result<Shard> parse_shard(const std::string& text) {
     return Shard{static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(n)};
 }
 
+namespace {
+
+// The settings of --print-config that say how the run goes, not what the image looks like; the
+// options hash leaves them out, so that a resume on another machine (another kernel's sandbox),
+// with other --threads or another --isa (same bytes) keeps what is done.
+bool describes_the_run(std::string_view key) {
+    static constexpr std::string_view k_keys[] = {"threads",   "isa",     "tile-size", "batch-triangles", "load-threads",
+                                                  "isolation", "sandbox", "timeout",   "max-memory"};
+    return std::find(std::begin(k_keys), std::end(k_keys), key) != std::end(k_keys);
+}
+
+}  // namespace
+
+std::string options_hash(std::string_view config, const ObjectOptions& options) {
+    std::string text = std::string("version = ") + FACET_VERSION + "\n";
+    std::size_t pos = config.find('\n') + 1;  // after the comment line
+    while (pos > 0 && pos < config.size()) {
+        const std::size_t end = std::min(config.find('\n', pos), config.size() - 1);
+        const std::string_view line = config.substr(pos, end - pos + 1);
+        if (!describes_the_run(line.substr(0, line.find(" = ")))) text += line;
+        pos = end + 1;
+    }
+    text += "views = " + options.views.value_or("") + "\npasses =";
+    for (const std::string& p : options.passes) text += " " + p;
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a_64(text + "\n")));
+    return hex;
+}
+
 std::uint64_t fnv1a_64(std::string_view bytes) {
     std::uint64_t h = 0xcbf29ce484222325ull;
     for (const char c : bytes) {

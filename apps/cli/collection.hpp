@@ -101,6 +101,13 @@ Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, cons
 // --manifest-lines: "OFFSET:LINE,OFFSET:LINE,...".
 Result<std::vector<ManifestLine>> parse_manifest_lines(const std::string& spec);
 
+// The options hash of an object (the log's "options_hash"): FNV-1a 64, as 16 hex digits, of facet's
+// version, the lines of `config` (--print-config's text of the object's plan, its first line a
+// comment) that shape the image, and the object's views and passes. The lines left out say how the
+// run goes and cannot change a byte: threads, isa, tile-size, batch-triangles, load-threads,
+// isolation, sandbox, timeout, max-memory.
+std::string options_hash(std::string_view config, const ObjectOptions& options);
+
 // The camera rigs of multi-view rendering (`views`): orbit:N[:ELEVATION], sphere:N, random:N:SEED,
 // file:CAMERAS.json, with 1 <= N <= 10000, ELEVATION in [-90, 90] degrees, SEED a whole number.
 Status check_view_rig(const std::string& spec);

@@ -130,34 +130,12 @@ std::vector<ObjectEntry> collect_inputs(const std::vector<std::string>& inputs) 
     return entries;
 }
 
-// The settings of --print-config that say how the run goes, not what the image looks like; the
-// options hash leaves them out, so that a resume on another machine, with other --threads or
-// another --isa (same bytes) keeps what is done.
-bool describes_the_run(const std::string& key) {
-    static const char* const k_keys[] = {"threads",    "isa",     "tile-size",  "batch-triangles", "load-threads",
-                                         "isolation", "timeout", "max-memory"};
-    return std::find(std::begin(k_keys), std::end(k_keys), key) != std::end(k_keys);
-}
-
-// The options hash: FNV-1a 64 of what --print-config says of the object's plan (the keys that
-// shape the image), its views and passes, and facet's version, as 16 hex digits.
+// The options hash of an object (collection.hpp's options_hash) from --print-config's text of its plan.
 std::string options_hash(const RenderPlan& plan, const ObjectOptions& options, const Renderer& renderer,
                          const WorkerLimits& limits) {
     ConfigText config("thumbs");
     describe_run(config, plan, nullptr, renderer, limits, true);
-    std::string text = std::string("version = ") + FACET_VERSION + "\n";
-    std::size_t pos = config.str().find('\n') + 1;  // after the comment line
-    while (pos < config.str().size()) {
-        const std::size_t end = config.str().find('\n', pos);
-        const std::string line = config.str().substr(pos, end - pos + 1);
-        if (!describes_the_run(line.substr(0, line.find(" = ")))) text += line;
-        pos = end + 1;
-    }
-    text += "views = " + options.views.value_or("") + "\npasses =";
-    for (const std::string& p : options.passes) text += " " + p;
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(fnv1a_64(text + "\n")));
-    return hex;
+    return options_hash(config.str(), options);
 }
 
 RenderPlan object_plan(const RenderPlan& plan, const Job& job) {

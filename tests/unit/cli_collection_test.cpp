@@ -331,6 +331,37 @@ TEST(Manifest, ViewRigsAndPasses) {
     EXPECT_FALSE(check_passes({"depth", "depth"}).ok());
 }
 
+// The options hash covers the settings that shape the image and the object's views and passes,
+// and none of those that only say how the run goes, the sandbox (the kernel's) among them.
+TEST(OptionsHash, ChangesWithTheImageOnly) {
+    const std::string config = "# facet thumbs: the settings in effect\nsize = 24x24\nshading = lambert\n"
+                               "threads = 2\nisa = avx2\ntile-size = 64\nbatch-triangles = 4096\nload-threads = 1\n"
+                               "isolation = worker-process\nsandbox = seccomp, landlock (ABI 3)\ntimeout = 60\n"
+                               "max-memory = 4G\n";
+    const ObjectOptions none;
+    const std::string hash = options_hash(config, none);
+    EXPECT_EQ(hash.size(), 16u);
+    EXPECT_EQ(hash.find_first_not_of("0123456789abcdef"), std::string::npos) << hash;
+    const auto with = [&](const std::string& key, const std::string& value) {
+        const std::size_t at = config.find("\n" + key + " = ") + key.size() + 4;
+        return config.substr(0, at) + value + config.substr(config.find('\n', at));
+    };
+    for (const auto& [key, value] : std::map<std::string, std::string>{
+             {"threads", "1"}, {"isa", "scalar"}, {"tile-size", "32"}, {"batch-triangles", "100"},
+             {"load-threads", "2"}, {"isolation", "none"}, {"sandbox", "seccomp (this kernel has no Landlock)"},
+             {"timeout", "0"}, {"max-memory", "0"}})
+        EXPECT_EQ(options_hash(with(key, value), none), hash) << key;
+    EXPECT_NE(options_hash(with("size", "28x28"), none), hash);
+    EXPECT_NE(options_hash(with("shading", "flat"), none), hash);
+    EXPECT_NE(options_hash(config + "background = 1,0,0\n", none), hash);
+    ObjectOptions views, passes;
+    views.views = "orbit:8";
+    passes.passes = {"color", "depth"};
+    EXPECT_NE(options_hash(config, views), hash);
+    EXPECT_NE(options_hash(config, passes), hash);
+    EXPECT_NE(options_hash(config, views), options_hash(config, passes));
+}
+
 TEST(ResultsLog, LinesAreJsonAndReadBack) {
     LogRecord ok;
     ok.id = "a/\"b\"";
