@@ -422,6 +422,9 @@ constexpr int k_w = 320, k_h = 240;
 // Below the overlay, around the middle of the window: where the framed model must be.
 constexpr int k_centre_area = 80 * 60;
 int centre(const facet::Image& img) { return foreground(img, 120, 100, 200, 160); }
+// A frame is on screen: until the first one is presented the window is black, which is not the
+// background either and would pass for the model.
+bool drawn(const facet::Image& img) { return coloured(img, k_background) > 0; }
 
 TEST_F(XvfbViewer, ShowsTheModelAndOrbitsWhenDragged) {
     write_cube(dir_ / "cube.obj");
@@ -429,7 +432,7 @@ TEST_F(XvfbViewer, ShowsTheModelAndOrbitsWhenDragged) {
     ASSERT_FALSE(HasFailure());
     // The model loads on a background thread: wait until it is drawn in the middle of the window.
     const facet::Image first = capture_until(
-        win, [](const facet::Image& img) { return centre(img) > k_centre_area / 2; }, 20s,
+        win, [](const facet::Image& img) { return drawn(img) && centre(img) > k_centre_area / 2; }, 20s,
         "the cube in the centre of the window");
     save("first", first);
     ASSERT_EQ(first.width, k_w);
@@ -550,7 +553,8 @@ TEST_F(XvfbViewer, DroppedFilesOpenAndBadOnesShowTheirError) {
     const std::string win = start_viewer({"cube.obj", "--size", "320x240"});
     ASSERT_FALSE(HasFailure());
     const facet::Image cube = capture_until(
-        win, [](const facet::Image& img) { return centre(img) > k_centre_area * 9 / 10; }, 20s, "the cube");
+        win, [](const facet::Image& img) { return drawn(img) && centre(img) > k_centre_area * 9 / 10; }, 20s,
+        "the cube");
     auto title = [&]() {
         const std::string name = run(x("xdotool getwindowname " + win)).output;
         return name.substr(0, name.find('\n'));
