@@ -25,6 +25,7 @@
 
 #include "io/assimp_scene.hpp"
 #include "io/load_common.hpp"
+#include "io/import_notes.hpp"
 #include "io/resources.hpp"
 
 // assimp's internal consistency checks (ai_assert) are compiled into Debian's libassimp and call
@@ -58,23 +59,8 @@ bool means_no_triangles(const std::string& message) {
 
 // Some readers work around bad data and only log an error: the OBJ reader replaces a missing
 // material, the OFF reader clamps out-of-range vertex indices to the last vertex. A global assimp
-// logger hands each error to the thread whose import logged it; they become one warning, except
-// an out-of-range index, which means a corrupt file (as it is for OBJ and PLY): an error.
-struct LoggedErrors {
-    std::vector<std::string> distinct;  // the first few, in order
-    std::size_t total = 0;
-    std::optional<std::string> bad_index;
-};
-thread_local LoggedErrors* t_assimp_errors = nullptr;
-constexpr std::size_t k_max_logged_errors = 3;
-
-// Logged "errors" about things facet does not use, or about files that are fine.
-bool ignorable(std::string_view message) {
-    for (std::string_view noise : {"No object detected to attach a new mesh instance",  // OBJ: usemtl before o/g
-                                   "nimation", "Bone", "binormal", "tangent"})
-        if (message.find(noise) != std::string_view::npos) return true;
-    return false;
-}
+// logger hands each error to the thread whose import logged it (ImportNotes, import_notes.hpp).
+thread_local ImportNotes* t_assimp_notes = nullptr;
 
 class ErrorCollector final : public Assimp::Logger {
 public:
@@ -86,43 +72,21 @@ public:
     void OnInfo(const char*) override {}
     void OnWarn(const char*) override {}
     void OnError(const char* message) override {
-        LoggedErrors* e = t_assimp_errors;
-        const std::string_view m = message;
-        if (!e || ignorable(m)) return;
-        if (m.find("out of range") != std::string_view::npos && m.find("ndex") != std::string_view::npos && !e->bad_index)
-            e->bad_index = message;
-        if (std::find(e->distinct.begin(), e->distinct.end(), message) != e->distinct.end()) return;
-        ++e->total;
-        if (e->distinct.size() < k_max_logged_errors) e->distinct.push_back(message);
+        if (t_assimp_notes) t_assimp_notes->error_reached_logger(message);
     }
 };
 
 // Collects assimp's logged errors on this thread while it lives.
 class AssimpErrors {
 public:
-    AssimpErrors() {
+    explicit AssimpErrors(ImportNotes& notes) {
         static std::once_flag installed;
         std::call_once(installed, [] { Assimp::DefaultLogger::set(new ErrorCollector); });
-        t_assimp_errors = &errors_;
+        t_assimp_notes = &notes;
     }
-    ~AssimpErrors() { t_assimp_errors = nullptr; }
+    ~AssimpErrors() { t_assimp_notes = nullptr; }
     AssimpErrors(const AssimpErrors&) = delete;
     AssimpErrors& operator=(const AssimpErrors&) = delete;
-
-    const std::optional<std::string>& bad_index() const { return errors_.bad_index; }
-
-    // One warning naming the file, or nothing if assimp logged no error.
-    std::optional<std::string> warning(const std::string& path) const {
-        if (errors_.total == 0) return std::nullopt;
-        std::string w = path + ": assimp reported problems and worked around them: ";
-        for (std::size_t i = 0; i < errors_.distinct.size(); ++i) w += (i ? "; " : "") + errors_.distinct[i];
-        if (errors_.total > errors_.distinct.size())
-            w += " (and " + std::to_string(errors_.total - errors_.distinct.size()) + " more)";
-        return w;
-    }
-
-private:
-    LoggedErrors errors_;
 };
 
 // assimp opens every file through its IOSystem: the model, and whatever the model names (OBJ's MTL
@@ -131,7 +95,7 @@ private:
 // importer, which then works around it or fails, and is named in a warning or the error.
 class ConfinedIOSystem final : public Assimp::DefaultIOSystem {
 public:
-    explicit ConfinedIOSystem(const ResourceRoots& roots) : roots_(roots) {}
+    ConfinedIOSystem(const ResourceRoots& roots, ImportNotes& notes) : roots_(roots), notes_(notes) {}
 
     bool Exists(const char* file) const override { return allowed(file) && DefaultIOSystem::Exists(file); }
 
@@ -141,21 +105,11 @@ public:
         return DefaultIOSystem::Open(file, mode);
     }
 
-    // The files refused that exist (resources.hpp), in order, each once.
-    const std::vector<std::string>& refused() const { return refused_; }
-
 private:
-    bool allowed(const char* file) const {
-        if (file && roots_.allows(file)) return true;
-        const std::string name = file ? file : "";
-        std::error_code ec;
-        if (std::filesystem::exists(name, ec) && std::find(refused_.begin(), refused_.end(), name) == refused_.end())
-            refused_.push_back(name);
-        return false;
-    }
+    bool allowed(const char* file) const { return file && notes_.may_open(roots_, file); }
 
     const ResourceRoots& roots_;
-    mutable std::vector<std::string> refused_;  // Exists is const
+    ImportNotes& notes_;  // Exists is const; the refusals are noted there
 };
 
 }  // namespace
@@ -175,29 +129,22 @@ Result<LoadedModel> load_with_assimp(const std::string& path, const std::string&
         flags |= aiProcess_RemoveComponent;
     }
     const ResourceRoots roots(path, options.resource_dirs);
-    auto* io = new ConfinedIOSystem(roots);
-    importer.SetIOHandler(io);  // the importer owns it
-    AssimpErrors logged;
+    ImportNotes notes;
+    importer.SetIOHandler(new ConfinedIOSystem(roots, notes));  // the importer owns it
+    AssimpErrors logged(notes);
     const aiScene* scene = importer.ReadFile(path, flags);
-    std::vector<std::string> refusals;
-    for (const std::string& file : io->refused()) refusals.push_back(roots.refusal(file));
     if (!scene) {
         const std::string why = importer.GetErrorString();
         // assimp catches the std::bad_alloc of a reader that asked for more than there is
         // (a damaged count in a header, or a process memory cap) and keeps only its name.
         if (why == "std::bad_alloc") return out_of_memory(path);
-        std::string refused;  // what the model wanted to read and may not: maybe why it failed
-        for (const std::string& r : refusals) refused += "; " + r;
+        const std::string refused = notes.refusals_text(roots);  // what the model wanted to read and may not: maybe why it failed
         if (means_no_triangles(why)) return fail(ErrorCode::bad_format, path, "contains no triangles (" + why + ")" + refused);
         return fail(ErrorCode::bad_format, path, "cannot be read as a model (" + readable(why) + ")" + refused);
     }
-    if (logged.bad_index()) return fail(ErrorCode::bad_format, path, "has out-of-range indices (" + *logged.bad_index() + ")");
-    Result<LoadedModel> model = convert_scene(path, *scene, options, roots);
-    if (model) {
-        if (std::optional<std::string> w = logged.warning(path)) model->warnings.insert(model->warnings.begin(), *w);
-        for (std::size_t i = 0; i < refusals.size(); ++i)
-            model->warnings.insert(model->warnings.begin() + static_cast<std::ptrdiff_t>(i), path + ": " + refusals[i]);
-    }
+    if (notes.bad_index()) return fail(ErrorCode::bad_format, path, "has out-of-range indices (" + *notes.bad_index() + ")");
+    Result<LoadedModel> model = convert_scene(path, source_of(*scene, ext == "gltf" || ext == "glb"), options, roots);
+    if (model) notes.add_warnings(path, roots, *model);
     return model;
 }
 

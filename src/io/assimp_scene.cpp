@@ -1,9 +1,10 @@
-// facet io, the assimp path's second half: an aiScene (assimp_import.hpp) converted into a Scene.
+// facet io, the conversion every reader ends in (assimp_scene.hpp): a SourceScene into a Scene.
 // The node hierarchy is walked, each mesh reference becomes a SceneObject (the mesh in its own
 // space, the accumulated node transform as `model`); triangles with non-finite or out-of-range
 // vertices are dropped with a warning; missing normals are computed with the crease angle; materials
 // give base colour, opacity, alpha mode, sidedness and the base-colour texture (embedded, or a file
-// the model's resource folders allow, found leniently: resources.hpp). Not the reading itself, nor facet's own readers.
+// the model's resource folders allow, found leniently: resources.hpp), a file's textures decoded in
+// parallel. Not the reading itself.
 #include "io/assimp_scene.hpp"
 
 #include <assimp/GltfMaterial.h>
@@ -23,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "facet/detail/thread_pool.hpp"
 #include "facet/mesh.hpp"
 #include "io/load_common.hpp"
 #include "io/resources.hpp"
@@ -38,49 +40,79 @@ Mat4 to_mat4(const aiMatrix4x4& m) {
     return Mat4::from_rows({m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4});
 }
 
-bool is_triangle_mesh(const aiMesh& m) { return (m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0 && m.mNumFaces > 0; }
+// The triangles of a mesh as (a, b, c) vertex indices, in order.
+template <class F>
+void for_each_triangle(const SourceMesh& m, F&& f) {
+    if (m.triangles) {
+        for (std::size_t t = 0; t < 3 * m.triangle_count; t += 3) f(m.triangles[t], m.triangles[t + 1], m.triangles[t + 2]);
+        return;
+    }
+    for (std::uint32_t i = 0; m.triangle_mesh && i < m.face_count; ++i)
+        if (m.faces[i].mNumIndices == 3) f(m.faces[i].mIndices[0], m.faces[i].mIndices[1], m.faces[i].mIndices[2]);
+}
 
-std::size_t triangle_count(const aiMesh& m) {
-    if (!is_triangle_mesh(m)) return 0;
+bool is_triangle_mesh(const SourceMesh& m) { return m.triangles ? m.triangle_count > 0 : m.triangle_mesh; }
+
+std::size_t triangle_count(const SourceMesh& m) {
+    if (m.triangles) return m.triangle_count;
     std::size_t n = 0;
-    for (unsigned f = 0; f < m.mNumFaces; ++f) n += m.mFaces[f].mNumIndices == 3;
+    for_each_triangle(m, [&](unsigned, unsigned, unsigned) { ++n; });
     return n;
 }
 
-std::uint64_t estimated_bytes(const aiMesh& m) {
-    return estimated_scene_bytes(m.mNumVertices, triangle_count(m), m.HasVertexColors(0), m.HasTextureCoords(0));
+std::uint64_t estimated_bytes(const SourceMesh& m) {
+    return estimated_scene_bytes(m.vertex_count, triangle_count(m), m.colours != nullptr, m.uvs != nullptr);
 }
 
 // Node transforms are composed parent-first. The walk is iterative (deep hierarchies cannot
-// overflow the stack) and refuses cycles, which a corrupt file could build.
+// overflow the stack) and refuses cycles, which a corrupt file could build. assimp's nodes and
+// facet's readers' are walked alike, through these accessors.
+const aiMatrix4x4& transform_of(const aiNode& n) { return n.mTransformation; }
+const aiMatrix4x4& transform_of(const SourceNode& n) { return n.transform; }
+std::size_t mesh_count(const aiNode& n) { return n.mNumMeshes; }
+std::size_t mesh_count(const SourceNode& n) { return n.meshes.size(); }
+unsigned mesh_of(const aiNode& n, std::size_t i) { return n.mMeshes[i]; }
+unsigned mesh_of(const SourceNode& n, std::size_t i) { return n.meshes[i]; }
+std::size_t child_count(const aiNode& n) { return n.mNumChildren; }
+std::size_t child_count(const SourceNode& n) { return n.children.size(); }
+const aiNode* child_of(const aiNode& n, std::size_t i) { return n.mChildren[i]; }
+const SourceNode* child_of(const SourceNode& n, std::size_t i) { return &n.children[i]; }
+
+template <class Node>
 struct NodeVisit {
-    const aiNode* node;
+    const Node* node;
     Mat4 world;
 };
 
-template <class F>
-Status walk_nodes(const std::string& path, const aiScene& scene, const Mat4& root, F&& visit_mesh) {
-    std::vector<NodeVisit> stack;
-    std::unordered_set<const aiNode*> seen;
-    if (scene.mRootNode) stack.push_back({scene.mRootNode, root});
+template <class Node, class F>
+Status walk_tree(const std::string& path, const Node* root_node, std::size_t meshes, const Mat4& root, F&& visit_mesh) {
+    std::vector<NodeVisit<Node>> stack;
+    std::unordered_set<const Node*> seen;
+    if (root_node) stack.push_back({root_node, root});
     while (!stack.empty()) {
-        const NodeVisit v = stack.back();
+        const NodeVisit<Node> v = stack.back();
         stack.pop_back();
         if (!seen.insert(v.node).second) return fail(ErrorCode::bad_format, path, "node hierarchy has a cycle");
-        const Mat4 world = v.world * to_mat4(v.node->mTransformation);
-        for (unsigned i = 0; i < v.node->mNumMeshes; ++i) {
-            const unsigned mesh = v.node->mMeshes[i];
-            if (mesh >= scene.mNumMeshes) return fail(ErrorCode::bad_format, path, "a node refers to a missing mesh");
+        const Mat4 world = v.world * to_mat4(transform_of(*v.node));
+        for (std::size_t i = 0; i < mesh_count(*v.node); ++i) {
+            const unsigned mesh = mesh_of(*v.node, i);
+            if (mesh >= meshes) return fail(ErrorCode::bad_format, path, "a node refers to a missing mesh");
             if (Status s = visit_mesh(mesh, world); !s) return s;
         }
         // Children pushed in reverse so they are visited in file order.
-        for (unsigned c = v.node->mNumChildren; c-- > 0;)
-            if (v.node->mChildren[c]) stack.push_back({v.node->mChildren[c], world});
+        for (std::size_t c = child_count(*v.node); c-- > 0;)
+            if (const Node* child = child_of(*v.node, c)) stack.push_back({child, world});
     }
     return Ok{};
 }
 
-// One aiMesh converted, shared by every node that refers to it.
+template <class F>
+Status walk_nodes(const std::string& path, const SourceScene& scene, const Mat4& root, F&& visit_mesh) {
+    if (scene.assimp_root) return walk_tree(path, scene.assimp_root, scene.meshes.size(), root, visit_mesh);
+    return walk_tree(path, scene.root, scene.meshes.size(), root, visit_mesh);
+}
+
+// One mesh converted, shared by every node that refers to it.
 struct ConvertedMesh {
     Mesh mesh;
     std::size_t dropped = 0;     // triangles with a non-finite or out-of-range vertex
@@ -96,52 +128,57 @@ Vec4 clamp_colour(const aiColor4D& c) {
     return {unit(c.r), unit(c.g), unit(c.b), unit(c.a)};
 }
 
-// Keeps the triangles whose three vertices exist and are finite, then only the vertices they use.
-ConvertedMesh convert_mesh(const aiMesh& in, bool use_file_normals, float crease_angle_radians, int threads) {
+// Keeps the triangles whose three vertices exist and are finite, then only the vertices they use,
+// numbered in order of first use.
+ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float crease_angle_radians, int threads) {
     ConvertedMesh out;
-    std::vector<std::uint32_t> used;  // file vertex of each kept vertex
-    std::vector<std::uint32_t> remap(in.mNumVertices, ~0u);
+    std::vector<std::uint32_t> used;  // source vertex of each kept vertex
+    std::vector<std::uint32_t> remap(in.vertex_count, ~0u);
     auto finite = [&](unsigned i) {
-        const aiVector3D& p = in.mVertices[i];
+        const aiVector3D& p = in.positions[i];
         return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
     };
-    for (unsigned f = 0; is_triangle_mesh(in) && f < in.mNumFaces; ++f) {
-        const aiFace& face = in.mFaces[f];
-        if (face.mNumIndices != 3) continue;  // points and lines left in a mixed mesh
+    out.mesh.indices.reserve(3 * triangle_count(in));
+    for_each_triangle(in, [&](unsigned a, unsigned b, unsigned c) {
+        const unsigned corner[3] = {a, b, c};
         bool ok = true;
-        for (unsigned k = 0; k < 3; ++k) ok = ok && face.mIndices[k] < in.mNumVertices && finite(face.mIndices[k]);
+        for (unsigned k = 0; k < 3; ++k) ok = ok && corner[k] < in.vertex_count && finite(corner[k]);
         if (!ok) {
             ++out.dropped;
-            continue;
+            return;
         }
-        const aiVector3D &a = in.mVertices[face.mIndices[0]], &b = in.mVertices[face.mIndices[1]],
-                         &c = in.mVertices[face.mIndices[2]];
-        out.degenerate += a == b || b == c || c == a;
+        const aiVector3D &pa = in.positions[a], &pb = in.positions[b], &pc = in.positions[c];
+        out.degenerate += pa == pb || pb == pc || pc == pa;
         for (unsigned k = 0; k < 3; ++k) {
-            std::uint32_t& r = remap[face.mIndices[k]];
+            std::uint32_t& r = remap[corner[k]];
             if (r == ~0u) {
                 r = static_cast<std::uint32_t>(used.size());
-                used.push_back(face.mIndices[k]);
+                used.push_back(corner[k]);
             }
             out.mesh.indices.push_back(r);
         }
-    }
+    });
     Mesh& m = out.mesh;
-    for (std::uint32_t i : used) m.positions.push_back({in.mVertices[i].x, in.mVertices[i].y, in.mVertices[i].z});
-    if (in.HasVertexColors(0))
-        for (std::uint32_t i : used) m.colours.push_back(clamp_colour(in.mColors[0][i]));
-    if (in.HasTextureCoords(0)) {
+    m.positions.reserve(used.size());
+    for (std::uint32_t i : used) m.positions.push_back({in.positions[i].x, in.positions[i].y, in.positions[i].z});
+    if (in.colours) {
+        m.colours.reserve(used.size());
+        for (std::uint32_t i : used) m.colours.push_back(clamp_colour(in.colours[i]));
+    }
+    if (in.uvs) {
+        m.uvs.reserve(used.size());
         for (std::uint32_t i : used) {
-            const aiVector3D& t = in.mTextureCoords[0][i];
+            const aiVector3D& t = in.uvs[i];
             m.uvs.push_back({std::isfinite(t.x) ? t.x : 0.0f, std::isfinite(t.y) ? t.y : 0.0f});
         }
     }
     // The file's normals are used only when every one is usable; otherwise all are recomputed, so
     // a mesh never mixes the two.
-    bool normals_ok = use_file_normals && in.HasNormals();
-    for (std::size_t k = 0; normals_ok && k < used.size(); ++k) normals_ok = finite_and_nonzero(in.mNormals[used[k]]);
+    bool normals_ok = use_file_normals && in.normals;
+    for (std::size_t k = 0; normals_ok && k < used.size(); ++k) normals_ok = finite_and_nonzero(in.normals[used[k]]);
     if (normals_ok) {
-        for (std::uint32_t i : used) m.normals.push_back(normalize(Vec3{in.mNormals[i].x, in.mNormals[i].y, in.mNormals[i].z}));
+        m.normals.reserve(used.size());
+        for (std::uint32_t i : used) m.normals.push_back(normalize(Vec3{in.normals[i].x, in.normals[i].y, in.normals[i].z}));
     } else if (!m.indices.empty()) {
         compute_creased_normals(m, crease_angle_radians, threads);
     }
@@ -162,13 +199,12 @@ Wrap to_wrap(int mode) {
 // Everything about one file's conversion that outlives a single mesh.
 class Converter {
 public:
-    Converter(const std::string& path, const aiScene& scene, const LoadOptions& options, const ResourceRoots& roots)
+    Converter(const std::string& path, const SourceScene& scene, const LoadOptions& options, const ResourceRoots& roots)
         : path_(path), dir_(fs::path(path).parent_path()), scene_(scene), options_(options), roots_(roots) {
-        const std::string ext = model_extension(path);
-        gltf_ = ext == "gltf" || ext == "glb";
+        gltf_ = scene.gltf;
         // STL's normals are per facet (often zero or stale): they are removed on import (see
         // load_model) and creased ones computed; this is a second guard.
-        use_file_normals_ = ext != "stl";
+        use_file_normals_ = model_extension(path) != "stl";
     }
 
     std::vector<std::string>& warnings() { return warnings_; }
@@ -177,20 +213,50 @@ public:
     ConvertedMesh& mesh(unsigned index) {
         auto it = meshes_.find(index);
         if (it == meshes_.end())
-            it = meshes_.emplace(index, convert_mesh(*scene_.mMeshes[index], use_file_normals_,
+            it = meshes_.emplace(index, convert_mesh(scene_.meshes[index], use_file_normals_,
                                                      radians(options_.crease_angle_degrees), options_.threads)).first;
         return it->second;
     }
 
-    // The material of mesh `index`, with its texture only when the mesh has uvs to sample it with.
+    // Notes that mesh `index` is placed (with uvs or not), so that its material's texture is
+    // decoded with the others by load_textures.
+    void request_material(unsigned mesh_index, bool has_uvs) {
+        const unsigned index = scene_.meshes[mesh_index].material;
+        if (index >= scene_.materials.size() || !has_uvs) return;
+        const ConvertedMaterial& m = converted_material(index);
+        if (m.texture_name && textures_.emplace(*m.texture_name, nullptr).second) texture_order_.push_back(*m.texture_name);
+    }
+
+    // Decodes every requested texture, in parallel on options.threads threads; a texture that
+    // cannot be used gives a warning (in the order the textures were first requested) and null.
+    void load_textures() {
+        std::vector<Result<std::shared_ptr<const Texture>>> loaded(texture_order_.size(), Error{});
+        auto load = [&](std::size_t i) { loaded[i] = load_texture(texture_order_[i]); };
+        if (options_.threads != 1 && texture_order_.size() > 1) {
+            detail::ThreadPool pool(options_.threads <= 0 ? 0 : options_.threads);
+            pool.parallel_for(texture_order_.size(), load);
+        } else {
+            for (std::size_t i = 0; i < texture_order_.size(); ++i) load(i);
+        }
+        for (std::size_t i = 0; i < texture_order_.size(); ++i) {
+            const std::string& key = texture_order_[i];
+            if (loaded[i])
+                textures_[key] = loaded[i].value();
+            else
+                warnings_.push_back(path_ + ": texture '" + key + "' not used, the material colour stands in: " +
+                                    loaded[i].error().message);
+        }
+    }
+
+    // The material of mesh `index`, with its texture only when the mesh has uvs to sample it with
+    // (after load_textures).
     Material material(unsigned mesh_index, bool has_uvs) {
-        const unsigned index = scene_.mMeshes[mesh_index]->mMaterialIndex;
-        if (index >= scene_.mNumMaterials) return Material{};
-        auto it = materials_.find(index);
-        if (it == materials_.end()) it = materials_.emplace(index, convert_material(*scene_.mMaterials[index])).first;
-        Material m = it->second.material;
-        if (has_uvs && it->second.has_texture) {
-            m.base_colour_texture = texture(*scene_.mMaterials[index], it->second.texture_type);
+        const unsigned index = scene_.meshes[mesh_index].material;
+        if (index >= scene_.materials.size()) return Material{};
+        const ConvertedMaterial& converted = converted_material(index);
+        Material m = converted.material;
+        if (has_uvs && converted.texture_name) {
+            m.base_colour_texture = textures_[*converted.texture_name];
             if (!gltf_ && m.base_colour_texture && m.base_colour_texture->has_transparency()) m.alpha_mode = AlphaMode::blend;
         }
         return m;
@@ -199,9 +265,15 @@ public:
 private:
     struct ConvertedMaterial {
         Material material;
-        bool has_texture = false;
-        aiTextureType texture_type = aiTextureType_DIFFUSE;
+        // The base-colour texture's name, if the material has one ("*N" for embedded ones).
+        std::optional<std::string> texture_name;
     };
+
+    const ConvertedMaterial& converted_material(unsigned index) {
+        auto it = materials_.find(index);
+        if (it == materials_.end()) it = materials_.emplace(index, convert_material(*scene_.materials[index])).first;
+        return it->second;
+    }
 
     // Base colour: glTF's base colour (its alpha is the opacity) or the diffuse colour times
     // AI_MATKEY_OPACITY. Alpha mode: glTF's alphaMode and alphaCutoff; other formats blend when
@@ -230,39 +302,25 @@ private:
         if (am.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) m.double_sided = two_sided != 0;
         for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE})
             if (am.GetTextureCount(type) > 0) {
-                out.has_texture = true;
-                out.texture_type = type;
                 int u = aiTextureMapMode_Wrap, v = aiTextureMapMode_Wrap;
                 am.Get(AI_MATKEY_MAPPINGMODE_U(type, 0), u);
                 am.Get(AI_MATKEY_MAPPINGMODE_V(type, 0), v);
                 m.sampler.wrap_u = to_wrap(u);
                 m.sampler.wrap_v = to_wrap(v);
+                aiString name;
+                // No name, or the placeholder assimp's MD2 reader puts in to keep the uvs: no texture.
+                if (am.GetTexture(type, 0, &name) == AI_SUCCESS && name.length > 0 && std::string_view(name.C_Str()) != "$texture_dummy.bmp")
+                    out.texture_name = name.C_Str();
                 break;
             }
         return out;
     }
 
-    // Loads (once per name) the first texture of `type`; on failure a warning and null.
-    std::shared_ptr<const Texture> texture(const aiMaterial& am, aiTextureType type) {
-        aiString name;
-        if (am.GetTexture(type, 0, &name) != AI_SUCCESS) return nullptr;
-        const std::string key = name.C_Str();
-        // No name, or the placeholder assimp's MD2 reader puts in to keep the uvs: no texture.
-        if (key.empty() || key == "$texture_dummy.bmp") return nullptr;
-        auto it = textures_.find(key);
-        if (it != textures_.end()) return it->second;
-        Result<std::shared_ptr<const Texture>> loaded = load_texture(key);
-        std::shared_ptr<const Texture> tex;
-        if (loaded)
-            tex = loaded.value();
-        else
-            warnings_.push_back(path_ + ": texture '" + key + "' not used, the material colour stands in: " + loaded.error().message);
-        textures_.emplace(key, tex);
-        return tex;
-    }
-
     Result<std::shared_ptr<const Texture>> load_texture(const std::string& name) const {
-        if (const aiTexture* embedded = scene_.GetEmbeddedTexture(name.c_str())) return decode_embedded(*embedded, name);
+        if (const aiTexture* embedded = scene_.assimp ? scene_.assimp->GetEmbeddedTexture(name.c_str()) : nullptr)
+            return decode_embedded(*embedded, name);
+        if (auto it = scene_.embedded.find(name); it != scene_.embedded.end())
+            return Texture::decode(it->second.data(), it->second.size(), embedded_label(name), options_.texture_limits);
         if (!name.empty() && name[0] == '*')
             return Error{ErrorCode::bad_format, "embedded texture " + name + " does not exist in the file"};
         const Result<fs::path> file = find_texture_file(roots_, dir_, name);
@@ -270,10 +328,12 @@ private:
         return Texture::load(file->string(), options_.texture_limits);
     }
 
+    std::string embedded_label(const std::string& name) const { return path_ + " (embedded texture " + name + ")"; }
+
     // Compressed (PNG, JPEG, ...): mHeight == 0 and mWidth bytes. Uncompressed: mWidth x mHeight
     // BGRA texels.
     Result<std::shared_ptr<const Texture>> decode_embedded(const aiTexture& t, const std::string& name) const {
-        const std::string label = path_ + " (embedded texture " + name + ")";
+        const std::string label = embedded_label(name);
         if (!t.pcData) return Error{ErrorCode::bad_format, label + ": no data"};
         if (t.mHeight == 0) {
             // Every reader that embeds a compressed file names its format in achFormatHint ("png",
@@ -303,31 +363,79 @@ private:
 
     std::string path_;
     fs::path dir_;
-    const aiScene& scene_;
+    const SourceScene& scene_;
     const LoadOptions& options_;
     const ResourceRoots& roots_;
     bool gltf_ = false, use_file_normals_ = true;
     std::map<unsigned, ConvertedMesh> meshes_;
     std::map<unsigned, ConvertedMaterial> materials_;
     std::map<std::string, std::shared_ptr<const Texture>> textures_;
+    std::vector<std::string> texture_order_;  // the names in textures_, in order of first request
     std::vector<std::string> warnings_;
 };
 
 }  // namespace
 
-Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene, const LoadOptions& options,
+SourceScene source_of(const aiScene& scene, bool gltf) {
+    SourceScene out;
+    out.assimp_root = scene.mRootNode;
+    out.gltf = gltf;
+    out.assimp = &scene;
+    out.meshes.reserve(scene.mNumMeshes);
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
+        const aiMesh& m = *scene.mMeshes[i];
+        SourceMesh s;
+        s.vertex_count = m.mNumVertices;
+        s.positions = m.mVertices;
+        s.normals = m.mNormals;
+        s.colours = m.HasVertexColors(0) ? m.mColors[0] : nullptr;
+        s.uvs = m.HasTextureCoords(0) ? m.mTextureCoords[0] : nullptr;
+        s.material = m.mMaterialIndex;
+        s.triangle_mesh = (m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0 && m.mNumFaces > 0;
+        s.faces = m.mFaces;
+        s.face_count = m.mNumFaces;
+        out.meshes.push_back(s);
+    }
+    out.materials.assign(scene.mMaterials, scene.mMaterials + scene.mNumMaterials);
+    return out;
+}
+
+SourceScene OwnScene::view() const {
+    SourceScene out;
+    out.root = &root;
+    out.gltf = gltf;
+    out.embedded = embedded;
+    out.meshes.reserve(meshes.size());
+    for (const OwnMesh& m : meshes) {
+        SourceMesh s;
+        s.vertex_count = static_cast<std::uint32_t>(m.positions.size());
+        s.positions = m.positions.data();
+        s.normals = m.normals.empty() ? nullptr : m.normals.data();
+        s.colours = m.colours.empty() ? nullptr : m.colours.data();
+        s.uvs = m.uvs.empty() ? nullptr : m.uvs.data();
+        s.material = m.material;
+        s.triangles = m.triangles.data();
+        s.triangle_count = m.triangles.size() / 3;
+        s.triangle_mesh = s.triangle_count > 0;
+        out.meshes.push_back(s);
+    }
+    for (const std::unique_ptr<aiMaterial>& m : materials) out.materials.push_back(m.get());
+    return out;
+}
+
+Result<LoadedModel> convert_scene(const std::string& path, const SourceScene& scene, const LoadOptions& options,
                                   const ResourceRoots& roots) {
     const Mat4 root = up_axis_root(options.up_axis);
 
     // The limits count every instance, since each becomes a mesh of its own.
     std::size_t instance_triangles = 0;
     std::uint64_t scene_bytes = 0;
-    std::vector<std::size_t> references(scene.mNumMeshes, 0);
+    std::vector<std::size_t> references(scene.meshes.size(), 0);
     Status counted = walk_nodes(path, scene, root, [&](unsigned mesh, const Mat4&) -> Status {
         ++references[mesh];
-        instance_triangles += triangle_count(*scene.mMeshes[mesh]);
+        instance_triangles += triangle_count(scene.meshes[mesh]);
         if (instance_triangles > options.max_triangles) return too_many_triangles(path, instance_triangles, options);
-        scene_bytes += estimated_bytes(*scene.mMeshes[mesh]);
+        scene_bytes += estimated_bytes(scene.meshes[mesh]);
         if (scene_bytes > options.max_scene_bytes)
             return fail(ErrorCode::limit_exceeded, path,
                         "would take at least " + std::to_string(scene_bytes) +
@@ -339,28 +447,47 @@ Result<LoadedModel> convert_scene(const std::string& path, const aiScene& scene,
     if (instance_triangles == 0)
         return fail(ErrorCode::bad_format, path, "contains no triangles (only points or lines, or nothing placed in the scene)");
 
+    // The meshes converted and placed, then their textures decoded together, then the objects.
     Converter converter(path, scene, options, roots);
-    LoadedModel out;
+    struct Placement {
+        unsigned mesh;
+        Mat4 world;
+    };
+    std::vector<Placement> placements;
     std::size_t dropped = 0, kept = 0, degenerate = 0;
     std::unordered_set<unsigned> counted_meshes;
     Status placed = walk_nodes(path, scene, root, [&](unsigned index, const Mat4& world) -> Status {
-        if (!is_triangle_mesh(*scene.mMeshes[index])) return Ok{};
+        if (!is_triangle_mesh(scene.meshes[index])) {
+            --references[index];
+            return Ok{};
+        }
         ConvertedMesh& converted = converter.mesh(index);
         if (counted_meshes.insert(index).second) {
             dropped += converted.dropped;
             kept += converted.mesh.triangle_count();
             degenerate += converted.degenerate;
         }
-        if (converted.mesh.indices.empty()) return Ok{};
-        SceneObject object;
-        object.material = converter.material(index, !converted.mesh.uvs.empty());
-        object.model = world;
-        // The last instance takes the mesh, the others copy it.
-        object.mesh = --references[index] == 0 ? std::move(converted.mesh) : converted.mesh;
-        out.scene.objects.push_back(std::move(object));
+        if (converted.mesh.indices.empty()) {
+            --references[index];
+            return Ok{};
+        }
+        converter.request_material(index, !converted.mesh.uvs.empty());
+        placements.push_back({index, world});
         return Ok{};
     });
     if (!placed) return placed.error();
+    converter.load_textures();
+    LoadedModel out;
+    out.scene.objects.reserve(placements.size());
+    for (const Placement& p : placements) {
+        ConvertedMesh& converted = converter.mesh(p.mesh);
+        SceneObject object;
+        object.material = converter.material(p.mesh, !converted.mesh.uvs.empty());
+        object.model = p.world;
+        // The last instance takes the mesh, the others copy it.
+        object.mesh = --references[p.mesh] == 0 ? std::move(converted.mesh) : converted.mesh;
+        out.scene.objects.push_back(std::move(object));
+    }
     if (out.scene.objects.empty())
         return fail(ErrorCode::bad_format, path,
                     "has no valid triangles (" + std::to_string(dropped) +

@@ -6,7 +6,11 @@
 #include <utility>
 
 #include "facet/mesh.hpp"
+#include "io/assimp_scene.hpp"
+#include "io/import_notes.hpp"
 #include "io/load_common.hpp"
+#include "io/obj.hpp"
+#include "io/resources.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -35,6 +39,24 @@ Material own_format_material(bool off) {
 }
 
 }  // namespace
+
+std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const std::string& ext, std::uint64_t size,
+                                                  const LoadOptions& options) {
+    if (ext != "obj") return std::nullopt;
+    const ResourceRoots roots(path, options.resource_dirs);
+    ImportNotes notes;
+    std::optional<Result<OwnScene>> scene;
+    {
+        std::optional<std::string> bytes = read_whole_file(path, size);
+        if (!bytes) return std::nullopt;
+        scene = read_obj(path, *bytes, options, roots, notes);
+    }  // the file's text is freed before the conversion allocates the Scene
+    if (!scene) return std::nullopt;
+    if (!*scene) return Result<LoadedModel>(scene->error());
+    Result<LoadedModel> model = convert_scene(path, (*scene)->view(), options, roots);
+    if (model) notes.add_warnings(path, roots, *model);
+    return model;
+}
 
 std::optional<OwnFormatHeader> OwnFormatHeader::parse(const std::string& ext, std::string_view head, std::uint64_t size) {
     if (ext == "off") return OwnFormatHeader(parse_off_header(head));

@@ -18,6 +18,13 @@
 
 namespace facet::io_detail {
 
+// OBJ files (and their MTL files) read by facet's own reader (obj.hpp) into the scene assimp's
+// importer makes of them, converted as the assimp path converts it (assimp_scene.hpp); nullopt for
+// the files the reader declines, which the assimp path then reads. `ext` is the extension in lower
+// case, `size` the file's.
+std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const std::string& ext, std::uint64_t size,
+                                                  const LoadOptions& options);
+
 class OwnFormatHeader {
 public:
     // The header of a file with the extension `ext` (lower case) whose format has a reader of

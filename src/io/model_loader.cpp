@@ -13,12 +13,14 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <new>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "io/assimp_import.hpp"
 #include "io/fast_path.hpp"
@@ -87,6 +89,8 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
     try {
         if (fast_paths && own)
             if (std::optional<LoadedModel> model = own->load(path, head, size, options)) return std::move(*model);
+        if (fast_paths)
+            if (std::optional<Result<LoadedModel>> model = io_detail::load_own_scene(path, ext, size, options)) return std::move(*model);
         return io_detail::load_with_assimp(path, ext, options);
     } catch (const std::bad_alloc&) {
         return io_detail::out_of_memory(path);
@@ -115,7 +119,12 @@ bool is_supported_model_file(const std::string& path) {
 }
 
 Result<LoadedModel> load_model(const std::string& path, const LoadOptions& options) {
-    return load_model_from(path, options, /*fast_paths=*/true);
+    // FACET_READER=assimp: every file through assimp, for comparisons (docs/BENCHMARKS.md).
+    static const bool assimp_only = [] {
+        const char* reader = std::getenv("FACET_READER");
+        return reader && std::string_view(reader) == "assimp";
+    }();
+    return load_model_from(path, options, /*fast_paths=*/!assimp_only);
 }
 
 Result<LoadedModel> io_detail::load_model_through_assimp(const std::string& path, const LoadOptions& options) {

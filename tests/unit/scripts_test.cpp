@@ -48,7 +48,7 @@ TEST(Scripts, HelpPrintsTheLeadingCommentAndStops) {
 }
 
 TEST(Scripts, EveryScriptSourcesTheHelpFirst) {
-    for (const char* name : {"scripts/bench", "scripts/ci-extra", "scripts/demo", "scripts/fuzz", "scripts/sanitize",
+    for (const char* name : {"scripts/bench", "scripts/bench-loading", "scripts/ci-extra", "scripts/demo", "scripts/fuzz", "scripts/sanitize",
                              "scripts/setup", "scripts/test", ".ci/run"}) {
         std::ifstream in(k_source / name);
         ASSERT_TRUE(in) << name;

@@ -1,0 +1,132 @@
+// facet io: assimp 5.2.5's JoinIdenticalVertices for facet's own readers. assimp puts a mesh's
+// vertices in a std::unordered_map reserved for the mesh's vertex count, hashed by position (-0 as
+// +0) and compared with a tolerance (positions, normals, first uvs, tangents and bitangents each
+// within a squared distance of 1e-10; colours not at all): a vertex joins the first one of its
+// bucket that compares equal, else starts a new one. When no two differing vertices of one bucket
+// compare equal, that is the join by exact equality, done here with a hash table of the readers'
+// own (exact_join, checked by exact_join_is_assimps); otherwise assimp's own container is run the
+// way assimp runs it (assimp_join: the same libstdc++ code, so the same buckets and the same result).
+// In: the vertices' attributes as assimp compares them (uvs after FlipUVs). Out: the numbering.
+#pragma once
+
+#include <assimp/vector3.h>
+#include <assimp/vector3.inl>
+
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace facet::io_detail {
+
+// What JoinIdenticalVertices compares of a vertex (zeros for what the mesh lacks).
+struct JoinVertex {
+    aiVector3D position, normal, uv, tangent, bitangent;
+};
+
+// A join as a numbering: each item's unique vertex, and each unique vertex's first item.
+struct Join {
+    std::vector<std::uint32_t> unique;
+    std::vector<std::uint32_t> first;
+};
+
+// std::hash<float> of libstdc++ (0 for both zeros, else _Hash_bytes of the four bytes), and the
+// hash assimp combines from a position's three.
+std::size_t std_float_hash(float v);
+std::size_t assimp_position_hash(const aiVector3D& p);
+// The bucket count of a std::unordered_map reserved for `n` elements.
+std::size_t reserved_buckets(std::size_t n);
+// assimp's areVerticesEqual with `margin` for its squared tolerance (1e-5f * 1e-5f).
+bool assimp_equal(const JoinVertex& a, const JoinVertex& b, float margin);
+
+namespace join_detail {
+inline std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v == 0.0f ? 0.0f : v); }
+inline bool same(const aiVector3D& a, const aiVector3D& b) {
+    return bits(a.x) == bits(b.x) && bits(a.y) == bits(b.y) && bits(a.z) == bits(b.z);
+}
+inline bool same(const JoinVertex& a, const JoinVertex& b) {
+    return same(a.position, b.position) && same(a.normal, b.normal) && same(a.uv, b.uv) && same(a.tangent, b.tangent) &&
+           same(a.bitangent, b.bitangent);
+}
+// By position only: vertices that differ elsewhere are few at one position.
+inline std::uint64_t hash(const aiVector3D& p) {
+    std::uint64_t h = bits(p.x) * 0x9E3779B97F4A7C15ull;
+    h = (h ^ bits(p.y)) * 0xC2B2AE3D27D4EB4Full;
+    h = (h ^ bits(p.z)) * 0x165667B19E3779F9ull;
+    return h ^ (h >> 29);
+}
+}  // namespace join_detail
+
+// Items 0..count-1 (value(i) -> JoinVertex) joined when exactly equal (-0 as +0), numbered in order
+// of their first item.
+template <class Value>
+Join exact_join(std::size_t count, Value&& value) {
+    constexpr std::uint32_t none = ~0u;
+    Join out;
+    out.unique.resize(count);
+    std::vector<std::uint32_t> table(std::bit_ceil(std::max<std::size_t>(16, 2 * count)), none);
+    const std::size_t mask = table.size() - 1;
+    for (std::size_t i = 0; i < count; ++i) {
+        const JoinVertex v = value(i);
+        std::size_t slot = join_detail::hash(v.position) & mask;
+        while (table[slot] != none && !join_detail::same(value(out.first[table[slot]]), v)) slot = (slot + 1) & mask;
+        if (table[slot] == none) {
+            table[slot] = static_cast<std::uint32_t>(out.first.size());
+            out.first.push_back(static_cast<std::uint32_t>(i));
+        }
+        out.unique[i] = table[slot];
+    }
+    return out;
+}
+
+// Whether assimp's join of a mesh of `vertex_count` vertices is the exact `join` (value as above):
+// no two of its unique vertices in one of assimp's buckets compare equal, with twice the margin.
+template <class Value>
+bool exact_join_is_assimps(const Join& join, Value&& value, std::size_t vertex_count) {
+    constexpr std::uint32_t none = ~0u;
+    const std::size_t buckets = reserved_buckets(vertex_count);
+    std::vector<std::uint32_t> head(buckets, none), next(join.first.size(), none);
+    for (std::uint32_t u = 0; u < join.first.size(); ++u) {
+        const JoinVertex v = value(join.first[u]);
+        std::uint32_t& h = head[assimp_position_hash(v.position) % buckets];
+        for (std::uint32_t w = h; w != none; w = next[w])
+            if (assimp_equal(v, value(join.first[w]), 2e-10f)) return false;
+        next[u] = h;
+        h = u;
+    }
+    return true;
+}
+
+// assimp's join itself over the vertices used (used(i)), in its container and order; the unused
+// keep ~0.
+template <class Value, class Used>
+Join assimp_join(std::size_t count, Value&& value, Used&& used) {
+    struct Hash {
+        std::size_t operator()(const JoinVertex& v) const noexcept { return assimp_position_hash(v.position); }
+    };
+    struct Equal {
+        bool operator()(const JoinVertex& a, const JoinVertex& b) const { return assimp_equal(a, b, 1e-5f * 1e-5f); }
+    };
+    // A hash that is noexcept and not one of libstdc++'s "slow" ones, as assimp's std::hash<Vertex>:
+    // the same container layout (no cached hash codes) and so the same comparisons.
+    std::unordered_map<JoinVertex, std::uint32_t, Hash, Equal> map;
+    map.reserve(count);
+    Join out;
+    out.unique.assign(count, ~0u);
+    for (std::size_t i = 0; i < count; ++i) {
+        if (!used(i)) continue;
+        const JoinVertex v = value(i);
+        auto it = map.find(v);
+        if (it == map.end()) {
+            map[v] = static_cast<std::uint32_t>(out.first.size());
+            out.unique[i] = static_cast<std::uint32_t>(out.first.size());
+            out.first.push_back(static_cast<std::uint32_t>(i));
+        } else {
+            out.unique[i] = it->second;
+        }
+    }
+    return out;
+}
+
+}  // namespace facet::io_detail

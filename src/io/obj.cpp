@@ -1,0 +1,1134 @@
+// facet io: the OBJ reader (obj.hpp). Each step mirrors assimp 5.2.5 on the files it accepts:
+//  - lines as its IOStreamBuffer cuts them (every '\r', '\n' or '\f' ends one; in a file of more
+//    than 16 MiB a last line without a line end is lost) and its ObjFileParser reads them (a line
+//    is dispatched on its first character: indented lines are ignored; numbers through fast_atof;
+//    face indices through atoi, forward references allowed, negative ones relative);
+//  - its model: objects ('o' reuses an object of that name, 'g' always starts one), meshes (a new
+//    one per object and per change of material once the mesh has faces), the material library
+//    (DefaultMaterial first, MTL files read where they are named, materials named by 'usemtl' but
+//    never defined created with a logged error);
+//  - ObjFileImporter: a vertex per face corner, normals, colours and uvs as it copies them
+//    (zeros where a face lacks them, none for a mesh whose indices leave the arrays);
+//  - post-processing: ScenePreprocessor, FlipUVs (v = 1 - v), Triangulate (quads split at their
+//    concave corner by the same float arithmetic), JoinIdenticalVertices (equal positions, normals
+//    and uvs; colours not compared, the first corner's kept; declined where its tolerance could
+//    join differing ones: assimp_join.hpp);
+//  - the materials' properties as createMaterials sets them, with its logged errors.
+#include "io/obj.hpp"
+
+#include <assimp/defs.h>
+#include <assimp/material.h>
+#include <assimp/vector2.h>
+#include <assimp/vector3.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <strings.h>
+#include <utility>
+#include <vector>
+
+#include "io/assimp_join.hpp"
+#include "io/assimp_text.hpp"
+#include "io/import_notes.hpp"
+#include "io/load_common.hpp"
+#include "io/resources.hpp"
+
+namespace facet::io_detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Thrown where assimp would read the file otherwise than this reader can mirror (or refuse it):
+// the file goes to assimp.
+struct Decline { int line = 0; };
+
+constexpr std::uint32_t k_absent = 0xFFFFFFFFu;        // a corner without a texture coordinate or normal
+constexpr std::uint32_t k_out_of_range = 0xFFFFFFFEu;  // an index that no array reaches
+constexpr unsigned k_no_material = ~0u;
+constexpr std::size_t k_stream_block = 4096 * 4096;  // assimp's IOStreamBuffer reads 16 MiB at a time
+constexpr std::size_t k_max_word = 1000;             // shorter than every buffer assimp copies words into
+constexpr std::size_t k_max_name = 1000;             // aiString holds 1023 characters
+constexpr std::size_t k_min_obj_bytes = 16;          // ObjFileImporter: "OBJ-file is too small."
+constexpr std::size_t k_min_text_bytes = 8;          // BaseImporter::ConvertToUTF8: "File is too small"
+
+// assimp's IsLineEnd ('\0' too) and IsSpaceOrNewLine.
+bool ends_line(char c) { return c == '\r' || c == '\n' || c == '\f' || c == '\0'; }
+bool is_blank(char c) { return is_space(c) || ends_line(c); }
+
+bool starts_with_nocase(const char* c, const char* word) { return strncasecmp(c, word, std::strlen(word)) == 0; }
+
+// getNextWord: spaces and tabs skipped, stopping at a line end.
+const char* skip_blanks(const char* c) {
+    while (is_space(*c)) ++c;
+    return c;
+}
+// getNextToken: the token at c skipped, then the spaces after it.
+const char* next_token(const char* c) {
+    while (!is_blank(*c)) ++c;
+    return skip_blanks(c);
+}
+// The word at c (up to a space or line end).
+std::string_view word_at(const char* c) {
+    const char* e = c;
+    while (!is_blank(*e)) ++e;
+    if (static_cast<std::size_t>(e - c) > k_max_word) throw Decline{__LINE__};
+    return {c, static_cast<std::size_t>(e - c)};
+}
+// The rest of the line from c.
+std::string_view rest_of_line(const char* c) {
+    const char* e = c;
+    while (!ends_line(*e)) ++e;
+    return {c, static_cast<std::size_t>(e - c)};
+}
+
+// fast_atof on a word: the number it starts with; a word that does not start with one makes
+// assimp throw.
+float word_float(std::string_view word) {
+    if (word.empty()) throw Decline{__LINE__};
+    float value = 0;
+    try {
+        read_float(word.data(), value);  // stops before the word's end, which is no part of a number
+    } catch (const NotANumber&) {
+        throw Decline{__LINE__};
+    }
+    return value;
+}
+
+// copyNextWord + fast_atof: the next word's number, and c moved past the word.
+float next_float(const char*& c) {
+    c = skip_blanks(c);
+    if (*c == '\\') throw Decline{__LINE__};
+    const std::string_view w = word_at(c);
+    c += w.size();
+    return word_float(w);
+}
+
+bool non_finite(const aiVector3D& v) { return !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z); }
+
+// ---- the model, as ObjFile::Model holds it
+
+enum TextureSlot : int {
+    diffuse, specular, ambient, emissive, bump, normal, reflection_sphere, reflection_cube_top, reflection_cube_bottom,
+    reflection_cube_front, reflection_cube_back, reflection_cube_left, reflection_cube_right, specularity, opacity,
+    displacement, roughness, metallic, sheen, rma, slot_count
+};
+
+struct ObjMaterial {
+    std::string name;
+    unsigned index = 0;  // in the library
+    std::string texture[slot_count];
+    std::string reflection[6];  // textureReflection: a sphere map, or a cube map's faces (-type)
+    bool clamp[slot_count] = {};
+    aiColor3D ambient, diffuse{0.6f, 0.6f, 0.6f}, specular, emissive, transparent{1.0f, 1.0f, 1.0f};
+    float alpha = 1.0f, shininess = 0.0f, ior = 1.0f, anisotropy = 0.0f, bump_multiplier = 1.0f;
+    int illumination = 1;
+    std::optional<float> roughness_factor, metallic_factor, clearcoat_thickness, clearcoat_roughness;
+    std::optional<aiColor3D> sheen_colour;
+};
+
+// A mesh's faces: per corner its vertex, and (when some face of the mesh has them) its texture
+// coordinate and normal or k_absent; per face its corner count.
+struct ObjMesh {
+    std::string name;
+    unsigned material = k_no_material;
+    std::vector<std::uint32_t> v, vt, vn;
+    std::vector<std::uint32_t> corners;
+    std::size_t faces = 0, triangles = 0;  // triangles: as Triangulate makes them of simple polygons
+    bool has_normals = false;  // some face gave normal indices
+    std::size_t uv_count = 0;  // texture coordinate indices given, in all
+};
+
+struct ObjObject {
+    std::string name;
+    std::vector<unsigned> meshes;
+};
+
+struct ObjModel {
+    std::vector<aiVector3D> vertices, colours, texcoords, normals;
+    unsigned texcoord_dim = 0;
+    std::vector<ObjMesh> meshes;
+    std::vector<ObjObject> objects;
+    std::map<std::string, ObjMaterial> materials;
+    std::vector<ObjMaterial*> library;  // in order; DefaultMaterial first
+    ObjMaterial* current_material = nullptr;
+    int current_object = -1, current_mesh = -1;
+    std::string active_group;
+    std::size_t total_triangles = 0;
+    bool counting_only = false;  // past max_triangles: faces are counted, not kept
+    bool has_polygons = false;   // faces of more than four corners
+    std::uint32_t largest_vertex = 0;
+
+    ObjMaterial& add_material(const std::string& name) {
+        if (name.size() > k_max_name) throw Decline{__LINE__};
+        ObjMaterial& m = materials[name];
+        m.name = name;
+        m.index = static_cast<unsigned>(library.size());
+        library.push_back(&m);
+        return m;
+    }
+
+    unsigned material_index(const std::string& name) const {
+        auto it = materials.find(name);
+        return name.empty() || it == materials.end() ? k_no_material : it->second.index;
+    }
+
+    void create_mesh(const std::string& name, ImportNotes& notes) {
+        meshes.push_back({});
+        meshes.back().name = name;
+        current_mesh = static_cast<int>(meshes.size() - 1);
+        if (current_object >= 0)
+            objects[static_cast<std::size_t>(current_object)].meshes.push_back(static_cast<unsigned>(current_mesh));
+        else
+            notes.error("OBJ: No object detected to attach a new mesh instance.");
+    }
+
+    void create_object(const std::string& name, ImportNotes& notes) {
+        objects.push_back({name, {}});
+        current_object = static_cast<int>(objects.size() - 1);
+        create_mesh(name, notes);
+        if (current_material) meshes[static_cast<std::size_t>(current_mesh)].material = material_index(current_material->name);
+    }
+
+    // ObjFileParser::needsNewMesh.
+    bool needs_new_mesh(const std::string& material) const {
+        if (current_mesh < 0) return true;
+        const ObjMesh& m = meshes[static_cast<std::size_t>(current_mesh)];
+        return m.material != k_no_material && m.material != material_index(material) && m.faces > 0;
+    }
+};
+
+// ---- MTL files (ObjFileMtlImporter)
+
+class MtlReader {
+public:
+    MtlReader(ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes) {}
+
+    // `text` ends with the NUL TextFileToBuffer appends.
+    void read(const std::string& text) {
+        const char* p = text.data();
+        end_ = text.data() + text.size();
+        while (p != end_) {
+            ObjMaterial* m = model_.current_material;
+            switch (*p) {
+                case 'k':
+                case 'K':
+                    ++p;
+                    if (*p == 'a' || *p == 'd' || *p == 's' || *p == 'e') {
+                        const char which = *p++;
+                        if (m) colour(p, which == 'a' ? m->ambient : which == 'd' ? m->diffuse : which == 's' ? m->specular : m->emissive);
+                    }
+                    p = skip_line(p);
+                    break;
+                case 'T':
+                    ++p;
+                    if (*p == 'f') {
+                        ++p;
+                        if (m) colour(p, m->transparent);
+                    } else if (*p == 'r') {
+                        ++p;
+                        const float d = float_value(p, 0.0f);
+                        if (m) m->alpha = 1.0f - d;
+                    }
+                    p = skip_line(p);
+                    break;
+                case 'd':
+                    if (p[1] == 'i' && p[2] == 's' && p[3] == 'p') {
+                        p = texture(p);
+                    } else {
+                        ++p;
+                        if (m) m->alpha = float_value(p, 0.0f);
+                        p = skip_line(p);
+                    }
+                    break;
+                case 'N':
+                case 'n':
+                    ++p;
+                    if (*p == 's') {
+                        ++p;
+                        if (m) m->shininess = float_value(p, 0.0f);
+                    } else if (*p == 'i') {
+                        ++p;
+                        if (m) m->ior = float_value(p, 0.0f);
+                    } else if (*p == 'e') {
+                        p = new_material(p);
+                    } else if (*p == 'o') {
+                        p = texture(p - 1);
+                    }
+                    p = skip_line(p);
+                    break;
+                case 'P':
+                    ++p;
+                    if (*p == 'r') {
+                        ++p;
+                        if (m) m->roughness_factor = maybe_float(p);
+                    } else if (*p == 'm') {
+                        ++p;
+                        if (m) m->metallic_factor = maybe_float(p);
+                    } else if (*p == 's') {
+                        ++p;
+                        if (m) {
+                            aiColor3D c;
+                            colour(p, c);
+                            m->sheen_colour = c;
+                        }
+                    } else if (*p == 'c') {
+                        ++p;
+                        if (*p == 'r') {
+                            ++p;
+                            if (m) m->clearcoat_roughness = maybe_float(p);
+                        } else if (m) {
+                            m->clearcoat_thickness = maybe_float(p);
+                        }
+                    }
+                    p = skip_line(p);
+                    break;
+                case 'm':
+                case 'b':
+                case 'r':
+                    p = skip_line(texture(p));
+                    break;
+                case 'i':
+                    p = next_token(p);
+                    if (m) m->illumination = atoi_word(p);
+                    p = skip_line(p);
+                    break;
+                case 'a':
+                    if (!m) throw Decline{__LINE__};  // assimp reads through a null material here
+                    ++p;
+                    m->anisotropy = float_value(p, 0.0f);
+                    p = skip_line(p);
+                    break;
+                default: p = skip_line(p); break;
+            }
+        }
+    }
+
+private:
+    // skipLine: past the line end, then past the next line's leading spaces and tabs.
+    const char* skip_line(const char* p) const {
+        while (p < end_ - 1 && !ends_line(*p)) ++p;
+        if (p != end_) ++p;
+        while (p != end_ && is_space(*p)) ++p;
+        return p;
+    }
+
+    // CopyNextWord: the next word (possibly empty), p moved past it.
+    std::string_view next_word(const char*& p) const {
+        p = skip_blanks(p);
+        const std::string_view w = word_at(p);
+        p += w.size();
+        return w;
+    }
+
+    // getFloat: the next word's number; a missing one makes assimp throw.
+    float get_float(const char*& p) const { return word_float(next_word(p)); }
+
+    // getFloatValue: the next word's number, or `empty` when there is none.
+    float float_value(const char*& p, float empty) const {
+        const std::string_view w = next_word(p);
+        return w.empty() ? empty : word_float(w);
+    }
+    std::optional<float> maybe_float(const char*& p) const {
+        const std::string_view w = next_word(p);
+        if (w.empty()) return std::nullopt;
+        return word_float(w);
+    }
+
+    // getIlluminationModel: atoi of the next word (declined when atoi's result is not plain).
+    int atoi_word(const char*& p) const {
+        const std::string_view w = next_word(p);
+        std::size_t digits = 0;
+        const std::size_t sign = !w.empty() && (w[0] == '-' || w[0] == '+');
+        while (sign + digits < w.size() && w[sign + digits] >= '0' && w[sign + digits] <= '9') ++digits;
+        if (digits > 9) throw Decline{__LINE__};
+        return std::atoi(std::string(w).c_str());
+    }
+
+    // getColorRGBA: r, and g and b when more follows on the line; missing ones stay 0.
+    void colour(const char*& p, aiColor3D& out) const {
+        float r = get_float(p), g = 0, b = 0;
+        if (!ends_line(*p)) {
+            g = get_float(p);
+            b = get_float(p);
+        }
+        out = {r, g, b};
+    }
+
+    // createMaterial: "newmtl NAME" (the rest of the line, trailing spaces cut; none: DefaultMaterial).
+    const char* new_material(const char* p) {
+        const std::string_view line = rest_of_line(p);
+        std::string name;
+        const std::size_t first_space = line.find_first_of(" \t");
+        const std::size_t first_word = first_space == std::string_view::npos ? first_space : line.find_first_not_of(" \t", first_space);
+        if (first_word == std::string_view::npos)
+            name = "DefaultMaterial";  // one token only
+        else
+            name = std::string(line.substr(first_word));
+        while (!name.empty() && is_space(name.back())) name.pop_back();
+        auto it = model_.materials.find(name);
+        if (it == model_.materials.end()) {
+            ObjMaterial& m = model_.add_material(name);
+            model_.current_material = &m;
+            if (model_.current_mesh >= 0) model_.meshes[static_cast<std::size_t>(model_.current_mesh)].material = m.index;
+        } else {
+            model_.current_material = &it->second;
+        }
+        return p + line.size();
+    }
+
+    // getTexture: the statement at p ("map_Kd [options] NAME", "bump ...", ...).
+    const char* texture(const char* p) {
+        struct Keyword {
+            const char* word;
+            int slot;
+        };
+        static const Keyword keywords[] = {{"map_Kd", diffuse},         {"map_Ka", ambient},      {"map_Ks", specular},
+                                           {"map_disp", displacement},  {"disp", displacement},   {"map_d", opacity},
+                                           {"map_emissive", emissive},  {"map_Ke", emissive},     {"map_bump", bump},
+                                           {"bump", bump},              {"map_Kn", normal},       {"norm", normal},
+                                           {"refl", -1},                {"map_ns", specularity},  {"map_Pr", roughness},
+                                           {"map_Pm", metallic},        {"map_Ps", sheen}};
+        int slot = -2;
+        for (const Keyword& k : keywords)
+            if (starts_with_nocase(p, k.word)) {
+                slot = k.slot;
+                break;
+            }
+        if (slot == -1) return p;  // reflection statements are skipped
+        if (slot == -2) {
+            notes_.error("OBJ/MTL: Encountered unknown texture type");
+            return p;
+        }
+        ObjMaterial* m = model_.current_material;
+        if (!m) throw Decline{__LINE__};  // assimp writes through a null material here
+        int clamp_slot = slot, reflection_face = -1;
+        bool clamp = false;
+        p = next_token(p);
+        // getTextureOption: "-clamp on", "-type sphere", "-bm 0.5", ... each with its values.
+        while (p < end_ - 1 && *p == '-') {
+            int skip = 1;
+            if (starts_with_nocase(p, "-clamp")) {
+                const char* v = next_token(p);
+                clamp = strncasecmp(std::string(word_at(v).substr(0, 2)).c_str(), "on", 2) == 0;
+                skip = 2;
+            } else if (starts_with_nocase(p, "-type")) {
+                const std::string value(word_at(next_token(p)).substr(0, 11));
+                // Each type's clamp slot and face (the sphere map is face 0, as the cube's top).
+                static const Keyword types[] = {{"cube_top", reflection_cube_top},       {"cube_bottom", reflection_cube_bottom},
+                                                {"cube_front", reflection_cube_front},   {"cube_back", reflection_cube_back},
+                                                {"cube_left", reflection_cube_left},     {"cube_right", reflection_cube_right},
+                                                {"sphere", reflection_sphere}};
+                for (const Keyword& t : types)
+                    if (starts_with_nocase(value.c_str(), t.word)) {
+                        clamp_slot = t.slot;
+                        reflection_face = t.slot == reflection_sphere ? 0 : t.slot - reflection_cube_top;
+                        break;
+                    }
+                skip = 2;
+            } else if (starts_with_nocase(p, "-bm")) {
+                const char* v = next_token(p);
+                m->bump_multiplier = get_float(v);
+                skip = 2;
+            } else if (starts_with_nocase(p, "-blendu") || starts_with_nocase(p, "-blendv") || starts_with_nocase(p, "-boost") ||
+                       starts_with_nocase(p, "-texres") || starts_with_nocase(p, "-imfchan")) {
+                skip = 2;
+            } else if (starts_with_nocase(p, "-mm")) {
+                skip = 3;
+            } else if (starts_with_nocase(p, "-o") || starts_with_nocase(p, "-s") || starts_with_nocase(p, "-t")) {
+                skip = 4;
+            }
+            for (int i = 0; i < skip; ++i) p = next_token(p);
+        }
+        m->clamp[clamp_slot] = clamp;
+        const std::string_view name = rest_of_line(p);  // getName: trailing spaces kept
+        if (name.size() > k_max_name) throw Decline{__LINE__};
+        (reflection_face >= 0 ? m->reflection[reflection_face] : m->texture[slot]) = std::string(name);
+        return p + name.size();
+    }
+
+    ObjModel& model_;
+    ImportNotes& notes_;
+    const char* end_ = nullptr;
+};
+
+// ---- OBJ lines (ObjFileParser)
+
+class ObjReader {
+public:
+    ObjReader(const std::string& path, const LoadOptions& options, const ResourceRoots& roots, ImportNotes& notes)
+        : path_(path), options_(options), roots_(roots), notes_(notes) {
+        model_.current_material = nullptr;
+        model_.add_material("DefaultMaterial");
+    }
+
+    ObjModel& model() { return model_; }
+
+    void read(std::string_view text) {
+        // A backslash before a line end joins lines in assimp's reading (and at the end of a 16 MiB
+        // block it reads past the block): declined.
+        for (const char* b = static_cast<const char*>(std::memchr(text.data(), '\\', text.size())); b;
+             b = static_cast<const char*>(std::memchr(b + 1, '\\', static_cast<std::size_t>(text.data() + text.size() - b - 1)))) {
+            const std::size_t at = static_cast<std::size_t>(b - text.data());
+            if (at + 1 == text.size() || ends_line(b[1]) || (at + 1) % k_stream_block == 0) throw Decline{__LINE__};
+        }
+        std::size_t end = text.size();
+        // In a file read in more than one block, a last line without a line end is lost.
+        if (text.size() > k_stream_block && !ends_line(text.back()))
+            while (end > 0 && !ends_line(text[end - 1])) --end;
+        bool in_cstype = false;
+        for (std::size_t begin = 0; begin < end;) {
+            const char* line = text.data() + begin;
+            const char* stop = line;
+            while (!ends_line(*stop)) ++stop;
+            begin = static_cast<std::size_t>(stop - text.data()) + 1;
+            if (in_cstype) {
+                if (*line == 'e' && word_at(line) == "end") in_cstype = false;
+                continue;
+            }
+            read_line(line, in_cstype);
+        }
+    }
+
+private:
+    void read_line(const char* line, bool& in_cstype) {
+        switch (line[0]) {
+            case 'v':
+                if (is_space(line[1]))
+                    vertex(line + 1);
+                else if (line[1] == 't')
+                    texcoord(line + 2);
+                else if (line[1] == 'n')
+                    normal(line + 2);
+                break;
+            case 'f': face(line); break;
+            case 'p':
+            case 'l': throw Decline{__LINE__};  // points and lines: meshes sorted by primitive type
+            case 'u':
+                if (word_at(line) == "usemtl") use_material(line);
+                break;
+            case 'm': {
+                const std::string_view w = word_at(line);
+                if (w == "mtllib") material_library(line);
+                break;
+            }
+            case 'g': group(line); break;
+            case 'o': object(line); break;
+            case 'c': in_cstype = word_at(line) == "cstype"; break;
+            default: break;  // comments, 's', 'mg', indented lines, anything else
+        }
+    }
+
+    // "v x y z", "v x y z w" (divided by w) or "v x y z r g b"; other counts of numeric-looking
+    // tokens are ignored, as assimp ignores them.
+    void vertex(const char* c) {
+        // The common "v x y z": three numbers and the line end.
+        const char* p = c;
+        aiVector3D v;
+        bool plain = true;
+        float* out[3] = {&v.x, &v.y, &v.z};
+        for (float* o : out) {
+            p = skip_blanks(p);
+            if (!((*p >= '0' && *p <= '9') || *p == '-' || *p == '.')) {
+                plain = false;
+                break;
+            }
+            const char* start = p;
+            try {
+                p = read_float(p, *o);
+            } catch (const NotANumber&) {
+                throw Decline{__LINE__};
+            }
+            if (p == start || !is_blank(*p) || static_cast<std::size_t>(p - start) > k_max_word) {
+                plain = false;
+                break;
+            }
+        }
+        if (plain && ends_line(*skip_blanks(p))) {
+            add_position(v);
+            return;
+        }
+        const std::size_t n = numeric_tokens(c);
+        p = c;
+        if (n == 3) {
+            add_position({next_float(p), next_float(p), next_float(p)});
+        } else if (n == 4) {
+            const float x = next_float(p), y = next_float(p), z = next_float(p), w = next_float(p);
+            if (w == 0) throw Decline{__LINE__};
+            add_position({x / w, y / w, z / w});
+        } else if (n == 6) {
+            add_position({next_float(p), next_float(p), next_float(p)});
+            model_.colours.push_back({next_float(p), next_float(p), next_float(p)});
+        }
+    }
+
+    void add_position(const aiVector3D& v) {
+        if (non_finite(v)) throw Decline{__LINE__};  // left to assimp, whose conversion drops such triangles
+        model_.vertices.push_back(v);
+    }
+
+    // getNumComponentsInDataDefinition: tokens that start like a number (a digit, '+', '-', or
+    // "nan"/"inf" in any case).
+    static std::size_t numeric_tokens(const char* c) {
+        std::size_t n = 0;
+        for (c = skip_blanks(c); !ends_line(*c); c = skip_blanks(c)) {
+            n += (*c >= '0' && *c <= '9') || *c == '-' || *c == '+' || starts_with_nocase(c, "nan") || starts_with_nocase(c, "inf");
+            while (!is_blank(*c)) ++c;
+        }
+        return n;
+    }
+
+    // "vt u v" or "vt u v w"; non-finite values become 0.
+    void texcoord(const char* c) {
+        if (!is_space(*c)) throw Decline{__LINE__};
+        const std::size_t n = numeric_tokens(c);
+        if (n != 2 && n != 3) throw Decline{__LINE__};  // assimp: "Invalid number of components"
+        const char* p = c;
+        aiVector3D t;
+        t.x = next_float(p);
+        t.y = next_float(p);
+        t.z = n == 3 ? next_float(p) : 0.0f;
+        for (float* f : {&t.x, &t.y, &t.z})
+            if (!std::isfinite(*f)) *f = 0;
+        model_.texcoords.push_back(t);
+        model_.texcoord_dim = std::max(model_.texcoord_dim, static_cast<unsigned>(n));
+    }
+
+    void normal(const char* c) {
+        if (!is_space(*c)) throw Decline{__LINE__};
+        const char* p = c;
+        const aiVector3D n{next_float(p), next_float(p), next_float(p)};
+        if (non_finite(n)) throw Decline{__LINE__};
+        model_.normals.push_back(n);
+    }
+
+    // getFace: indices separated by '/' (vertex, texture coordinate, normal) and corners by spaces.
+    void face(const char* line) {
+        const char* p = next_token(line);
+        for (std::vector<std::uint32_t>& l : lists_) l.clear();
+        const std::int64_t sizes[3] = {static_cast<std::int64_t>(model_.vertices.size()),
+                                       static_cast<std::int64_t>(model_.texcoords.size()),
+                                       static_cast<std::int64_t>(model_.normals.size())};
+        const bool vt = !model_.texcoords.empty(), vn = !model_.normals.empty();
+        int position = 0;
+        while (!ends_line(*p)) {
+            if (*p == '/') {
+                ++position;
+                ++p;
+                continue;
+            }
+            if (is_space(*p)) {
+                position = 0;
+                ++p;
+                continue;
+            }
+            // atoi's number, which must be plain for assimp to step over it as one: no leading
+            // zero or '+', at most nine digits, ending at '/', a space or the line end.
+            const bool negative = *p == '-';
+            const char* d = p + negative;
+            if (*d < '1' || *d > '9') throw Decline{__LINE__};
+            std::int64_t value = 0;
+            const char* e = d;
+            while (*e >= '0' && *e <= '9') value = value * 10 + (*e++ - '0');
+            if (e - d > 9 || !(*e == '/' || is_blank(*e))) throw Decline{__LINE__};
+            p = e;
+            if (position == 1 && !vt && vn) position = 2;  // no texture coordinates: "1/2" names a normal
+            if (position > 2) throw Decline{__LINE__};     // assimp then reads on past the line
+            const std::int64_t index = negative ? sizes[position] - value : value - 1;
+            lists_[position].push_back(index < 0 || index >= 0x7fffffff ? k_out_of_range : static_cast<std::uint32_t>(index));
+        }
+        const std::size_t corners = lists_[0].size();
+        // Empty faces are logged and skipped, faces of 1 or 2 corners are lines in all but name,
+        // faces past AI_MAX_FACE_INDICES fail validation.
+        if (corners < 3 || corners > 0x7fff) throw Decline{__LINE__};
+        if (model_.current_object < 0) model_.create_object("defaultobject", notes_);
+        if (model_.current_mesh < 0) model_.create_mesh("defaultobject", notes_);
+        ObjMesh& mesh = model_.meshes[static_cast<std::size_t>(model_.current_mesh)];
+        ++mesh.faces;
+        mesh.triangles += corners - 2;
+        model_.total_triangles += corners - 2;
+        model_.has_polygons = model_.has_polygons || corners > 4;
+        mesh.uv_count += lists_[1].size();
+        mesh.has_normals = mesh.has_normals || !lists_[2].empty();
+        for (std::uint32_t v : lists_[0]) model_.largest_vertex = std::max(model_.largest_vertex, v);
+        if (model_.total_triangles > options_.max_triangles) model_.counting_only = true;
+        if (model_.counting_only) return;
+        mesh.corners.push_back(static_cast<std::uint32_t>(corners));
+        const std::size_t before = mesh.v.size();
+        mesh.v.insert(mesh.v.end(), lists_[0].begin(), lists_[0].end());
+        // Texture coordinates and normals per corner, when some face of the mesh has them.
+        std::vector<std::uint32_t>* attributes[2] = {&mesh.vt, &mesh.vn};
+        for (int a = 0; a < 2; ++a) {
+            std::vector<std::uint32_t>& out = *attributes[a];
+            const std::vector<std::uint32_t>& given = lists_[a + 1];
+            if (given.empty() && out.empty()) continue;
+            if (out.size() < before) out.resize(before, k_absent);
+            for (std::size_t k = 0; k < corners; ++k) out.push_back(k < given.size() ? given[k] : k_absent);
+        }
+    }
+
+    // getMaterialDesc: "usemtl NAME" (the rest of the line, trailing spaces cut).
+    void use_material(const char* line) {
+        std::string name(rest_of_line(next_token(line)));
+        while (!name.empty() && is_space(name.back())) name.pop_back();
+        if (name.size() > k_max_name) throw Decline{__LINE__};
+        if (name.empty() || (model_.current_material && model_.current_material->name == name)) return;
+        auto it = model_.materials.find(name);
+        if (it == model_.materials.end()) {
+            notes_.error("OBJ: failed to locate material " + name + ", creating new material");
+            model_.current_material = &model_.add_material(name);
+        } else {
+            model_.current_material = &it->second;
+        }
+        if (model_.needs_new_mesh(name)) model_.create_mesh(name, notes_);
+        model_.meshes[static_cast<std::size_t>(model_.current_mesh)].material = model_.material_index(name);
+    }
+
+    // getGroupName: "g NAME" (the rest of the line) starts an object when the group changes.
+    void group(const char* line) {
+        const std::string name(rest_of_line(next_token(line)));
+        if (name.size() > k_max_name) throw Decline{__LINE__};
+        if (model_.active_group == name) return;
+        model_.create_object(name, notes_);
+        model_.active_group = name;
+    }
+
+    // getObjectName: "o NAME" (the first word) selects the object of that name or starts one; the
+    // current mesh stays.
+    void object(const char* line) {
+        const std::string name(word_at(next_token(line)));
+        if (name.empty()) return;
+        if (name.size() > k_max_name) throw Decline{__LINE__};
+        for (std::size_t i = 0; i < model_.objects.size(); ++i)
+            if (model_.objects[i].name == name) {
+                model_.current_object = static_cast<int>(i);
+                return;
+            }
+        model_.create_object(name, notes_);
+    }
+
+    // getMaterialLib: "mtllib NAME" (the rest of the line, as written) next to the model, else the
+    // model's own name with ".mtl".
+    void material_library(const char* line) {
+        const std::string name(rest_of_line(next_token(line)));
+        if (name.empty()) return;
+        const std::size_t slash = path_.find_last_of("\\/");
+        std::string file = name;
+        if (slash != std::string::npos && slash > 0) {  // assimp's IOSystem has the model's folder pushed
+            std::string folder = path_.substr(0, slash);
+            if (folder.back() != '/') folder += '/';
+            file = folder + name;
+        }
+        std::optional<std::string> text = open_text(file);
+        if (!text) {
+            notes_.error("OBJ: Unable to locate material file " + name);
+            const std::string fallback = path_.substr(0, path_.size() - 3) + "mtl";
+            text = open_text(fallback);
+            if (!text) {
+                notes_.error("OBJ: Unable to locate fallback material file " + fallback);
+                return;
+            }
+        }
+        MtlReader(model_, notes_).read(*text);
+    }
+
+    // What TextFileToBuffer makes of a file assimp's (confined) IOSystem opens: its text without a
+    // UTF-8 byte order mark, and a NUL; nullopt when it does not exist. A file assimp cannot open
+    // sends its importer's FileSystemFilter looking for other spellings of the name (the model's
+    // folder joined with the name and with each of its tails), which this reader does not mirror:
+    // the file is declined when the resource rules refuse it, or when it is missing and one of
+    // those other files exists.
+    std::optional<std::string> open_text(const std::string& file) {
+        if (file.find('\\') != std::string::npos) throw Decline{__LINE__};
+        std::error_code ec;
+        const fs::file_status status = fs::status(file, ec);
+        if (ec || !fs::exists(status)) {
+            const std::string base = path_.substr(0, path_.find_last_of('/') + 1);
+            if (fs::exists(base + file, ec)) throw Decline{__LINE__};
+            for (std::size_t slash = file.find('/'); slash != std::string::npos; slash = file.find('/', slash + 1))
+                if (fs::exists(base + file.substr(slash + 1), ec)) throw Decline{__LINE__};
+            return std::nullopt;
+        }
+        if (!notes_.may_open(roots_, file)) throw Decline{__LINE__};
+        if (!fs::is_regular_file(status)) throw Decline{__LINE__};
+        std::ifstream in(file, std::ios::binary);
+        if (!in) throw Decline{__LINE__};
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        if (text.size() > 0 && text.size() < k_min_text_bytes) throw Decline{__LINE__};  // assimp: "File is too small"
+        if (text.find('\0') != std::string::npos) throw Decline{__LINE__};
+        const unsigned char b0 = text.empty() ? 0 : static_cast<unsigned char>(text[0]);
+        if (text.size() >= 3 && b0 == 0xEF && static_cast<unsigned char>(text[1]) == 0xBB && static_cast<unsigned char>(text[2]) == 0xBF)
+            text.erase(0, 3);
+        else if (b0 == 0xFE || b0 == 0xFF)
+            throw Decline{__LINE__};  // UTF-16 and UTF-32 byte order marks
+        text.push_back('\0');
+        return text;
+    }
+
+    const std::string& path_;
+    const LoadOptions& options_;
+    const ResourceRoots& roots_;
+    ImportNotes& notes_;
+    ObjModel model_;
+    std::vector<std::uint32_t> lists_[3];  // the face being read: vertex, texture coordinate, normal indices
+};
+
+// ---- meshes: ObjFileImporter's vertex per corner, then the post-processing
+
+// Triangulate's quad: split from the corner where the angles to its neighbours, measured against
+// the diagonal, add up to more than pi (the concave corner), else from corner 0.
+int quad_start(const aiVector3D* const p[4]) {
+    for (int i = 0; i < 4; ++i) {
+        const aiVector3D &v0 = *p[(i + 3) % 4], &v1 = *p[(i + 2) % 4], &v2 = *p[(i + 1) % 4], &v = *p[i];
+        aiVector3D left = v0 - v, diag = v1 - v, right = v2 - v;
+        left.Normalize();
+        diag.Normalize();
+        right.Normalize();
+        const float angle = std::acos(left * diag) + std::acos(right * diag);
+        if (angle > AI_MATH_PI_F) return i;
+    }
+    return 0;
+}
+
+// PolyTools' GetArea2D and PointInTriangle2D, in their arithmetic (float differences and dot
+// products, double sums).
+double area_2d(const aiVector2D& v1, const aiVector2D& v2, const aiVector2D& v3) {
+    return 0.5 * (v1.x * (static_cast<double>(v3.y) - v2.y) + v2.x * (static_cast<double>(v1.y) - v3.y) +
+                  v3.x * (static_cast<double>(v2.y) - v1.y));
+}
+
+bool point_in_triangle_2d(const aiVector2D& p0, const aiVector2D& p1, const aiVector2D& p2, const aiVector2D& pp) {
+    const aiVector2D v0 = p1 - p0, v1 = p2 - p0, v2 = pp - p0;
+    double dot00 = v0 * v0, dot11 = v1 * v1;
+    const double dot01 = v0 * v1, dot02 = v0 * v2, dot12 = v1 * v2;
+    const double denom = dot00 * dot11 - dot01 * dot01;
+    if (denom == 0.0) return false;
+    const double inv = 1.0 / denom;
+    dot11 = (dot11 * dot02 - dot01 * dot12) * inv;
+    dot00 = (dot00 * dot12 - dot01 * dot02) * inv;
+    return dot11 > 0 && dot00 > 0 && dot11 + dot00 < 1;
+}
+
+// Triangulate's polygon of n > 4 corners at positions p: projected onto the plane of its Newell
+// normal's largest component, then cut into ears. Out: triangles as corner numbers, in assimp's
+// order; false when it found no ear (assimp logs an error and keeps the triangles cut so far).
+bool cut_ears(const std::vector<aiVector3D>& p, std::vector<std::array<int, 3>>& out) {
+    const int n = static_cast<int>(p.size());
+    std::vector<aiVector3D> v(p);
+    v.push_back(p[0]);
+    v.push_back(p[1]);
+    float sum_xy = 0, sum_yz = 0, sum_zx = 0;
+    for (int k = 0; k < n; ++k) {
+        sum_xy += v[k + 1].x * (v[k + 2].y - v[k].y);
+        sum_yz += v[k + 1].y * (v[k + 2].z - v[k].z);
+        sum_zx += v[k + 1].z * (v[k + 2].x - v[k].x);
+    }
+    const aiVector3D normal(sum_yz, sum_zx, sum_xy);
+    const float ax = normal.x > 0 ? normal.x : -normal.x, ay = normal.y > 0 ? normal.y : -normal.y,
+                az = normal.z > 0 ? normal.z : -normal.z;
+    unsigned ac = 0, bc = 1;
+    float inv = normal.z;
+    if (ax > ay) {
+        if (ax > az) ac = 1, bc = 2, inv = normal.x;
+    } else if (ay > az) {
+        ac = 2, bc = 0, inv = normal.y;
+    }
+    if (inv < 0.f) std::swap(ac, bc);
+    std::vector<aiVector2D> t(static_cast<std::size_t>(n));
+    std::vector<char> done(static_cast<std::size_t>(n), 0);
+    for (int k = 0; k < n; ++k) t[k] = aiVector2D(p[k][ac], p[k][bc]);
+    int num = n, ear = 0, prev = n - 1, next = 0;
+    while (num > 3) {
+        int found = 0;
+        for (ear = next;; prev = ear, ear = next) {
+            for (next = ear + 1; done[next >= n ? (next = 0) : next]; ++next) {
+            }
+            if (next < ear && ++found == 2) break;
+            const aiVector2D &p1 = t[ear], &p0 = t[prev], &p2 = t[next];
+            if (area_2d(p0, p1, p2) > 0) continue;  // not convex (OnLeftSideOfLine2D)
+            int k = 0;
+            for (; k < n; ++k)
+                if (t[k] != p1 && t[k] != p2 && t[k] != p0 && point_in_triangle_2d(p0, p1, p2, t[k])) break;
+            if (k != n) continue;
+            break;
+        }
+        if (found == 2) return false;
+        out.push_back({prev, ear, next});
+        done[ear] = 1;
+        --num;
+    }
+    std::array<int, 3> last{};
+    int k = 0;
+    for (int& c : last) {
+        while (done[k]) ++k;
+        c = k++;
+    }
+    out.push_back(last);
+    return true;
+}
+
+// ObjFileImporter's aiMesh of one mesh (a vertex per face corner), post-processed.
+class MeshBuilder {
+public:
+    MeshBuilder(const ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes), by_vertex_(model.vertices.size()) {}
+
+    OwnMesh build(const ObjMesh& mesh, unsigned material) {
+        const std::size_t corners = mesh.v.size();
+        const bool has_vt = !mesh.vt.empty(), has_vn = !mesh.vn.empty();
+        // createVertexArray's arrays, and whether every index reaches its array.
+        bool normals = !model_.normals.empty() && mesh.has_normals;
+        bool uvs = !model_.texcoords.empty() && mesh.uv_count > 0;
+        const bool colours = !model_.colours.empty();
+        for (std::size_t c = 0; normals && has_vn && c < corners; ++c)
+            normals = mesh.vn[c] == k_absent || mesh.vn[c] < model_.normals.size();
+        for (std::size_t c = 0; uvs && has_vt && c < corners; ++c) uvs = mesh.vt[c] == k_absent || mesh.vt[c] < model_.texcoords.size();
+        const bool with_vn = normals && has_vn, with_vt = uvs && has_vt;
+        // A corner's attributes as JoinIdenticalVertices sees them: uvs flipped by FlipUVs.
+        auto value_of = [&](std::size_t c) {
+            JoinVertex v{model_.vertices[mesh.v[c]], {}, {}, {}, {}};
+            if (with_vn && mesh.vn[c] != k_absent) v.normal = model_.normals[mesh.vn[c]];
+            if (uvs) {
+                if (with_vt && mesh.vt[c] != k_absent) v.uv = model_.texcoords[mesh.vt[c]];
+                v.uv.y = 1.0f - v.uv.y;
+            }
+            return v;
+        };
+
+        // Corners with the same indices have the same values: the join looks at the first corner
+        // of each such group (JoinIdenticalVertices keeps a group's first corner).
+        std::vector<std::uint32_t> group_of(corners), group_corner;
+        ++stamp_;
+        indices_.clear();
+        for (std::size_t c = 0; c < corners; ++c) {
+            const std::uint32_t vt = with_vt ? mesh.vt[c] : k_absent, vn = with_vn ? mesh.vn[c] : k_absent;
+            Stamped& s = by_vertex_[mesh.v[c]];
+            if (s.stamp != stamp_) s = {stamp_, k_absent};
+            std::uint32_t e = s.head;
+            while (e != k_absent && (indices_[e].vt != vt || indices_[e].vn != vn)) e = indices_[e].next;
+            if (e == k_absent) {
+                indices_.push_back({vt, vn, static_cast<std::uint32_t>(group_corner.size()), s.head});
+                e = s.head = static_cast<std::uint32_t>(indices_.size() - 1);
+                group_corner.push_back(static_cast<std::uint32_t>(c));
+            }
+            group_of[c] = indices_[e].group;
+        }
+        const auto group_value = [&](std::size_t g) { return value_of(group_corner[g]); };
+        Join join = exact_join(group_corner.size(), group_value);
+        std::vector<std::uint32_t> unique_of_corner(corners);
+        if (exact_join_is_assimps(join, group_value, corners)) {
+            for (std::size_t c = 0; c < corners; ++c) unique_of_corner[c] = join.unique[group_of[c]];
+            for (std::uint32_t& f : join.first) f = group_corner[f];
+        } else {
+            join = assimp_join(corners, value_of, [](std::size_t) { return true; });
+            unique_of_corner = join.unique;
+        }
+
+        OwnMesh out;
+        out.material = material;
+        for (std::uint32_t c : join.first) {
+            const JoinVertex v = value_of(c);
+            out.positions.push_back(v.position);
+            if (normals) out.normals.push_back(v.normal);
+            if (uvs) out.uvs.push_back(v.uv);
+            if (colours) out.colours.push_back(colour_of(mesh.v[c]));
+        }
+        triangulate(mesh, unique_of_corner, out.triangles);
+        return out;
+    }
+
+private:
+    struct Stamped {
+        std::uint32_t stamp = 0;
+        std::uint32_t head = k_absent;  // in indices_
+    };
+    struct ByIndices {
+        std::uint32_t vt, vn, group, next;
+    };
+
+    aiColor4D colour_of(std::uint32_t vertex) const {
+        if (vertex >= model_.colours.size()) return aiColor4D();  // zeros, as assimp's array starts
+        const aiVector3D& c = model_.colours[vertex];
+        return aiColor4D(c.x, c.y, c.z, 1.0f);
+    }
+
+    // Triangulate: triangles as they are, quads split at their concave corner, larger polygons cut
+    // into ears; each triangle's corners rotated as NGONEncoder rotates them (a triangle starting
+    // where the last one did would read as part of its polygon).
+    void triangulate(const ObjMesh& mesh, const std::vector<std::uint32_t>& unique_of_corner, std::vector<std::uint32_t>& out) {
+        out.reserve(3 * mesh.triangles);
+        std::uint32_t last_first = ~0u;  // corner
+        auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+            if (a == last_first) std::swap(a, c), std::swap(b, c);
+            last_first = a;
+            out.insert(out.end(), {unique_of_corner[a], unique_of_corner[b], unique_of_corner[c]});
+        };
+        const auto position = [&](std::size_t c) -> const aiVector3D& { return model_.vertices[mesh.v[c]]; };
+        std::uint32_t c = 0;
+        for (std::uint32_t n : mesh.corners) {
+            if (n == 3) {
+                emit(c, c + 1, c + 2);
+            } else if (n == 4) {
+                const aiVector3D* p[4] = {&position(c), &position(c + 1), &position(c + 2), &position(c + 3)};
+                const auto s = static_cast<std::uint32_t>(quad_start(p));
+                const auto at = [&](std::uint32_t k) { return c + (s + k) % 4; };
+                // ngonEncodeQuad: the fan's corner rotated away from the last one's (never, with a
+                // corner per face vertex, but kept as assimp has it).
+                std::uint32_t t1[3] = {at(0), at(1), at(2)}, t2[3] = {at(0), at(2), at(3)};
+                if (t1[0] == last_first) {
+                    std::swap(t1[0], t1[2]), std::swap(t1[1], t1[2]);
+                    std::swap(t2[1], t2[2]), std::swap(t2[0], t2[2]);
+                }
+                last_first = t1[0];
+                for (std::uint32_t k : t1) out.push_back(unique_of_corner[k]);
+                for (std::uint32_t k : t2) out.push_back(unique_of_corner[k]);
+            } else {
+                polygon_.clear();
+                for (std::uint32_t k = 0; k < n; ++k) polygon_.push_back(position(c + k));
+                ears_.clear();
+                if (!cut_ears(polygon_, ears_)) notes_.error("Failed to triangulate polygon (no ear found). Probably not a simple polygon?");
+                for (const std::array<int, 3>& e : ears_)
+                    emit(c + static_cast<std::uint32_t>(e[0]), c + static_cast<std::uint32_t>(e[1]), c + static_cast<std::uint32_t>(e[2]));
+            }
+            c += n;
+        }
+    }
+
+    const ObjModel& model_;
+    ImportNotes& notes_;
+    std::vector<Stamped> by_vertex_;  // stamped by mesh
+    std::vector<ByIndices> indices_;
+    std::uint32_t stamp_ = 0;
+    std::vector<aiVector3D> polygon_;
+    std::vector<std::array<int, 3>> ears_;
+};
+
+// ---- materials (ObjFileImporter::createMaterials)
+
+std::unique_ptr<aiMaterial> make_material(const ObjMaterial& m, ImportNotes& notes) {
+    auto out = std::make_unique<aiMaterial>();
+    aiMaterial& mat = *out;
+    const aiString name(m.name);
+    mat.AddProperty(&name, AI_MATKEY_NAME);
+    int shading = aiShadingMode_Gouraud;
+    if (m.illumination == 0) shading = aiShadingMode_NoShading;
+    if (m.illumination == 2) shading = aiShadingMode_Phong;
+    if (m.illumination < 0 || m.illumination > 2) notes.error("OBJ: unexpected illumination model (0-2 recognized)");
+    mat.AddProperty(&shading, 1, AI_MATKEY_SHADING_MODEL);
+    mat.AddProperty(&m.illumination, 1, "$mat.illum", 0, 0);
+    mat.AddProperty(&m.ambient, 1, AI_MATKEY_COLOR_AMBIENT);
+    mat.AddProperty(&m.diffuse, 1, AI_MATKEY_COLOR_DIFFUSE);
+    mat.AddProperty(&m.specular, 1, AI_MATKEY_COLOR_SPECULAR);
+    mat.AddProperty(&m.emissive, 1, AI_MATKEY_COLOR_EMISSIVE);
+    mat.AddProperty(&m.shininess, 1, AI_MATKEY_SHININESS);
+    mat.AddProperty(&m.alpha, 1, AI_MATKEY_OPACITY);
+    mat.AddProperty(&m.transparent, 1, AI_MATKEY_COLOR_TRANSPARENT);
+    if (m.roughness_factor) mat.AddProperty(&*m.roughness_factor, 1, AI_MATKEY_ROUGHNESS_FACTOR);
+    if (m.metallic_factor) mat.AddProperty(&*m.metallic_factor, 1, AI_MATKEY_METALLIC_FACTOR);
+    if (m.sheen_colour) mat.AddProperty(&*m.sheen_colour, 1, AI_MATKEY_SHEEN_COLOR_FACTOR);
+    if (m.clearcoat_thickness) mat.AddProperty(&*m.clearcoat_thickness, 1, AI_MATKEY_CLEARCOAT_FACTOR);
+    if (m.clearcoat_roughness) mat.AddProperty(&*m.clearcoat_roughness, 1, AI_MATKEY_CLEARCOAT_ROUGHNESS_FACTOR);
+    mat.AddProperty(&m.anisotropy, 1, AI_MATKEY_ANISOTROPY_FACTOR);
+    mat.AddProperty(&m.ior, 1, AI_MATKEY_REFRACTI);
+
+    const int uv_source = 0;
+    const int clamp_mode = aiTextureMapMode_Clamp;
+    auto add_texture = [&](int slot, aiTextureType type, bool with_clamp) {
+        if (m.texture[slot].empty()) return;
+        const aiString file(m.texture[slot]);
+        mat.AddProperty(&file, _AI_MATKEY_TEXTURE_BASE, type, 0);
+        mat.AddProperty(&uv_source, 1, _AI_MATKEY_UVWSRC_BASE, type, 0);
+        if (type == aiTextureType_HEIGHT || type == aiTextureType_NORMALS)
+            if (m.bump_multiplier != 1.0f) mat.AddProperty(&m.bump_multiplier, 1, "$tex.bumpmult", type, 0);
+        if (with_clamp && m.clamp[slot]) {
+            mat.AddProperty(&clamp_mode, 1, _AI_MATKEY_MAPPINGMODE_U_BASE, type, 0);
+            mat.AddProperty(&clamp_mode, 1, _AI_MATKEY_MAPPINGMODE_V_BASE, type, 0);
+        }
+    };
+    add_texture(diffuse, aiTextureType_DIFFUSE, true);
+    add_texture(ambient, aiTextureType_AMBIENT, true);
+    add_texture(emissive, aiTextureType_EMISSIVE, false);
+    add_texture(specular, aiTextureType_SPECULAR, true);
+    add_texture(bump, aiTextureType_HEIGHT, true);
+    add_texture(normal, aiTextureType_NORMALS, true);
+    if (!m.reflection[0].empty()) {
+        // A sphere map, or the six faces of a cube map when a bottom face is given.
+        const bool cube = !m.reflection[1].empty();
+        const int clamp_slot = cube ? reflection_cube_top : reflection_sphere;
+        const int faces = cube ? 6 : 1;
+        for (int i = 0; i < faces; ++i) {
+            const aiString file(m.reflection[i]);
+            mat.AddProperty(&file, _AI_MATKEY_TEXTURE_BASE, aiTextureType_REFLECTION, static_cast<unsigned>(i));
+            mat.AddProperty(&uv_source, 1, _AI_MATKEY_UVWSRC_BASE, aiTextureType_REFLECTION, static_cast<unsigned>(i));
+            if (m.clamp[clamp_slot]) {
+                const int one = 1;
+                mat.AddProperty(&one, 1, _AI_MATKEY_MAPPINGMODE_U_BASE, aiTextureType_REFLECTION, static_cast<unsigned>(i));
+                mat.AddProperty(&one, 1, _AI_MATKEY_MAPPINGMODE_V_BASE, aiTextureType_REFLECTION, static_cast<unsigned>(i));
+            }
+        }
+    }
+    add_texture(displacement, aiTextureType_DISPLACEMENT, true);
+    add_texture(opacity, aiTextureType_OPACITY, true);
+    add_texture(specularity, aiTextureType_SHININESS, true);
+    add_texture(roughness, aiTextureType_DIFFUSE_ROUGHNESS, true);
+    add_texture(metallic, aiTextureType_METALNESS, true);
+    add_texture(sheen, aiTextureType_SHEEN, true);
+    add_texture(rma, aiTextureType_UNKNOWN, true);
+    return out;
+}
+
+}  // namespace
+
+std::optional<Result<OwnScene>> read_obj(const std::string& path, std::string_view bytes, const LoadOptions& options,
+                                         const ResourceRoots& roots, ImportNotes& notes) {
+    try {
+        if (bytes.size() < k_min_obj_bytes || std::memchr(bytes.data(), '\0', bytes.size())) return std::nullopt;
+        if (path.find('\\') != std::string::npos) return std::nullopt;
+        ObjReader reader(path, options, roots, notes);
+        reader.read(bytes);
+        ObjModel& model = reader.model();
+        if (model.total_triangles == 0) return std::nullopt;
+        if (model.largest_vertex >= model.vertices.size()) return std::nullopt;  // assimp: "vertex index out of range"
+
+        // The meshes in the order of the nodes (each object's, in order), those without faces left out.
+        if (model.counting_only) {
+            if (model.has_polygons) return std::nullopt;  // what their triangulation makes is not counted
+            std::size_t triangles = 0;
+            for (const ObjObject& o : model.objects)
+                for (unsigned id : o.meshes) {
+                    triangles += model.meshes[id].triangles;
+                    if (triangles > options.max_triangles) return Result<OwnScene>(too_many_triangles(path, triangles, options));
+                }
+            return std::nullopt;
+        }
+        OwnScene scene;
+        // createMaterials (with its logged errors) runs before Triangulate (with its own).
+        for (const ObjMaterial* m : model.library) scene.materials.push_back(make_material(*m, notes));
+        MeshBuilder builder(model, notes);
+        for (const ObjObject& o : model.objects) {
+            SourceNode node;
+            for (unsigned id : o.meshes) {
+                const ObjMesh& mesh = model.meshes[id];
+                if (mesh.faces == 0) continue;
+                node.meshes.push_back(static_cast<unsigned>(scene.meshes.size()));
+                scene.meshes.push_back(builder.build(mesh, mesh.material == k_no_material ? 0 : mesh.material));
+            }
+            scene.root.children.push_back(std::move(node));
+        }
+        return Result<OwnScene>(std::move(scene));
+    } catch (const Decline& d) {
+        if (std::getenv("FACET_DEBUG_DECLINE")) std::fprintf(stderr, "declined at obj.cpp:%d\n", d.line);
+        return std::nullopt;
+    }
+}
+
+}  // namespace facet::io_detail
