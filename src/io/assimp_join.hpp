@@ -12,10 +12,12 @@
 #include <assimp/vector3.h>
 #include <assimp/vector3.inl>
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace facet::io_detail {
@@ -59,42 +61,57 @@ inline std::uint64_t hash(const aiVector3D& p) {
 }  // namespace join_detail
 
 // Items 0..count-1 (value(i) -> JoinVertex) joined when exactly equal (-0 as +0), numbered in order
-// of their first item.
+// of their first item. The table holds each unique vertex with 32 bits of its hash, so that a probe
+// past another vertex rarely reads that vertex's values.
 template <class Value>
 Join exact_join(std::size_t count, Value&& value) {
-    constexpr std::uint32_t none = ~0u;
+    constexpr std::uint64_t none = ~std::uint64_t{0};
     Join out;
     out.unique.resize(count);
-    std::vector<std::uint32_t> table(std::bit_ceil(std::max<std::size_t>(16, 2 * count)), none);
+    std::vector<std::uint64_t> table(std::bit_ceil(std::max<std::size_t>(16, 2 * count)), none);  // tag << 32 | unique
     const std::size_t mask = table.size() - 1;
     for (std::size_t i = 0; i < count; ++i) {
         const JoinVertex v = value(i);
-        std::size_t slot = join_detail::hash(v.position) & mask;
-        while (table[slot] != none && !join_detail::same(value(out.first[table[slot]]), v)) slot = (slot + 1) & mask;
+        const std::uint64_t h = join_detail::hash(v.position);
+        const std::uint64_t tag = h >> 32 << 32;
+        std::size_t slot = h & mask;
+        for (; table[slot] != none; slot = (slot + 1) & mask)
+            if ((table[slot] & ~0xFFFFFFFFull) == tag &&
+                join_detail::same(value(out.first[static_cast<std::uint32_t>(table[slot])]), v))
+                break;
         if (table[slot] == none) {
-            table[slot] = static_cast<std::uint32_t>(out.first.size());
+            table[slot] = tag | out.first.size();
             out.first.push_back(static_cast<std::uint32_t>(i));
         }
-        out.unique[i] = table[slot];
+        out.unique[i] = static_cast<std::uint32_t>(table[slot]);
     }
     return out;
 }
 
 // Whether assimp's join of a mesh of `vertex_count` vertices is the exact `join` (value as above):
 // no two of its unique vertices in one of assimp's buckets compare equal, with twice the margin.
+// The buckets are too many to hold lists: a bit per bucket finds those holding two or more unique
+// vertices, and only their vertices are compared.
 template <class Value>
 bool exact_join_is_assimps(const Join& join, Value&& value, std::size_t vertex_count) {
-    constexpr std::uint32_t none = ~0u;
     const std::size_t buckets = reserved_buckets(vertex_count);
-    std::vector<std::uint32_t> head(buckets, none), next(join.first.size(), none);
-    for (std::uint32_t u = 0; u < join.first.size(); ++u) {
-        const JoinVertex v = value(join.first[u]);
-        std::uint32_t& h = head[assimp_position_hash(v.position) % buckets];
-        for (std::uint32_t w = h; w != none; w = next[w])
-            if (assimp_equal(v, value(join.first[w]), 2e-10f)) return false;
-        next[u] = h;
-        h = u;
+    std::vector<std::uint64_t> seen((buckets + 63) / 64), shared((buckets + 63) / 64);
+    std::vector<std::size_t> bucket_of(join.first.size());
+    for (std::size_t u = 0; u < join.first.size(); ++u) {
+        const std::size_t b = assimp_position_hash(value(join.first[u]).position) % buckets;
+        bucket_of[u] = b;
+        const std::uint64_t bit = std::uint64_t{1} << (b % 64);
+        if (seen[b / 64] & bit) shared[b / 64] |= bit;
+        seen[b / 64] |= bit;
     }
+    std::vector<std::pair<std::size_t, std::uint32_t>> crowded;  // (bucket, unique vertex)
+    for (std::size_t u = 0; u < join.first.size(); ++u)
+        if (shared[bucket_of[u] / 64] & (std::uint64_t{1} << (bucket_of[u] % 64)))
+            crowded.emplace_back(bucket_of[u], static_cast<std::uint32_t>(u));
+    std::sort(crowded.begin(), crowded.end());
+    for (std::size_t a = 0; a < crowded.size(); ++a)
+        for (std::size_t b = a + 1; b < crowded.size() && crowded[b].first == crowded[a].first; ++b)
+            if (assimp_equal(value(join.first[crowded[a].second]), value(join.first[crowded[b].second]), 2e-10f)) return false;
     return true;
 }
 

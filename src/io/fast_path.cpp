@@ -1,8 +1,15 @@
 // facet io, the fast path (fast_path.hpp): the header of an OFF, STL or PLY file, its pre-check, and
-// its Scene as facet's own readers make it, equal to the assimp path's bit for bit.
+// its Scene as facet's own readers make it, equal to the assimp path's bit for bit; OBJ files read
+// by obj.cpp and converted as assimp's scenes are.
 #include "io/fast_path.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <fstream>
+#include <memory>
+#include <string_view>
 #include <utility>
 
 #include "facet/mesh.hpp"
@@ -30,6 +37,41 @@ std::optional<std::string> read_whole_file(const std::string& path, std::uint64_
     return text;
 }
 
+// A file's bytes followed by a NUL, as the OBJ reader takes them, read straight into memory that is
+// not first cleared (tens of megabytes). Not mapped: a file cut short while mapped would crash
+// the reader (SIGBUS) instead of failing. Nullopt when the file's size is no longer `size`.
+class FileText {
+public:
+    static std::optional<FileText> open(const std::string& path, std::uint64_t size) {
+        FileText t;
+        t.size_ = static_cast<std::size_t>(size);
+        t.bytes_.reset(new char[t.size_ + 1]);
+        const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) return std::nullopt;
+        std::size_t got = 0;
+        char extra = 0;
+        for (;;) {
+            const bool tail = got == t.size_;  // one byte more must find the end of the file
+            const ssize_t n = ::read(fd, tail ? &extra : t.bytes_.get() + got, tail ? 1 : t.size_ - got);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0 || tail) {
+                ::close(fd);
+                if (n != 0 || !tail) return std::nullopt;  // changed while being read: assimp reads it again and decides
+                break;
+            }
+            got += static_cast<std::size_t>(n);
+        }
+        t.bytes_[t.size_] = '\0';
+        return t;
+    }
+    std::string_view text() const { return {bytes_.get(), size_}; }
+
+private:
+    FileText() = default;
+    std::unique_ptr<char[]> bytes_;
+    std::size_t size_ = 0;
+};
+
 // The material assimp's reader gives such a file, as the assimp path converts it: grey for OFF,
 // white for STL and PLY (the files the readers take have no colours); two-sided.
 Material own_format_material(bool off) {
@@ -47,9 +89,9 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
     ImportNotes notes;
     std::optional<Result<OwnScene>> scene;
     {
-        std::optional<std::string> bytes = read_whole_file(path, size);
+        std::optional<FileText> bytes = FileText::open(path, size);
         if (!bytes) return std::nullopt;
-        scene = read_obj(path, *bytes, options, roots, notes);
+        scene = read_obj(path, bytes->text(), options, roots, notes);
     }  // the file's text is freed before the conversion allocates the Scene
     if (!scene) return std::nullopt;
     if (!*scene) return Result<LoadedModel>(scene->error());

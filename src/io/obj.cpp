@@ -924,9 +924,9 @@ public:
         }
         const auto group_value = [&](std::size_t g) { return value_of(group_corner[g]); };
         Join join = exact_join(group_corner.size(), group_value);
-        std::vector<std::uint32_t> unique_of_corner(corners);
+        std::vector<std::uint32_t> unique_of_corner = std::move(group_of);
         if (exact_join_is_assimps(join, group_value, corners)) {
-            for (std::size_t c = 0; c < corners; ++c) unique_of_corner[c] = join.unique[group_of[c]];
+            for (std::uint32_t& u : unique_of_corner) u = join.unique[u];
             for (std::uint32_t& f : join.first) f = group_corner[f];
         } else {
             join = assimp_join(corners, value_of, [](std::size_t) { return true; });
@@ -935,6 +935,10 @@ public:
 
         OwnMesh out;
         out.material = material;
+        out.positions.reserve(join.first.size());
+        if (normals) out.normals.reserve(join.first.size());
+        if (uvs) out.uvs.reserve(join.first.size());
+        if (colours) out.colours.reserve(join.first.size());
         for (std::uint32_t c : join.first) {
             const JoinVertex v = value_of(c);
             out.positions.push_back(v.position);

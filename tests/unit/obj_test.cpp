@@ -13,6 +13,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "facet/io.hpp"
@@ -315,6 +316,19 @@ TEST(AssimpJoin, FloatHashIsLibstdcxxs) {
         EXPECT_EQ(io_detail::std_float_hash(v), std::hash<float>{}(v)) << v;
     }
     for (float v : {0.0f, -0.0f, 1.0f, -1.0f, 1e-30f}) EXPECT_EQ(io_detail::std_float_hash(v), std::hash<float>{}(v));
+}
+
+// The check uses the bucket count assimp's std::unordered_map has after reserve(n), computed
+// without allocating the buckets.
+TEST(AssimpJoin, ReservedBucketsAreUnorderedMaps) {
+    std::vector<std::size_t> counts;
+    for (std::size_t n = 0; n < 300; ++n) counts.push_back(n);
+    for (std::size_t n : {1000u, 4093u, 65536u, 100003u, 3010560u}) counts.push_back(n);
+    for (std::size_t n : counts) {
+        std::unordered_map<int, int> map;
+        map.reserve(n);
+        EXPECT_EQ(io_detail::reserved_buckets(n), map.bucket_count()) << n;
+    }
 }
 
 }  // namespace
