@@ -109,6 +109,14 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
         ->capture_default_str();
     c.add_option("--background", o.background, "R,G,B[,A]: R,G,B in 0..1, or 0..255 if any is above 1; A in 0..1, or 0..255 if above 1; or 'transparent'")->check(non_empty);
     c.add_option("--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
+    c.add_option("--environment", o.environment,
+                 "Lit mode: the environment light, a Radiance .hdr image (equirectangular, +Y up; default: the built-in "
+                 "neutral studio)")
+        ->check(non_empty);
+    c.add_option("--exposure", o.exposure, "Lit mode: linear exposure factor applied before tone mapping")
+        ->capture_default_str();
+    c.add_option("--tone-mapping", o.tone_mapping, "Lit mode: neutral (Khronos PBR Neutral) | aces | linear (clamp)")
+        ->capture_default_str();
     c.add_option("--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
     c.add_option("--isa", o.isa, "SIMD instruction set: best, or one of " + isa_list() +
                                      " (same image on every one; lower ones for comparison)")
@@ -189,6 +197,23 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     if (!select_isa(o.isa)) return usage("--isa must be best or one of " + isa_list() + " on this CPU, got '" + o.isa + "'");
     if (!(o.fov > 0 && o.fov < 180)) return usage("--fov must be between 0 and 180 degrees");
     if (!parse_shading(o.shading, p.settings.shading)) return usage("unknown --shading '" + o.shading + "'");
+    if (!(o.exposure > 0 && std::isfinite(o.exposure))) return usage("--exposure must be a positive number");
+    p.settings.exposure = o.exposure;
+    if (!parse_tone_mapping(o.tone_mapping, p.settings.tone_mapping))
+        return usage("--tone-mapping must be neutral, aces or linear, got '" + o.tone_mapping + "'");
+    if (!o.environment.empty()) {
+        // Loaded (and prefiltered) once here, before any worker process is forked: thumbs' workers share it.
+        Result<std::shared_ptr<const Environment>> e = Environment::load_hdr(o.environment);
+        if (!e) return usage("--environment: " + e.error().message);
+        p.settings.environment = *e;
+        p.environment_file = o.environment;
+    }
+    if (p.settings.shading == Shading::lit) {
+        // Built here, in the process that forks the workers, so that each worker inherits them
+        // instead of spending ~50 ms of its own on them (README, "The lit mode").
+        if (!p.settings.environment) p.settings.environment = Environment::studio();
+        split_sum_table();
+    }
     if (!o.background.empty()) {
         Result<Vec4> bg = parse_background(o.background);
         if (!bg) return bg.error();

@@ -40,6 +40,10 @@ struct RenderOptions {
     std::string shading = "lit";
     std::string background = "";  // default: the built-in dark grey
     int ssaa = defaults::k_ssaa;
+    // The lit mode's light and display (RenderSettings): an .hdr file (empty: the built-in studio).
+    std::string environment;
+    float exposure = defaults::k_exposure;
+    std::string tone_mapping = "neutral";
     int threads = defaults::k_threads;
     std::string isa = "best";  // instruction set of the SIMD kernels (facet/isa.hpp)
     float crease_angle = defaults::k_crease_angle_degrees;
@@ -78,6 +82,7 @@ struct RenderPlan {
     int ssaa = 1;
     ViewSpec view;
     RenderSettings settings;
+    std::string environment_file;  // --environment, loaded into settings.environment; empty: the studio
     LoadOptions load;
     bool use_default_scene_camera = false;  // no model and no camera options: the designed view
 };

@@ -66,9 +66,14 @@ void describe_camera(ConfigText& out, const RenderPlan& plan, const Camera* came
     out.add("far", camera ? exact(camera->far) : v.far ? exact(*v.far) : per_model);
 }
 
-void describe_lighting(ConfigText& out, const RenderSettings& s) {
+void describe_lighting(ConfigText& out, const RenderPlan& plan) {
+    const RenderSettings& s = plan.settings;
     switch (s.shading) {
     case Shading::lit:
+        out.add("environment", plan.environment_file.empty() ? "studio" : plan.environment_file);
+        out.add("exposure", short_number(s.exposure));
+        out.add("tone-mapping", to_string(s.tone_mapping));
+        return;
     case Shading::flat: {
         const Lighting& l = s.lighting;
         out.add("light.key.direction", short_vec(l.key.direction));
@@ -77,8 +82,6 @@ void describe_lighting(ConfigText& out, const RenderSettings& s) {
         out.add("light.fill.colour", short_vec(l.fill.colour));
         out.add("light.ambient", short_number(l.ambient));
         out.add("light.diffuse", short_number(l.diffuse));
-        out.add("light.specular", short_number(s.shading == Shading::flat ? 0.0f : l.specular));
-        if (s.shading == Shading::lit) out.add("light.shininess", short_number(l.shininess));
         return;
     }
     case Shading::lambert:
@@ -118,7 +121,7 @@ void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera,
     out.add("cull", cull == CullMode::none && plan.settings.shading != Shading::lambert ? "single-sided"
                                                                                        : cull_name(cull));
     describe_camera(out, plan, camera);
-    describe_lighting(out, plan.settings);
+    describe_lighting(out, plan);
 
     const LoadOptions& load = plan.load;
     out.add("up-axis", load.up_axis == UpAxis::z ? "z" : "y");

@@ -65,6 +65,17 @@ inline constexpr float k_lit_ambient = 0.18f, k_lit_diffuse = 0.8f, k_lit_specul
 inline constexpr float k_lambert_albedo = 0.8f, k_lambert_ambient = 0.15f, k_lambert_diffuse = 0.85f;
 inline constexpr float k_uniform_shininess = 32.0f;  // ShadingUniforms' exponent, used once specular > 0
 
+// ---- Materials (Material) ----
+
+// A material that does not say, as from STL, PLY, OFF or an OBJ without MTL: a dielectric of
+// medium roughness, which shows a shape's curvature without mirroring the studio. (glTF files
+// always give both; glTF's own default material is metallic 1, roughness 1.)
+inline constexpr float k_metallic = 0.0f, k_roughness = 0.5f;
+
+// The lit mode's exposure: a linear factor on the radiance before tone mapping. At 1 a white
+// diffuse surface facing the built-in studio's key light reads a little below white.
+inline constexpr float k_exposure = 1.0f;
+
 // ---- The command line and the viewer ----
 
 inline constexpr int k_image_width = 800, k_image_height = 600;  // render: the image; view: the window

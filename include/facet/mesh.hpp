@@ -26,6 +26,10 @@ struct Mesh {
     std::vector<Vec4> colours;  // empty, or one per position (linear RGBA in [0, 1])
     std::vector<Vec2> uvs;      // empty, or one per position
     std::vector<std::uint32_t> indices;  // three per triangle
+    // Empty, or one per position: xyz the unit tangent (the direction of increasing u, orthogonal to
+    // the normal), w = +1 or -1, the side of the bitangent: b = w cross(n, t) points toward the top of
+    // the texture image (decreasing v), as glTF's TANGENT. What normal maps are read with.
+    std::vector<Vec4> tangents;
 
     std::size_t triangle_count() const { return indices.size() / 3; }
     // Checks that the attribute arrays match the positions and every index is in range.
@@ -40,6 +44,14 @@ struct Mesh {
 // Smooth per-vertex normals: the angle-weighted average of the faces around each vertex (shared
 // vertices only; split the vertices first for hard edges). Degenerate faces contribute nothing.
 void compute_smooth_normals(Mesh& mesh);
+// Tangents for normal mapping (Mesh::tangents) from the normals and uvs, for meshes whose file has
+// none; the rule (README, "Materials"): per triangle, t = dP/du and b = -dP/dv from its positions and
+// uvs (triangles whose uvs are degenerate add nothing), summed at each corner weighted by the corner's
+// angle (as MikkTSpace weights them, without its vertex splitting), then t made orthogonal to the
+// vertex normal (Gram-Schmidt) and unit, w = -1 where the summed b is on the side of -cross(n, t).
+// A vertex with no usable triangle gets any unit vector orthogonal to its normal, w = 1.
+// Needs normals and uvs (does nothing without either).
+void compute_tangents(Mesh& mesh);
 // Gives every triangle its own three vertices and its face normal: the faceted look.
 Mesh split_faces_flat(const Mesh& mesh);
 // Normals with hard edges where faces meet at a sharp angle: two triangles that share an edge are

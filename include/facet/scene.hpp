@@ -12,9 +12,11 @@
 #include "facet/api.hpp"
 #include "facet/camera.hpp"
 #include "facet/defaults.hpp"
+#include "facet/environment.hpp"
 #include "facet/mesh.hpp"
 #include "facet/renderer.hpp"
 #include "facet/texture.hpp"
+#include "facet/tone_mapping.hpp"
 
 FACET_API_BEGIN
 namespace facet {
@@ -26,13 +28,34 @@ const char* to_string(Shading s);
 
 enum class AlphaMode { opaque, mask, blend };  // as glTF: ignore alpha, cut at alpha_cutoff, blend
 
+// A texture as a material uses it: the image, how it is sampled, and where (KHR_texture_transform).
+struct TextureMap {
+    std::shared_ptr<const Texture> texture;  // null: no map, the material's factor alone
+    Sampler sampler;
+    UvTransform transform;
+};
+
+// glTF 2.0's metallic-roughness material; other formats are mapped onto it when loaded (README,
+// "Materials"). Colours and factors are linear; textures marked sRGB are decoded when sampled by the
+// lit mode. The other modes read the base colour (and its texture and alpha) only.
 struct Material {
     Vec4 base_colour{1, 1, 1, 1};    // multiplies vertex colours and the texture
-    std::shared_ptr<const Texture> base_colour_texture;  // sampled with the mesh's uvs; may be null
+    std::shared_ptr<const Texture> base_colour_texture;  // sRGB; sampled with the mesh's uvs; may be null
     Sampler sampler;
     AlphaMode alpha_mode = AlphaMode::opaque;
     float alpha_cutoff = 0.5f;
     bool double_sided = true;
+    UvTransform base_colour_transform;  // where base_colour_texture is sampled (lit mode)
+    float metallic = defaults::k_metallic;    // 0 dielectric .. 1 metal
+    float roughness = defaults::k_roughness;  // perceptual roughness, 0 mirror .. 1 matte
+    TextureMap metallic_roughness_map;  // linear: B multiplies metallic, G roughness
+    TextureMap normal_map;              // linear, tangent space (the mesh's tangents)
+    float normal_scale = 1;             // scales the map's x and y
+    TextureMap occlusion_map;           // linear: R is the ambient occlusion
+    float occlusion_strength = 1;       // 0: none, 1: the map's full value
+    Vec3 emissive{0, 0, 0};             // linear radiance, times the map (KHR_materials_emissive_strength folded in)
+    TextureMap emissive_map;            // sRGB
+    bool unlit = false;                 // KHR_materials_unlit: the base colour, not lit
 };
 
 struct SceneObject {
@@ -54,6 +77,7 @@ struct ObjectView {
     std::span<const std::uint32_t> indices;  // three per triangle
     Mat4 model = Mat4::identity();
     const Material* material = nullptr;  // never null
+    const Vec4* tangents = nullptr;      // Mesh::tangents, or null (normal maps are then not used)
 };
 ObjectView view_of(const SceneObject& object);
 
@@ -93,7 +117,12 @@ struct RenderSettings {
     // none: files often have inconsistent winding, so only single-sided materials are culled.
     // back/front: forced for every object. The lambert mode never culls.
     CullMode cull = CullMode::none;
-    Lighting lighting{};
+    Lighting lighting{};  // the flat mode's lights
+    // The lit mode's light and display transform (README, "The lit mode"): the environment
+    // (null: the built-in studio, Environment::studio()), exposure and tone mapping.
+    std::shared_ptr<const Environment> environment{};
+    float exposure = defaults::k_exposure;
+    ToneMapping tone_mapping = ToneMapping::neutral;
 };
 
 // How to look at a scene, as the command line and the viewer take it. Without an eye, the camera

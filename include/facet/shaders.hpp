@@ -11,6 +11,10 @@
 //   TextureUnlit  the base-colour texture and material colour, no lighting
 //                 (both also as ...Opaque: no alpha cutoff, so they never discard and the renderer
 //                 shades visible pixels only; the same colours when tex.alpha_cutoff < 0)
+//   Pbr           glTF's metallic-roughness under an environment light (the lit mode): base colour,
+//                 metallic-roughness, occlusion and emissive maps, image-based lighting, exposure,
+//                 tone mapping and sRGB encoding; PbrNormalMapped adds the tangent-space normal map
+//                 (both also as ...Masked, which discard below the alpha cutoff)
 #pragma once
 
 #include <algorithm>
@@ -21,11 +25,13 @@
 #include "facet/api.hpp"
 #include "facet/defaults.hpp"
 #include "facet/detail/vertex_stage.hpp"
+#include "facet/environment.hpp"
 #include "facet/detail/visible_pass.hpp"
 #include "facet/math/portable_pow.hpp"
 #include "facet/mesh.hpp"
 #include "facet/pipeline.hpp"
 #include "facet/texture.hpp"
+#include "facet/tone_mapping.hpp"
 
 FACET_API_BEGIN
 namespace facet {
@@ -48,6 +54,8 @@ struct ShadingUniforms {
     float diffuse = defaults::k_lambert_diffuse;
     float specular = 0.0f;   // strength of the Blinn-Phong highlight
     float shininess = defaults::k_uniform_shininess;
+    // -1 when `model` mirrors (a negative determinant): tangents' bitangent side turns over with it.
+    float handedness = 1.0f;
 };
 
 // Read-only view of the mesh arrays a shader needs (normals and colours may be absent).
@@ -56,9 +64,11 @@ struct MeshArrays {
     const Vec3* normals = nullptr;
     const Vec4* colours = nullptr;
     const Vec2* uvs = nullptr;
+    const Vec4* tangents = nullptr;
     static MeshArrays of(const Mesh& m) {
         return {m.positions.data(), m.normals.empty() ? nullptr : m.normals.data(),
-                m.colours.empty() ? nullptr : m.colours.data(), m.uvs.empty() ? nullptr : m.uvs.data()};
+                m.colours.empty() ? nullptr : m.colours.data(), m.uvs.empty() ? nullptr : m.uvs.data(),
+                m.tangents.empty() ? nullptr : m.tangents.data()};
     }
 };
 
@@ -69,6 +79,28 @@ struct TextureBinding {
     float alpha_cutoff = -1;           // discard below this alpha; negative: never
 };
 
+// A material's map as the lit shader samples it (uv transformed first when `transformed`).
+struct MapBinding {
+    const Texture* texture = nullptr;  // null: no map
+    Sampler sampler;
+    UvTransform transform;
+    bool transformed = false;  // !transform.is_identity(), decided once per draw
+};
+
+// What shaders::Pbr reads besides ShadingUniforms: the material (glTF's metallic-roughness; the
+// factors multiply the maps), the environment light and the display transform.
+struct PbrUniforms {
+    float metallic = defaults::k_metallic, roughness = defaults::k_roughness;
+    float normal_scale = 1, occlusion_strength = 1;
+    Vec3 emissive{};
+    MapBinding base_colour, metallic_roughness, normal, occlusion, emissive_map;
+    float alpha_cutoff = -1;  // the ...Masked shaders discard below it
+    bool unlit = false;       // KHR_materials_unlit: the base colour as radiance
+    const Environment* environment = nullptr;  // never null when drawn
+    float exposure = 1;  // multiplies the radiance before tone mapping
+    ToneMapping tone_mapping = ToneMapping::neutral;
+};
+
 namespace shaders {
 
 namespace detail {
@@ -77,6 +109,11 @@ inline Vec4 vertex_colour(const MeshArrays& m, const ShadingUniforms& u, std::ui
 }
 inline Vec3 world_normal(const MeshArrays& m, const ShadingUniforms& u, std::uint32_t i) {
     return m.normals ? u.normal_to_world * m.normals[i] : Vec3{};
+}
+inline Vec4 world_tangent(const MeshArrays& m, const ShadingUniforms& u, std::uint32_t i) {
+    if (!m.tangents) return {0, 0, 0, 1};
+    const Vec4 t = m.tangents[i];
+    return Vec4(u.model.upper3x3() * t.xyz(), t.w * u.handedness);
 }
 [[gnu::always_inline]] inline Vec3 lambert_term(Vec3 n, const ShadingUniforms& u) {
     const float k = std::max(dot(n, u.key.direction), 0.0f), f = std::max(dot(n, u.fill.direction), 0.0f);
@@ -103,9 +140,13 @@ inline Vec4 blinn_phong(Vec3 n, Vec3 to_eye, Vec4 albedo, const ShadingUniforms&
 //   normal    the world-space normal, u.normal_to_world * n, not normalized (3; 0 without normals)
 //   position  the world-space position, u.model * p (3)
 //   colour    the vertex colour times u.base_colour, or u.base_colour without colours (4)
-enum class Varying { uv, normal, position, colour };
+//   tangent   the world-space tangent, u.model's 3x3 times t.xyz, and t.w * u.handedness (4;
+//             0, 0, 0, 1 without tangents)
+enum class Varying { uv, normal, position, colour, tangent };
 
-constexpr int varying_width(Varying v) { return v == Varying::uv ? 2 : v == Varying::colour ? 4 : 3; }
+constexpr int varying_width(Varying v) {
+    return v == Varying::uv ? 2 : v == Varying::colour || v == Varying::tangent ? 4 : 3;
+}
 
 // A built-in shader's varyings, declared once and in order, each starting where the one before it
 // ends: the shader's vertex() writes them (VaryingLayout::vertex), its fragment() reads them (of),
@@ -145,6 +186,7 @@ struct VaryingLayout {
         if constexpr (has(Varying::position))
             out.set(at(Varying::position), transform_point(u.model, mesh.positions[i]));
         if constexpr (has(Varying::colour)) out.set(at(Varying::colour), detail::vertex_colour(mesh, u, i));
+        if constexpr (has(Varying::tangent)) out.set(at(Varying::tangent), detail::world_tangent(mesh, u, i));
         return u.clip_from_object * Vec4(mesh.positions[i], 1);
     }
 };
@@ -278,6 +320,139 @@ struct TextureUnlitShader {
 using TextureUnlit = TextureUnlitShader<true>;
 using TextureUnlitOpaque = TextureUnlitShader<false>;
 
+namespace detail {
+// A map's texel for the pixel: uv and its screen derivatives through the map's transform.
+[[gnu::always_inline]] inline Vec4 sample_map(const MapBinding& m, Vec2 uv, Vec2 ddx, Vec2 ddy) {
+    if (m.transformed) uv = m.transform.apply(uv), ddx = m.transform.apply_linear(ddx), ddy = m.transform.apply_linear(ddy);
+    return m.texture->sample(uv, ddx, ddy, m.sampler);
+}
+
+// The split-sum image-based lighting of glTF's BRDF with Fdez-Aguera's multiple-scattering terms,
+// as the Khronos glTF Sample Viewer computes it: for base colour c, metallic m, roughness r, unit
+// normal n and unit direction to the eye v, with n.v clamped to [0, 1]:
+//   f0 = mix(0.04, c, m), c_diff = c (1 - m), (A, B) = split_sum(n.v, r)
+//   Fr = max(1 - r, f0) - f0, k_S = f0 + Fr (1 - n.v)^5, FssEss = k_S A + B
+//   Ems = 1 - (A + B), F_avg = f0 + (1 - f0) / 21, FmsEms = Ems FssEss F_avg / (1 - F_avg Ems)
+//   specular = prefiltered(reflect(-v, n), r) FssEss
+//   diffuse = (FmsEms + c_diff (1 - FssEss + FmsEms)) irradiance(n)
+struct PbrSurface {
+    Vec3 base_colour;
+    float metallic, roughness;
+};
+inline Vec3 image_based_light(const PbrSurface& s, Vec3 n, Vec3 v, const Environment& env) {
+    const float n_dot_v_raw = dot(n, v);
+    const float n_dot_v = n_dot_v_raw > 0 ? (n_dot_v_raw < 1 ? n_dot_v_raw : 1) : 0;
+    const Vec3 r = n * (2 * n_dot_v_raw) - v;
+    const Vec2 ab = split_sum(n_dot_v, s.roughness);
+    const Vec3 dielectric{0.04f, 0.04f, 0.04f};
+    const Vec3 f0 = dielectric + (s.base_colour - dielectric) * s.metallic;
+    const Vec3 c_diff = s.base_colour * (1 - s.metallic);
+    const float x = 1 - n_dot_v, x5 = x * x * x * x * x;
+    const float smooth = 1 - s.roughness;
+    const Vec3 fr = max(Vec3{smooth, smooth, smooth}, f0) - f0;
+    const Vec3 k_s = f0 + fr * x5;
+    const Vec3 fss_ess = k_s * ab.x + Vec3{ab.y, ab.y, ab.y};
+    const float ems = 1 - (ab.x + ab.y);
+    const Vec3 f_avg = f0 + (Vec3{1, 1, 1} - f0) * (1 / 21.0f);
+    const Vec3 fms_ems = fss_ess * f_avg * ems / (Vec3{1, 1, 1} - f_avg * ems);
+    const Vec3 k_d = c_diff * (Vec3{1, 1, 1} - fss_ess + fms_ems);
+    const Vec3 specular = env.specular(r, s.roughness * static_cast<float>(Environment::k_levels - 1)) * fss_ess;
+    const Vec3 diffuse = (fms_ems + k_d) * env.diffuse(n);
+    return diffuse + specular;
+}
+
+// Linear radiance to the display: exposure, tone mapping, the sRGB transfer function.
+inline Vec3 display(Vec3 radiance, const PbrUniforms& p) {
+    const Vec3 t = tone_map(radiance * p.exposure, p.tone_mapping);
+    return {linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z)};
+}
+}  // namespace detail
+
+// glTF 2.0's metallic-roughness material lit by an environment (facet/environment.hpp), the lit
+// mode. Per pixel: base colour = material colour x vertex colour x the base-colour map (sRGB
+// decoded after filtering); metallic and roughness = factors x the map's B and G; the normal
+// (turned toward the viewer on back faces, tangent frame included), perturbed by the normal map
+// where NormalMap; image_based_light; times mix(1, occlusion map's R, strength); plus emissive x
+// its map; then display(). Alpha: the base colour's. The texture coordinates' derivatives (for
+// mip selection) are exact, as for the textured shaders.
+template <bool NormalMap, bool AlphaCutoff>
+struct PbrShader {
+    using Layout = std::conditional_t<NormalMap,
+                                      VaryingLayout<Varying::uv, Varying::normal, Varying::position, Varying::tangent, Varying::colour>,
+                                      VaryingLayout<Varying::uv, Varying::normal, Varying::position, Varying::colour>>;
+    static constexpr int k_varyings = Layout::count;
+    static constexpr int k_derivative_count = Layout::through(Varying::uv);
+    MeshArrays mesh;
+    ShadingUniforms u;
+    PbrUniforms pbr;
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    auto fragment(const FragmentIn<k_varyings>& in) const {
+        const Vec4 base = base_colour(in);
+        if constexpr (AlphaCutoff) {
+            if (base.w < pbr.alpha_cutoff) return std::optional<Vec4>{};
+            return std::optional<Vec4>{lit(in, base)};
+        } else {
+            return lit(in, base);
+        }
+    }
+    // Material colour x vertex colour (the colour varying), x the decoded base-colour map.
+    Vec4 base_colour(const FragmentIn<k_varyings>& in) const {
+        const Vec4 c = Layout::template of<Varying::colour>(in.v);
+        if (!pbr.base_colour.texture) return c;
+        const Vec4 t = sample(pbr.base_colour, in);
+        return {c.x * srgb_to_linear(t.x), c.y * srgb_to_linear(t.y), c.z * srgb_to_linear(t.z), c.w * t.w};
+    }
+    Vec4 sample(const MapBinding& m, const FragmentIn<k_varyings>& in) const {
+        constexpr int uv = Layout::at(Varying::uv);
+        return detail::sample_map(m, in.v.vec2(uv), in.ddx.vec2(uv), in.ddy.vec2(uv));
+    }
+    Vec4 lit(const FragmentIn<k_varyings>& in, Vec4 base) const {
+        if (pbr.unlit) return Vec4(detail::display(base.xyz(), pbr), base.w);
+        detail::PbrSurface s{base.xyz(), pbr.metallic, pbr.roughness};
+        if (pbr.metallic_roughness.texture) {
+            const Vec4 t = sample(pbr.metallic_roughness, in);
+            s.roughness = s.roughness * t.y;
+            s.metallic = s.metallic * t.z;
+        }
+        const Vec3 n = normal(in);
+        const Vec3 v = normalize(u.eye - Layout::template of<Varying::position>(in.v));
+        Vec3 c = detail::image_based_light(s, n, v, *pbr.environment);
+        if (pbr.occlusion.texture) {
+            const float ao = 1 + pbr.occlusion_strength * (sample(pbr.occlusion, in).x - 1);
+            c = c * ao;
+        }
+        Vec3 e = pbr.emissive;
+        if (pbr.emissive_map.texture) {
+            const Vec4 t = sample(pbr.emissive_map, in);
+            e = e * Vec3{srgb_to_linear(t.x), srgb_to_linear(t.y), srgb_to_linear(t.z)};
+        }
+        return Vec4(detail::display(c + e, pbr), base.w);
+    }
+    // The shading normal: the interpolated one, with NormalMap perturbed by the map, n' =
+    // normalize(t x + b y + n z) for the map's (x, y, z) = 2 texel - 1 (x and y times the scale), t the
+    // tangent made orthogonal to n, b = w cross(n, t); turned toward the viewer on back faces (the
+    // back of a bump is a dent).
+    Vec3 normal(const FragmentIn<k_varyings>& in) const {
+        Vec3 n = normalize(Layout::template of<Varying::normal>(in.v));
+        if constexpr (NormalMap) {
+            if (pbr.normal.texture) {
+                const Vec4 tangent = Layout::template of<Varying::tangent>(in.v);
+                const Vec3 t = normalize(tangent.xyz() - n * dot(n, tangent.xyz()));
+                const Vec3 b = cross(n, t) * tangent.w;
+                const Vec4 m = sample(pbr.normal, in);
+                const float x = (2 * m.x - 1) * pbr.normal_scale, y = (2 * m.y - 1) * pbr.normal_scale, z = 2 * m.z - 1;
+                const Vec3 mapped = normalize(t * x + b * y + n * z);
+                if (dot(mapped, mapped) > 0) n = mapped;
+            }
+        }
+        return in.front_facing ? n : -n;
+    }
+};
+using Pbr = PbrShader<false, false>;
+using PbrMasked = PbrShader<false, true>;
+using PbrNormalMapped = PbrShader<true, false>;
+using PbrNormalMappedMasked = PbrShader<true, true>;
+
 struct Normals {
     using Layout = VaryingLayout<Varying::normal>;
     static constexpr int k_varyings = Layout::count;
@@ -317,6 +492,8 @@ FACET_COMPILED_VISIBLE_PASS(BlinnPhongBaseColour)
 FACET_COMPILED_VISIBLE_PASS(Normals)
 FACET_COMPILED_VISIBLE_PASS(VertexColour)
 FACET_COMPILED_VISIBLE_PASS(Flat)
+FACET_COMPILED_VISIBLE_PASS(Pbr)
+FACET_COMPILED_VISIBLE_PASS(PbrNormalMapped)
 #undef FACET_COMPILED_VISIBLE_PASS
 
 // The built-in shaders whose vertex() is the clip position plus the world normal and/or the vertex

@@ -28,6 +28,16 @@ struct Sampler {
     Filter filter = Filter::trilinear;
 };
 
+// Where a texture is sampled for a mesh's uv: uv' = (m[0] u + m[1] v + m[2], m[3] u + m[4] v + m[5]),
+// glTF's KHR_texture_transform (offset, rotation, scale) in uv space (v = 0 at the image's top).
+struct UvTransform {
+    float m[6] = {1, 0, 0, 0, 1, 0};
+    bool is_identity() const { return m[0] == 1 && m[1] == 0 && m[2] == 0 && m[3] == 0 && m[4] == 1 && m[5] == 0; }
+    Vec2 apply(Vec2 uv) const { return {m[0] * uv.x + m[1] * uv.y + m[2], m[3] * uv.x + m[4] * uv.y + m[5]}; }
+    // The same without the offset: for the derivatives of uv.
+    Vec2 apply_linear(Vec2 d) const { return {m[0] * d.x + m[1] * d.y, m[3] * d.x + m[4] * d.y}; }
+};
+
 struct TextureLimits {
     int max_size = defaults::k_max_texture_size;            // per side
     std::size_t max_pixels = defaults::k_max_texture_pixels;  // width * height

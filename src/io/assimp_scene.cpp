@@ -1,9 +1,10 @@
 // facet io, the conversion every reader ends in (assimp_scene.hpp): a SourceScene into a Scene.
 // The node hierarchy is walked, each mesh reference becomes a SceneObject (the mesh in its own
 // space, the accumulated node transform as `model`); triangles with non-finite or out-of-range
-// vertices are dropped with a warning; missing normals are computed with the crease angle; materials
-// give base colour, opacity, alpha mode, sidedness and the base-colour texture (embedded, or a file
-// the model's resource folders allow, found leniently: resources.hpp), a file's textures decoded in
+// vertices are dropped with a warning; missing normals are computed with the crease angle (and
+// tangents where a normal map needs them); materials become glTF metallic-roughness (README,
+// "Materials"): factors, alpha mode, sidedness and each map's texture (embedded, or a file the
+// model's resource folders allow, found leniently: resources.hpp), a file's textures decoded in
 // parallel. Not the reading itself.
 #include "io/assimp_scene.hpp"
 
@@ -14,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -28,6 +30,7 @@
 #include "facet/mesh.hpp"
 #include "io/load_common.hpp"
 #include "io/resources.hpp"
+#include "math/portable_trig.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -119,6 +122,8 @@ struct ConvertedMesh {
     std::size_t degenerate = 0;  // kept triangles with two corners at the same position
 };
 
+Vec3 to_vec3(const aiVector3D& v) { return {v.x, v.y, v.z}; }
+
 bool finite_and_nonzero(const aiVector3D& n) {
     return std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) && (n.x != 0 || n.y != 0 || n.z != 0);
 }
@@ -129,8 +134,10 @@ Vec4 clamp_colour(const aiColor4D& c) {
 }
 
 // Keeps the triangles whose three vertices exist and are finite, then only the vertices they use,
-// numbered in order of first use.
-ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float crease_angle_radians, int threads) {
+// numbered in order of first use. With `tangents` (its material has a normal map), the file's
+// tangents when it has them for its normals, else computed (compute_tangents).
+ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float crease_angle_radians, int threads,
+                           bool tangents) {
     ConvertedMesh out;
     std::vector<std::uint32_t> used;  // source vertex of each kept vertex
     std::vector<std::uint32_t> remap(in.vertex_count, ~0u);
@@ -182,6 +189,19 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
     } else if (!m.indices.empty()) {
         compute_creased_normals(m, crease_angle_radians, threads);
     }
+    if (!tangents || m.uvs.empty()) return out;
+    bool file_tangents = normals_ok && in.tangents && in.bitangents;
+    for (std::size_t k = 0; file_tangents && k < used.size(); ++k)
+        file_tangents = finite_and_nonzero(in.tangents[used[k]]) && is_finite(to_vec3(in.bitangents[used[k]]));
+    if (!file_tangents) {
+        compute_tangents(m);
+        return out;
+    }
+    // assimp gives glTF's TANGENT w as the bitangent w cross(n, t).
+    for (std::size_t k = 0; k < used.size(); ++k) {
+        const Vec3 n = m.normals[k], t = normalize(to_vec3(in.tangents[used[k]]));
+        m.tangents.push_back(Vec4(t, dot(cross(n, t), to_vec3(in.bitangents[used[k]])) < 0 ? -1.0f : 1.0f));
+    }
     return out;
 }
 
@@ -194,6 +214,28 @@ Wrap to_wrap(int mode) {
         case aiTextureMapMode_Mirror: return Wrap::mirror;
         default: return Wrap::repeat;
     }
+}
+
+// Below this in every channel a specular colour is black: the material has no highlight.
+constexpr float k_black_specular = 1e-3f;
+// The smoothest roughness a Phong exponent maps to (n = 2e4): mirror-like, but with a highlight
+// wider than a texel of the environment's sharpest level.
+constexpr float k_min_phong_roughness = 0.1f;
+
+// glTF's KHR_texture_transform from what assimp 5.2.5 makes of it. assimp re-centres the rotation
+// for its bottom-left uv origin and aiProcess_FlipUVs then negates the rotation and the v translation;
+// undone here, the glTF fields are offset (ox, oy), rotation r, scale (sx, sy), and uv' = T R S uv
+// with R = [cos r, sin r; -sin r, cos r] in glTF's uv space (v = 0 at the top), which is facet's.
+UvTransform gltf_uv_transform(const aiUVTransform& t) {
+    const double r = t.mRotation, sx = t.mScaling.x, sy = t.mScaling.y;
+    double sin_r = 0, cos_r = 1;
+    portable::sincos(r, sin_r, cos_r);
+    const double ox = t.mTranslation.x - 0.5 * sx * (-cos_r + sin_r + 1);
+    const double oy = t.mTranslation.y + 0.5 * sy * (sin_r + cos_r - 1) + 1 - sy;
+    UvTransform out;
+    const double m[6] = {cos_r * sx, sin_r * sy, ox, -sin_r * sx, cos_r * sy, oy};
+    for (int i = 0; i < 6; ++i) out.m[i] = std::isfinite(m[i]) ? static_cast<float>(m[i]) : (i == 0 || i == 4 ? 1.0f : 0.0f);
+    return out;
 }
 
 // Everything about one file's conversion that outlives a single mesh.
@@ -214,17 +256,19 @@ public:
         auto it = meshes_.find(index);
         if (it == meshes_.end())
             it = meshes_.emplace(index, convert_mesh(scene_.meshes[index], use_file_normals_,
-                                                     radians(options_.crease_angle_degrees), options_.threads)).first;
+                                                     radians(options_.crease_angle_degrees), options_.threads,
+                                                     has_normal_map(index))).first;
         return it->second;
     }
 
-    // Notes that mesh `index` is placed (with uvs or not), so that its material's texture is
+    // Notes that mesh `index` is placed (with uvs or not), so that its material's textures are
     // decoded with the others by load_textures.
     void request_material(unsigned mesh_index, bool has_uvs) {
         const unsigned index = scene_.meshes[mesh_index].material;
         if (index >= scene_.materials.size() || !has_uvs) return;
         const ConvertedMaterial& m = converted_material(index);
-        if (m.texture_name && textures_.emplace(*m.texture_name, nullptr).second) texture_order_.push_back(*m.texture_name);
+        for (const std::optional<MapSource>* map : {&m.base_colour, &m.metallic_roughness, &m.normal, &m.occlusion, &m.emissive})
+            if (*map && textures_.emplace((*map)->name, nullptr).second) texture_order_.push_back((*map)->name);
     }
 
     // Decodes every requested texture, in parallel on options.threads threads; a texture that
@@ -248,25 +292,42 @@ public:
         }
     }
 
-    // The material of mesh `index`, with its texture only when the mesh has uvs to sample it with
+    // The material of mesh `index`, with its textures only when the mesh has uvs to sample them with
     // (after load_textures).
     Material material(unsigned mesh_index, bool has_uvs) {
         const unsigned index = scene_.meshes[mesh_index].material;
         if (index >= scene_.materials.size()) return Material{};
-        const ConvertedMaterial& converted = converted_material(index);
-        Material m = converted.material;
-        if (has_uvs && converted.texture_name) {
-            m.base_colour_texture = textures_[*converted.texture_name];
+        const ConvertedMaterial& c = converted_material(index);
+        Material m = c.material;
+        if (!has_uvs) return m;
+        auto texture = [&](const std::optional<MapSource>& map) { return map ? textures_[map->name] : nullptr; };
+        if (c.base_colour) {
+            m.base_colour_texture = texture(c.base_colour);
             if (!gltf_ && m.base_colour_texture && m.base_colour_texture->has_transparency()) m.alpha_mode = AlphaMode::blend;
         }
+        m.metallic_roughness_map.texture = texture(c.metallic_roughness);
+        m.normal_map.texture = texture(c.normal);
+        m.occlusion_map.texture = texture(c.occlusion);
+        m.emissive_map.texture = texture(c.emissive);
         return m;
     }
 
+    // Whether the material of the file's mesh `mesh_index` has a normal map (its mesh then needs tangents).
+    bool has_normal_map(unsigned mesh_index) {
+        const unsigned index = scene_.meshes[mesh_index].material;
+        return index < scene_.materials.size() && converted_material(index).normal.has_value();
+    }
+
 private:
+    // A material's map: the assimp texture type it was found under and the texture's name ("*N"
+    // for embedded ones).
+    struct MapSource {
+        aiTextureType type;
+        std::string name;
+    };
     struct ConvertedMaterial {
-        Material material;
-        // The base-colour texture's name, if the material has one ("*N" for embedded ones).
-        std::optional<std::string> texture_name;
+        Material material;  // factors, samplers and transforms; the textures are attached per mesh
+        std::optional<MapSource> base_colour, metallic_roughness, normal, occlusion, emissive;
     };
 
     const ConvertedMaterial& converted_material(unsigned index) {
@@ -275,9 +336,44 @@ private:
         return it->second;
     }
 
-    // Base colour: glTF's base colour (its alpha is the opacity) or the diffuse colour times
-    // AI_MATKEY_OPACITY. Alpha mode: glTF's alphaMode and alphaCutoff; other formats blend when
-    // the material or its texture is not fully opaque (the texture part is decided in material()).
+    // The first of `types` the material has a texture of, with its sampler (and, for glTF, its
+    // KHR_texture_transform) written into `sampler` and `transform`. A texture that reads another uv
+    // set than the first is left out with a warning: meshes keep only the first.
+    std::optional<MapSource> find_map(const aiMaterial& am, std::initializer_list<aiTextureType> types, Sampler& sampler,
+                                      UvTransform& transform) const {
+        for (aiTextureType type : types) {
+            if (am.GetTextureCount(type) == 0) continue;
+            int uv_set = 0;
+            if (am.Get(AI_MATKEY_UVWSRC(type, 0), uv_set) == AI_SUCCESS && uv_set != 0) {
+                warnings_.push_back(path_ + ": a texture reads uv set " + std::to_string(uv_set) +
+                                    ", which facet does not keep; it is not used");
+                return std::nullopt;
+            }
+            int u = aiTextureMapMode_Wrap, v = aiTextureMapMode_Wrap;
+            am.Get(AI_MATKEY_MAPPINGMODE_U(type, 0), u);
+            am.Get(AI_MATKEY_MAPPINGMODE_V(type, 0), v);
+            sampler.wrap_u = to_wrap(u);
+            sampler.wrap_v = to_wrap(v);
+            aiUVTransform t;
+            if (gltf_ && am.Get(AI_MATKEY_UVTRANSFORM(type, 0), t) == AI_SUCCESS) transform = gltf_uv_transform(t);
+            aiString name;
+            // No name, or the placeholder assimp's MD2 reader puts in to keep the uvs: no texture.
+            if (am.GetTexture(type, 0, &name) != AI_SUCCESS || name.length == 0 ||
+                std::string_view(name.C_Str()) == "$texture_dummy.bmp")
+                return std::nullopt;
+            return MapSource{type, name.C_Str()};
+        }
+        return std::nullopt;
+    }
+
+    // glTF 2.0's metallic-roughness as assimp gives it, or the mapping of other formats' materials
+    // (README, "Materials"): base colour from glTF's base colour (its alpha the opacity) or the
+    // diffuse colour times AI_MATKEY_OPACITY; metallic and roughness from their factors when the
+    // file has them, else from the Phong terms: metallic 0, roughness 1 for a black specular colour,
+    // (2 / (shininess + 2))^(1/4) for a positive shininess (GGX's alpha = sqrt(2 / (n + 2)) matches a
+    // Blinn-Phong exponent n), the default otherwise. Alpha mode: glTF's alphaMode and alphaCutoff;
+    // other formats blend when the material or its texture is not fully opaque (the texture part is
+    // decided in material()).
     ConvertedMaterial convert_material(const aiMaterial& am) const {
         ConvertedMaterial out;
         Material& m = out.material;
@@ -300,19 +396,60 @@ private:
         }
         int two_sided = 0;
         if (am.Get(AI_MATKEY_TWOSIDED, two_sided) == AI_SUCCESS) m.double_sided = two_sided != 0;
-        for (aiTextureType type : {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE})
-            if (am.GetTextureCount(type) > 0) {
-                int u = aiTextureMapMode_Wrap, v = aiTextureMapMode_Wrap;
-                am.Get(AI_MATKEY_MAPPINGMODE_U(type, 0), u);
-                am.Get(AI_MATKEY_MAPPINGMODE_V(type, 0), v);
-                m.sampler.wrap_u = to_wrap(u);
-                m.sampler.wrap_v = to_wrap(v);
-                aiString name;
-                // No name, or the placeholder assimp's MD2 reader puts in to keep the uvs: no texture.
-                if (am.GetTexture(type, 0, &name) == AI_SUCCESS && name.length > 0 && std::string_view(name.C_Str()) != "$texture_dummy.bmp")
-                    out.texture_name = name.C_Str();
-                break;
-            }
+        int shading = 0;
+        if (am.Get(AI_MATKEY_SHADING_MODEL, shading) == AI_SUCCESS) m.unlit = shading == aiShadingMode_Unlit;
+
+        auto unit = [](float v, float fallback) { return std::isfinite(v) ? clamp(v, 0.0f, 1.0f) : fallback; };
+        float metallic = 0, roughness = 0;
+        const bool has_metallic = am.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS;
+        const bool has_roughness = am.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness) == AI_SUCCESS;
+        if (has_metallic || has_roughness) {
+            if (has_metallic) m.metallic = unit(metallic, m.metallic);
+            if (has_roughness) m.roughness = unit(roughness, m.roughness);
+        } else {
+            m.metallic = 0;
+            aiColor4D specular(1, 1, 1, 1);
+            float shininess = 0;
+            if (am.Get(AI_MATKEY_COLOR_SPECULAR, specular) == AI_SUCCESS &&
+                std::max({specular.r, specular.g, specular.b}) < k_black_specular)
+                m.roughness = 1;
+            else if (am.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS && std::isfinite(shininess) && shininess > 0)
+                m.roughness = clamp(std::sqrt(std::sqrt(2 / (shininess + 2))), k_min_phong_roughness, 1.0f);
+        }
+        aiColor4D emissive(0, 0, 0, 1);
+        if (am.Get(AI_MATKEY_COLOR_EMISSIVE, emissive) == AI_SUCCESS) {
+            auto positive = [](float v) { return std::isfinite(v) && v > 0 ? v : 0.0f; };
+            m.emissive = {positive(emissive.r), positive(emissive.g), positive(emissive.b)};
+        }
+        float strength = 1;
+        if (am.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength) == AI_SUCCESS && std::isfinite(strength) && strength >= 0)
+            m.emissive = m.emissive * strength;
+
+        out.base_colour = find_map(am, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}, m.sampler, m.base_colour_transform);
+        if (gltf_)
+            // (AI_MATKEY_GLTF_PBRMETALLICROUGHNESS_METALLICROUGHNESS_TEXTURE: assimp 5.2.5 files it as UNKNOWN)
+            out.metallic_roughness = find_map(am, {aiTextureType_UNKNOWN},
+                                              m.metallic_roughness_map.sampler, m.metallic_roughness_map.transform);
+        out.normal = find_map(am, {aiTextureType_NORMALS}, m.normal_map.sampler, m.normal_map.transform);
+        if (out.normal) {
+            float scale = 1;
+            if (am.Get(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), scale) == AI_SUCCESS && std::isfinite(scale))
+                m.normal_scale = scale;
+        }
+        // glTF's occlusion map arrives as assimp's light map; other formats' light maps are not occlusion.
+        out.occlusion = find_map(am, gltf_ ? std::initializer_list<aiTextureType>{aiTextureType_LIGHTMAP}
+                                           : std::initializer_list<aiTextureType>{aiTextureType_AMBIENT_OCCLUSION},
+                                 m.occlusion_map.sampler, m.occlusion_map.transform);
+        if (out.occlusion) {
+            const aiTextureType type = out.occlusion->type;
+            float s = 1;
+            if (am.Get(AI_MATKEY_GLTF_TEXTURE_STRENGTH(type, 0), s) == AI_SUCCESS && std::isfinite(s))
+                m.occlusion_strength = clamp(s, 0.0f, 1.0f);
+        }
+        out.emissive = find_map(am, {aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR}, m.emissive_map.sampler,
+                                m.emissive_map.transform);
+        // An emissive map without an emissive colour (OBJ's map_Ke alone) means the map as it is.
+        if (out.emissive && m.emissive == Vec3{0, 0, 0} && !gltf_) m.emissive = {1, 1, 1};
         return out;
     }
 
@@ -371,7 +508,7 @@ private:
     std::map<unsigned, ConvertedMaterial> materials_;
     std::map<std::string, std::shared_ptr<const Texture>> textures_;
     std::vector<std::string> texture_order_;  // the names in textures_, in order of first request
-    std::vector<std::string> warnings_;
+    mutable std::vector<std::string> warnings_;
 };
 
 }  // namespace
@@ -390,6 +527,7 @@ SourceScene source_of(const aiScene& scene, bool gltf) {
         s.normals = m.mNormals;
         s.colours = m.HasVertexColors(0) ? m.mColors[0] : nullptr;
         s.uvs = m.HasTextureCoords(0) ? m.mTextureCoords[0] : nullptr;
+        if (m.HasTangentsAndBitangents()) s.tangents = m.mTangents, s.bitangents = m.mBitangents;
         s.material = m.mMaterialIndex;
         s.triangle_mesh = (m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0 && m.mNumFaces > 0;
         s.faces = m.mFaces;

@@ -37,6 +37,8 @@ struct SourceMesh {
     const aiVector3D* normals = nullptr;
     const aiColor4D* colours = nullptr;
     const aiVector3D* uvs = nullptr;  // assimp's first uv channel (x, y used)
+    const aiVector3D* tangents = nullptr;    // with bitangents, or neither (glTF's TANGENT, as assimp gives it)
+    const aiVector3D* bitangents = nullptr;
     unsigned material = 0;
     bool triangle_mesh = false;        // assimp: its primitive types include triangles and it has faces
     const aiFace* faces = nullptr;     // assimp's

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -94,15 +95,36 @@ private:
 
 constexpr std::uint32_t k_ok = 0x464f4b31, k_failed = 0x46455231;  // what the child wrote first
 
+// A material's textures, in one order for writing and reading.
+constexpr int k_material_textures = 5;
+std::array<std::shared_ptr<const Texture>*, k_material_textures> material_textures(Material& m) {
+    return {&m.base_colour_texture, &m.metallic_roughness_map.texture, &m.normal_map.texture,
+            &m.occlusion_map.texture, &m.emissive_map.texture};
+}
+
+// Every other value of a material, in one order for writing and reading: f(value) for each.
+template <class F>
+void material_values(Material& m, F&& f) {
+    f(m.base_colour), f(m.sampler), f(m.alpha_mode), f(m.alpha_cutoff), f(m.double_sided);
+    f(m.base_colour_transform), f(m.metallic), f(m.roughness);
+    for (TextureMap* map : {&m.metallic_roughness_map, &m.normal_map, &m.occlusion_map, &m.emissive_map})
+        f(map->sampler), f(map->transform);
+    f(m.normal_scale), f(m.occlusion_strength), f(m.emissive), f(m.unlit);
+}
+
 void write_model(Writer& w, const LoadedModel& m) {
     // Textures are shared between materials: each is written once, materials refer to it by index.
     std::map<const Texture*, std::int32_t> texture_index;
     std::vector<const Texture*> textures;
-    for (const SceneObject& o : m.scene.objects)
-        if (const Texture* t = o.material.base_colour_texture.get(); t && !texture_index.count(t)) {
-            texture_index[t] = static_cast<std::int32_t>(textures.size());
-            textures.push_back(t);
-        }
+    std::vector<Material> materials;  // copies, which material_textures and material_values can visit
+    for (const SceneObject& o : m.scene.objects) {
+        materials.push_back(o.material);
+        for (const std::shared_ptr<const Texture>* p : material_textures(materials.back()))
+            if (const Texture* t = p->get(); t && !texture_index.count(t)) {
+                texture_index[t] = static_cast<std::int32_t>(textures.size());
+                textures.push_back(t);
+            }
+    }
     w.pod<std::uint64_t>(textures.size());
     for (const Texture* t : textures) {
         w.pod<std::int32_t>(t->level(0).width);
@@ -110,20 +132,18 @@ void write_model(Writer& w, const LoadedModel& m) {
         w.array(t->level(0).pixels);
     }
     w.pod<std::uint64_t>(m.scene.objects.size());
-    for (const SceneObject& o : m.scene.objects) {
+    for (std::size_t i = 0; i < m.scene.objects.size(); ++i) {
+        const SceneObject& o = m.scene.objects[i];
         w.array(o.mesh.positions);
         w.array(o.mesh.normals);
         w.array(o.mesh.colours);
         w.array(o.mesh.uvs);
         w.array(o.mesh.indices);
+        w.array(o.mesh.tangents);
         w.pod(o.model);
-        const Material& mat = o.material;
-        w.pod(mat.base_colour);
-        w.pod<std::int32_t>(mat.base_colour_texture ? texture_index[mat.base_colour_texture.get()] : -1);
-        w.pod(mat.sampler);
-        w.pod(mat.alpha_mode);
-        w.pod(mat.alpha_cutoff);
-        w.pod(mat.double_sided);
+        for (const std::shared_ptr<const Texture>* t : material_textures(materials[i]))
+            w.pod<std::int32_t>(*t ? texture_index[t->get()] : -1);
+        material_values(materials[i], [&](const auto& v) { w.pod(v); });
     }
     w.pod<std::uint64_t>(m.warnings.size());
     for (const std::string& s : m.warnings) w.text(s);
@@ -151,15 +171,14 @@ std::optional<LoadedModel> read_model(Reader& r) {
         o.mesh.colours = r.array<Vec4>();
         o.mesh.uvs = r.array<Vec2>();
         o.mesh.indices = r.array<std::uint32_t>();
+        o.mesh.tangents = r.array<Vec4>();
         o.model = r.pod<Mat4>();
-        o.material.base_colour = r.pod<Vec4>();
-        const auto texture = r.pod<std::int32_t>();
-        if (texture >= static_cast<std::int32_t>(textures.size())) return std::nullopt;
-        if (texture >= 0) o.material.base_colour_texture = textures[static_cast<std::size_t>(texture)];
-        o.material.sampler = r.pod<Sampler>();
-        o.material.alpha_mode = r.pod<AlphaMode>();
-        o.material.alpha_cutoff = r.pod<float>();
-        o.material.double_sided = r.pod<bool>();
+        for (std::shared_ptr<const Texture>* t : material_textures(o.material)) {
+            const auto index = r.pod<std::int32_t>();
+            if (index >= static_cast<std::int32_t>(textures.size())) return std::nullopt;
+            if (index >= 0) *t = textures[static_cast<std::size_t>(index)];
+        }
+        material_values(o.material, [&](auto& v) { v = r.pod<std::remove_reference_t<decltype(v)>>(); });
         m.scene.objects.push_back(std::move(o));
     }
     const auto warning_count = r.pod<std::uint64_t>();

@@ -16,6 +16,7 @@ Status Mesh::validate() const {
     if (!normals.empty() && normals.size() != n) return bad("normals and positions differ in count");
     if (!colours.empty() && colours.size() != n) return bad("colours and positions differ in count");
     if (!uvs.empty() && uvs.size() != n) return bad("uvs and positions differ in count");
+    if (!tangents.empty() && tangents.size() != n) return bad("tangents and positions differ in count");
     if (indices.size() % 3 != 0) return bad("index count is not a multiple of 3");
     for (std::size_t i = 0; i < indices.size(); ++i)
         if (indices[i] >= n)
@@ -48,6 +49,11 @@ void Mesh::append(const Mesh& other, const Mat4& model) {
     for (std::size_t i = old; i < normals.size() && !other.normals.empty(); ++i) normals[i] = normalize(nm * normals[i]);
     keep_aligned(colours, other.colours, Vec4{1, 1, 1, 1});
     keep_aligned(uvs, other.uvs, Vec2{});
+    keep_aligned(tangents, other.tangents, Vec4{0, 0, 0, 1});
+    // A mirroring transform turns the bitangent's side over.
+    const float side = determinant(model.upper3x3()) < 0 ? -1.0f : 1.0f;
+    for (std::size_t i = old; i < tangents.size() && !other.tangents.empty(); ++i)
+        tangents[i] = Vec4(normalize(model.upper3x3() * tangents[i].xyz()), tangents[i].w * side);
     for (std::uint32_t i : other.indices) indices.push_back(base + i);
 }
 

@@ -7,6 +7,7 @@
 
 #include "facet/shaders.hpp"
 #include "facet/views.hpp"
+#include "scene/lit_shading.hpp"
 #include "scene/scene_passes.hpp"
 #include "tile/passes.hpp"
 
@@ -28,6 +29,7 @@ ShadingUniforms uniforms_for(const ObjectView& object, const Camera& camera, con
     u.model = object.model;
     u.clip_from_object = clip_from_world * object.model;
     u.normal_to_world = normal_matrix(object.model);
+    u.handedness = determinant(object.model.upper3x3()) < 0 ? -1.0f : 1.0f;
     u.eye = camera.position;
     u.base_colour = object.material->base_colour;
     const CameraBasis basis = camera_basis(camera.target - camera.position, camera.up, camera.handedness);
@@ -62,6 +64,7 @@ void require_aligned_arrays(const Scene& scene) {
         const char* bad = !m.normals.empty() && m.normals.size() != n   ? "normals"
                           : !m.colours.empty() && m.colours.size() != n ? "colours"
                           : !m.uvs.empty() && m.uvs.size() != n         ? "uvs"
+                          : !m.tangents.empty() && m.tangents.size() != n ? "tangents"
                                                                         : nullptr;
         if (bad)
             throw FacetError(Error{ErrorCode::invalid_argument, "render_scene: object " + std::to_string(i) + " has " +
@@ -81,18 +84,14 @@ TextureBinding binding_of(const Material& m) {
 
 // Picks the shader for the mode and the object's data, then draws (with `passes`, if given).
 DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o,
-                      const ShadingUniforms& u, MeshArrays arrays, Shading shading, const DrawPasses* passes) {
+                      const ShadingUniforms& u, MeshArrays arrays, const RenderSettings& settings, const DrawPasses* passes) {
+    const Shading shading = settings.shading;
     const Material& material = *o.material;
     const bool has_normals = arrays.normals != nullptr;
     const bool textured = material.base_colour_texture && arrays.uvs;
     const TextureBinding tex = textured ? binding_of(material) : TextureBinding{nullptr, {}, binding_of(material).alpha_cutoff};
     switch (shading) {
-        case Shading::lit:
-            if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u}, passes);
-            if (material.alpha_mode == AlphaMode::mask) return draw_with(r, target, state, o, shaders::Textured{arrays, u, tex}, passes);
-            if (textured) return draw_with(r, target, state, o, shaders::TexturedOpaque{arrays, u, tex}, passes);
-            if (!arrays.colours) return draw_with(r, target, state, o, shaders::BlinnPhongBaseColour{arrays, u}, passes);
-            return draw_with(r, target, state, o, shaders::BlinnPhong{arrays, u}, passes);
+        case Shading::lit: return scene_detail::draw_lit(r, target, state, o, u, arrays, settings, passes);
         case Shading::lambert:
             if (!has_normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u}, passes);
             return draw_with(r, target, state, o, shaders::LambertBaseColour{arrays, u}, passes);  // colours are off
@@ -136,7 +135,7 @@ const char* to_string(Shading s) {
 ObjectView view_of(const SceneObject& o) {
     const MeshArrays a = MeshArrays::of(o.mesh);
     return {a.positions, a.normals, a.colours, a.uvs, static_cast<std::uint32_t>(o.mesh.positions.size()),
-            o.mesh.indices, o.model, &o.material};
+            o.mesh.indices, o.model, &o.material, a.tangents};
 }
 
 namespace {
@@ -289,7 +288,7 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
             draw_passes.model = o.model;
             draw_passes.normal_to_world = u.normal_to_world;
         }
-        MeshArrays arrays{o.positions, o.normals, o.colours, o.uvs};
+        MeshArrays arrays{o.positions, o.normals, o.colours, o.uvs, o.tangents};
         if (lambert) arrays.colours = nullptr;  // the contract ignores materials
         DrawState state;
         state.cull = cull_mode(o, settings);
@@ -298,7 +297,7 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
             state.depth_write = false;
         }
         state.clear = std::exchange(clear, std::nullopt);
-        return draw_object(renderer, target, state, o, u, arrays, settings.shading, passes ? &draw_passes : nullptr);
+        return draw_object(renderer, target, state, o, u, arrays, settings, passes ? &draw_passes : nullptr);
     };
     DrawStats total;
     std::vector<std::pair<float, std::size_t>> blended;

@@ -6,7 +6,8 @@
 //   visible_simd_lambert.cpp      Lambert, LambertBaseColour
 //   visible_simd_blinn_phong.cpp  BlinnPhong, BlinnPhongBaseColour
 //   visible_simd_unlit.cpp        Normals, VertexColour
-//   visible_simd_flat.cpp         Flat (the only one that reads derivatives: LanesIn::ddx, ddy)
+//   visible_simd_flat.cpp         Flat (reads the position's derivatives: LanesIn::ddx, ddy)
+//   visible_simd_pbr.cpp          Pbr, PbrNormalMapped (the lit mode; reads the uv derivatives)
 // In: a VisibleTile (which triangle owns each pixel, and each triangle's shading record).
 // Out: the colour of every visible pixel of the tile.
 //

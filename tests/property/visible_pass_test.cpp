@@ -4,12 +4,15 @@
 // The mesh is random and adversarial for the shaders' arithmetic: normals of every length including
 // zero, huge and NaN ones, colours outside [0, 1], infinite and NaN ones, triangles of every size,
 // facing both ways, seen in perspective; targets whose width is not a multiple of a vector; tiles
-// narrower than a vector; and lights whose direction is NaN.
+// narrower than a vector; and lights whose direction is NaN. For the lit mode also uvs that are
+// NaN or huge, tangents of zero length or NaN, every map (with a uv transform) and every tone mapper.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -53,6 +56,18 @@ Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
         }
     }
     for (std::uint32_t i = 0; i < m.positions.size(); ++i) m.indices.push_back(i);
+    // For the lit mode's maps: uvs that repeat, huge and NaN ones; tangents of every length and side.
+    std::mt19937_64 more(seed + 1);
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+        Vec2 uv{u(more) * 3, u(more) * 3};
+        if (i % 71 == 0) uv.x = std::numeric_limits<float>::quiet_NaN();
+        if (i % 73 == 0) uv.y = 1e30f;
+        m.uvs.push_back(uv);
+        Vec4 t{u(more), u(more), u(more), i % 2 ? 1.0f : -1.0f};
+        if (i % 79 == 0) t = {0, 0, 0, 1};
+        if (i % 83 == 0) t.z = std::numeric_limits<float>::quiet_NaN();
+        m.tangents.push_back(t);
+    }
     return m;
 }
 
@@ -84,16 +99,20 @@ struct EveryFragment : S {
 constexpr int k_width = 203, k_height = 157;
 
 template <class S>
-std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config, float shininess = 40.0f,
-                          Lights lights = Lights::ordinary) {
+std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config, const S& shader) {
     Renderer renderer(config);
     Framebuffer fb(k_width, k_height);
     fb.clear(Vec4{0.1f, 0.2f, 0.3f, 1.0f}, 1.0f);
     DrawState state;
     state.cull = CullMode::none;
-    const S shader{MeshArrays::of(mesh), uniforms(k_width, k_height, shininess, lights)};
     renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(mesh.positions.size()), mesh.indices}, shader);
     return {fb.colour_data(), fb.colour_data() + k_width * k_height};
+}
+
+template <class S>
+std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config, float shininess = 40.0f,
+                          Lights lights = Lights::ordinary) {
+    return render(mesh, config, S{MeshArrays::of(mesh), uniforms(k_width, k_height, shininess, lights)});
 }
 
 // Where two images first differ, for the failure message.
@@ -114,28 +133,37 @@ struct IsaGuard {
 template <class S>
 struct Wrapped : S {};
 
-template <class S>
-void expect_every_isa_matches_the_specification(const char* name, float shininess = 40.0f,
-                                                Lights lights = Lights::ordinary) {
+// `make(mesh)` gives the shader to draw the mesh with.
+template <class S, class Make>
+void expect_every_isa_draws_what_scalar_draws(const char* name, const Make& make) {
     static_assert(detail::CompiledVisiblePass<S>::available);
     IsaGuard guard;
     const Mesh mesh = adversarial_mesh(7, 1500);
+    const S shader = make(mesh);
     // The specification: "scalar" runs detail::shade_visible, fragment() once per visible pixel.
     // (That it draws what the one-pass order draws is Determinism's business; rendering the one-pass
     // order here too would instantiate it for every shader, a minute of compile time under ASan.)
     ASSERT_TRUE(select_isa("scalar"));
-    const std::vector<Rgba8> reference = render<S>(mesh, {.threads = 1, .tile_size = 64}, shininess, lights);
+    const std::vector<Rgba8> reference = render(mesh, {.threads = 1, .tile_size = 64}, shader);
     std::size_t drawn = 0;
     for (const Rgba8 c : reference) drawn += !(c.r == 26 && c.g == 51 && c.b == 77);
     EXPECT_GT(drawn, static_cast<std::size_t>(k_width * k_height / 2)) << name << ": the scene covers the image";
     for (const std::string& isa : available_isas()) {
         ASSERT_TRUE(select_isa(isa));
         for (int tile : {8, 16, 64}) {
-            const std::vector<Rgba8> out = render<S>(mesh, {.threads = 2, .tile_size = tile}, shininess, lights);
+            const std::vector<Rgba8> out = render(mesh, {.threads = 2, .tile_size = tile}, shader);
             EXPECT_TRUE(out == reference) << name << " on " << isa << ", tile " << tile << ": "
                                           << first_difference(out, reference);
         }
     }
+}
+
+template <class S>
+void expect_every_isa_matches_the_specification(const char* name, float shininess = 40.0f,
+                                                Lights lights = Lights::ordinary) {
+    expect_every_isa_draws_what_scalar_draws<S>(name, [&](const Mesh& mesh) {
+        return S{MeshArrays::of(mesh), uniforms(k_width, k_height, shininess, lights)};
+    });
 }
 
 TEST(CompiledVisiblePass, LambertMatchesTheSpecificationOnEveryIsa) {
@@ -159,6 +187,61 @@ TEST(CompiledVisiblePass, VertexColourMatchesTheSpecificationOnEveryIsa) {
 }
 TEST(CompiledVisiblePass, FlatMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::Flat>("Flat");
+}
+
+// The lit mode's maps: small textures with every texel value's range, alpha included.
+std::shared_ptr<const Texture> pattern(std::uint8_t seed) {
+    Image img{13, 9, std::vector<Rgba8>(13 * 9)};
+    for (int i = 0; i < 13 * 9; ++i)
+        img.pixels[static_cast<std::size_t>(i)] = {static_cast<std::uint8_t>(i * 37 + seed), static_cast<std::uint8_t>(i * 91 + seed * 3),
+                                                   static_cast<std::uint8_t>(i * 53 + 255 - seed), static_cast<std::uint8_t>(i * 7)};
+    return std::make_shared<const Texture>(std::move(img));
+}
+
+struct LitCase {
+    const char* name;
+    ToneMapping tone_mapping;
+    bool maps, unlit;
+    float exposure, metallic, roughness;
+};
+
+template <class S>
+void expect_lit_mode_matches_the_specification() {
+    const std::shared_ptr<const Texture> textures[5] = {pattern(1), pattern(50), pattern(100), pattern(150), pattern(200)};
+    UvTransform turned;
+    const float m[6] = {0.8f, 0.6f, 0.25f, -0.6f, 0.8f, -1.5f};
+    std::copy(m, m + 6, turned.m);
+    for (const LitCase& c : {LitCase{"neutral, every map", ToneMapping::neutral, true, false, 1.0f, 1.0f, 1.0f},
+                             LitCase{"aces, factors", ToneMapping::aces, false, false, 2.5f, 0.3f, 0.45f},
+                             LitCase{"linear, every map, bright", ToneMapping::linear, true, false, 8.0f, 0.0f, 0.0f},
+                             LitCase{"unlit", ToneMapping::neutral, true, true, 1.0f, 0.5f, 0.5f}}) {
+        expect_every_isa_draws_what_scalar_draws<S>(c.name, [&](const Mesh& mesh) {
+            PbrUniforms p;
+            p.environment = Environment::studio().get();
+            p.tone_mapping = c.tone_mapping;
+            p.exposure = c.exposure;
+            p.unlit = c.unlit;
+            p.metallic = c.metallic;
+            p.roughness = c.roughness;
+            p.emissive = {0.3f, 0.1f, 0.0f};
+            p.normal_scale = 1.5f;
+            p.occlusion_strength = 0.7f;
+            if (c.maps) {
+                MapBinding* maps[5] = {&p.base_colour, &p.metallic_roughness, &p.normal, &p.occlusion, &p.emissive_map};
+                for (int i = 0; i < 5; ++i) maps[i]->texture = textures[i].get();
+                p.normal.sampler = {Wrap::mirror, Wrap::clamp, Filter::trilinear};
+                p.emissive_map.sampler.filter = Filter::bilinear;
+                p.base_colour.transform = turned;
+                p.base_colour.transformed = true;
+            }
+            return S{MeshArrays::of(mesh), uniforms(k_width, k_height, 40.0f), p};
+        });
+    }
+}
+
+TEST(CompiledVisiblePass, PbrMatchesTheSpecificationOnEveryIsa) { expect_lit_mode_matches_the_specification<shaders::Pbr>(); }
+TEST(CompiledVisiblePass, PbrNormalMappedMatchesTheSpecificationOnEveryIsa) {
+    expect_lit_mode_matches_the_specification<shaders::PbrNormalMapped>();
 }
 
 // A type derived from a built-in shader is a different shader, drawn by the generic path.

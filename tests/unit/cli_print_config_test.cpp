@@ -114,9 +114,14 @@ TEST(PrintConfig, RenderPrintsTheResolvedDefaultsAndRendersNothing) {
     EXPECT_EQ(c.at("max-memory"), !facet::cli::memory_cap_supported() ? "0"
                                   : cap % (1 << 20) == 0             ? std::to_string(cap >> 20) + "M"
                                                                      : std::to_string((cap + 1023) >> 10) + "K");
-    // The lit mode's lights are printed; an unlit mode says it has none.
-    EXPECT_EQ(c.at("light.key.direction"), "-0.5,0.8,1");
+    // The lit mode's environment and display transform are printed, the flat mode's lights, and
+    // an unlit mode says it has none.
+    expect_entries(c, {{"environment", "studio"}, {"exposure", "1"}, {"tone-mapping", "neutral"}});
+    EXPECT_EQ(c.count("light.key.direction"), 0u);
+    EXPECT_EQ(print_config({"render", "--shading", "flat"}).at("light.key.direction"), "-0.5,0.8,1");
     EXPECT_EQ(print_config({"render", "--shading", "normals"}).at("light"), "none");
+    expect_entries(print_config({"render", "--exposure", "1.5", "--tone-mapping", "aces"}),
+                   {{"exposure", "1.5"}, {"tone-mapping", "aces"}});
 }
 
 TEST(PrintConfig, GivenOptionsArePrintedAsResolved) {

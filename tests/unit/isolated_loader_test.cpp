@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "facet/model.hpp"
+#include "support/gltf_writer.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -30,6 +31,13 @@ bool same_bytes(const std::vector<T>& a, const std::vector<T>& b) {
     return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
 }
 
+void expect_same_texture(const Texture* t, const Texture* u) {
+    ASSERT_EQ(!t, !u);
+    if (!t) return;
+    ASSERT_EQ(t->level_count(), u->level_count());
+    for (int l = 0; l < t->level_count(); ++l) EXPECT_TRUE(same_bytes(t->level(l).pixels, u->level(l).pixels)) << "mip level " << l;
+}
+
 void expect_same_model(const LoadedModel& a, const LoadedModel& b) {
     ASSERT_EQ(a.scene.objects.size(), b.scene.objects.size());
     for (std::size_t i = 0; i < a.scene.objects.size(); ++i) {
@@ -46,13 +54,24 @@ void expect_same_model(const LoadedModel& a, const LoadedModel& b) {
         EXPECT_EQ(x.material.alpha_cutoff, y.material.alpha_cutoff);
         EXPECT_EQ(x.material.double_sided, y.material.double_sided);
         EXPECT_EQ(x.material.sampler.filter, y.material.sampler.filter);
-        ASSERT_EQ(!x.material.base_colour_texture, !y.material.base_colour_texture);
-        if (const Texture* t = x.material.base_colour_texture.get()) {
-            const Texture& u = *y.material.base_colour_texture;
-            ASSERT_EQ(t->level_count(), u.level_count());
-            for (int l = 0; l < t->level_count(); ++l)
-                EXPECT_TRUE(same_bytes(t->level(l).pixels, u.level(l).pixels)) << "mip level " << l;
+        EXPECT_TRUE(same_bytes(x.mesh.tangents, y.mesh.tangents));
+        const Material &p = x.material, &q = y.material;
+        EXPECT_EQ(std::memcmp(&p.base_colour_transform, &q.base_colour_transform, sizeof(UvTransform)), 0);
+        EXPECT_EQ(p.metallic, q.metallic);
+        EXPECT_EQ(p.roughness, q.roughness);
+        EXPECT_EQ(p.normal_scale, q.normal_scale);
+        EXPECT_EQ(p.occlusion_strength, q.occlusion_strength);
+        EXPECT_EQ(std::memcmp(&p.emissive, &q.emissive, sizeof(Vec3)), 0);
+        EXPECT_EQ(p.unlit, q.unlit);
+        const std::pair<const TextureMap*, const TextureMap*> maps[] = {
+            {&p.metallic_roughness_map, &q.metallic_roughness_map}, {&p.normal_map, &q.normal_map},
+            {&p.occlusion_map, &q.occlusion_map}, {&p.emissive_map, &q.emissive_map}};
+        for (const auto& [m, n] : maps) {
+            EXPECT_EQ(std::memcmp(&m->sampler, &n->sampler, sizeof(Sampler)), 0);
+            EXPECT_EQ(std::memcmp(&m->transform, &n->transform, sizeof(UvTransform)), 0);
+            expect_same_texture(m->texture.get(), n->texture.get());
         }
+        expect_same_texture(p.base_colour_texture.get(), q.base_colour_texture.get());
     }
     EXPECT_EQ(a.warnings, b.warnings);
 }
@@ -73,6 +92,36 @@ TEST(IsolatedLoader, GoodFilesGiveTheSceneLoadModelGives) {
         for (const SceneObject& o : isolated->scene.objects) textured += o.material.base_colour_texture != nullptr;
     }
     EXPECT_GT(textured, 0);  // the texture path was taken
+}
+
+TEST(IsolatedLoader, EveryMaterialValueTextureAndTangentComesBack) {
+    const fs::path dir = facet_test::test_temp_dir("facet_isolated");
+    facet_test::GltfDocument doc;
+    for (std::uint8_t i = 0; i < 5; ++i)
+        doc.images.push_back(Image{2, 2, std::vector<Rgba8>(4, Rgba8{static_cast<std::uint8_t>(40 * i), 7, 9, 255})});
+    doc.extensions_used = {"KHR_texture_transform"};
+    facet_test::GltfMaterial m;
+    m.metallic = 0.3f, m.roughness = 0.6f, m.normal_scale = 0.5f, m.occlusion_strength = 0.7f;
+    m.emissive[1] = 0.25f;
+    m.base_colour_texture.image = 0;
+    m.base_colour_texture.extensions = R"({"KHR_texture_transform":{"offset":[0.5,0.25],"scale":[2,2]}})";
+    m.metallic_roughness_texture.image = 1;
+    m.normal_texture.image = 2;
+    m.normal_texture.wrap_s = 33648;
+    m.occlusion_texture.image = 3;
+    m.emissive_texture.image = 4;
+    doc.materials = {m};
+    Mesh sphere = make_uv_sphere(1, 8, 6);
+    doc.nodes.push_back({sphere, 0, {}});
+    const std::string path = facet_test::write_gltf(dir / "slots.gltf", doc);
+    const Result<LoadedModel> direct = load_model(path);
+    const Result<LoadedModel> isolated = load_model_isolated(path);
+    ASSERT_TRUE(direct) << direct.error().message;
+    ASSERT_TRUE(isolated) << isolated.error().message;
+    ASSERT_FALSE(direct->scene.objects[0].mesh.tangents.empty());
+    ASSERT_TRUE(direct->scene.objects[0].material.emissive_map.texture);
+    ASSERT_FALSE(direct->scene.objects[0].material.base_colour_transform.is_identity());
+    expect_same_model(*isolated, *direct);
 }
 
 TEST(IsolatedLoader, ErrorsOfTheReaderComeBackUnchanged) {

@@ -27,6 +27,8 @@ static_assert(Reordered::count == 7 && Reordered::at(Varying::colour) == 0 && Re
 static_assert(shaders::VaryingLayout<>::count == 0 && !shaders::VaryingLayout<>::has(Varying::colour));
 // Derivatives cover what the shaders read them of: the uv pair, and Flat's position.
 static_assert(shaders::Textured::k_derivative_count == 2 && shaders::TextureUnlit::k_derivative_count == 2);
+static_assert(shaders::Pbr::k_derivative_count == 2 && shaders::PbrNormalMapped::Layout::at(Varying::tangent) == 8 &&
+              shaders::PbrNormalMapped::k_varyings == 16);
 static_assert(shaders::Flat::k_derivative_count == 3 && shaders::Flat::Layout::at(Varying::position) == 0);
 
 // The value of the attribute a varying names, for vertex 0 of `mesh` (MeshArrays' pointers may be null).
@@ -48,6 +50,12 @@ std::vector<float> attribute(Varying v, const MeshArrays& mesh, const ShadingUni
             const Vec4 c = mesh.colours ? u.base_colour * mesh.colours[0] : u.base_colour;
             return {c.x, c.y, c.z, c.w};
         }
+        case Varying::tangent: {
+            if (!mesh.tangents) return {0, 0, 0, 1};
+            const Vec4 t = mesh.tangents[0];
+            const Vec4 m = u.model * Vec4(t.xyz(), 0);  // a direction: the model's 3x3
+            return {m.x, m.y, m.z, t.w * u.handedness};
+        }
     }
     return {};
 }
@@ -67,7 +75,7 @@ void expect_vertex_writes_its_layout(const MeshArrays& mesh, const ShadingUnifor
     const Vec4 expected_clip = u.clip_from_object * Vec4(mesh.positions[0], 1);
     EXPECT_EQ(std::memcmp(&clip, &expected_clip, sizeof(Vec4)), 0);
     int written = 0;
-    for (Varying v : {Varying::uv, Varying::normal, Varying::position, Varying::colour}) {
+    for (Varying v : {Varying::uv, Varying::normal, Varying::position, Varying::colour, Varying::tangent}) {
         if (!Layout::has(v)) continue;
         const std::vector<float> want = attribute(v, mesh, u);
         ASSERT_EQ(static_cast<int>(want.size()), shaders::varying_width(v));
@@ -85,14 +93,17 @@ class ShaderVaryings : public ::testing::Test {};
 using BuiltInShaders =
     ::testing::Types<shaders::VertexColour, shaders::Flat, shaders::Lambert, shaders::LambertBaseColour,
                      shaders::BlinnPhong, shaders::BlinnPhongBaseColour, shaders::Textured, shaders::TexturedOpaque,
-                     shaders::TextureUnlit, shaders::TextureUnlitOpaque, shaders::Normals, shaders::Mask>;
+                     shaders::TextureUnlit, shaders::TextureUnlitOpaque, shaders::Normals, shaders::Mask, shaders::Pbr,
+                     shaders::PbrMasked, shaders::PbrNormalMapped, shaders::PbrNormalMappedMasked>;
 TYPED_TEST_SUITE(ShaderVaryings, BuiltInShaders);
 
 TYPED_TEST(ShaderVaryings, VertexWritesItsLayout) {
     const std::vector<Vec3> positions{{0.25f, -1.5f, 2.0f}}, normals{{0.3f, 0.8f, -0.5f}};
     const std::vector<Vec4> colours{{0.2f, 0.4f, 0.6f, 0.8f}};
     const std::vector<Vec2> uvs{{0.125f, 0.75f}};
+    const std::vector<Vec4> tangents{{0.6f, -0.8f, 0.0f, -1.0f}};
     ShadingUniforms u;
+    u.handedness = -1;  // a mirroring model turns the tangents' side over
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r) {
             u.model(r, c) = 0.5f + static_cast<float>(r * 4 + c) * 0.25f;
@@ -100,9 +111,9 @@ TYPED_TEST(ShaderVaryings, VertexWritesItsLayout) {
         }
     for (int c = 0; c < 3; ++c) u.normal_to_world.col[c] = {0.5f + static_cast<float>(c), -0.25f, 0.75f};
     u.base_colour = {0.5f, 0.25f, 2.0f, 0.5f};
-    expect_vertex_writes_its_layout<TypeParam>({positions.data(), normals.data(), colours.data(), uvs.data()}, u);
+    expect_vertex_writes_its_layout<TypeParam>({positions.data(), normals.data(), colours.data(), uvs.data(), tangents.data()}, u);
     // Positions alone: the attributes' defaults.
-    expect_vertex_writes_its_layout<TypeParam>({positions.data(), nullptr, nullptr, nullptr}, u);
+    expect_vertex_writes_its_layout<TypeParam>({positions.data(), nullptr, nullptr, nullptr, nullptr}, u);
 }
 
 // What fragment() reads is where vertex() wrote it: a varying that is the same at all three vertices
