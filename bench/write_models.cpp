@@ -5,6 +5,7 @@
 //   textured.glb    four spheres side by side, each with a 2048x2048 JPEG base-colour texture of its
 //                   own, embedded (as Objaverse's GLB files are)
 //   textured_png.glb the same with PNG textures
+//   texture_2048.jpg the first of the JPEG textures alone
 // Usage: facet_bench_write_models OUT_DIR
 #include <turbojpeg.h>
 
@@ -117,6 +118,10 @@ bool write_textured_glb(const fs::path& path, bool jpeg) {
         const Image image = texture_pattern(k_size, i);
         const std::string bytes = jpeg ? jpeg_bytes(image) : png_bytes(image, path.string() + ".tmp.png");
         if (bytes.empty()) return false;
+        if (jpeg && i == 0) {  // the first texture alone too, for facet_bench_jpeg
+            std::ofstream alone(path.parent_path() / "texture_2048.jpg", std::ios::binary);
+            alone << bytes;
+        }
         const int image_view = add_view(bytes.data(), bytes.size());
         const std::string s = std::to_string(i), sep = i ? "," : "";
         json_images += sep + "{\"bufferView\":" + std::to_string(image_view) + ",\"mimeType\":\"image/" + (jpeg ? "jpeg" : "png") + "\"}";
