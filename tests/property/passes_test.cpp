@@ -399,7 +399,7 @@ struct AllPasses {
     bool operator==(const AllPasses& o) const {
         if (views.size() != o.views.size()) return false;
         auto same = [](const auto& a, const auto& b) {
-            return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0;
+            return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
         };
         for (std::size_t v = 0; v < views.size(); ++v) {
             const ViewImages &a = views[v], &b = o.views[v];
