@@ -128,7 +128,7 @@ Rendered render(const fs::path& model, const std::vector<std::string>& extra = {
     fs::remove(out);
     std::vector<std::string> args = thumbs ? std::vector<std::string>{"thumbs", model.string(), "-o", out_dir.string(), "--size", "32"}
                                            : std::vector<std::string>{"render", model.string(), "-o", out.string(), "--size", "32x32"};
-    for (const std::string& a : {"--shading", "texture"}) args.push_back(a);
+    for (const char* a : {"--shading", "texture"}) args.push_back(a);
     args.insert(args.end(), extra.begin(), extra.end());
     Rendered r;
     r.run = run_facet(args);
