@@ -11,10 +11,12 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <span>
 #include <sstream>
 #include <system_error>
 #include <tuple>
 
+#include "facet/contact_shadow.hpp"
 #include "facet/isa.hpp"
 
 namespace facet::cli {
@@ -84,6 +86,8 @@ RenderOptions thumbnail_options() {
     o.size = std::to_string(defaults::k_thumbnail_size);
     o.azimuth = defaults::k_thumbnail_azimuth_degrees;
     o.elevation = defaults::k_thumbnail_elevation_degrees;
+    o.aa = defaults::k_thumbnail_aa;
+    o.contact_shadow = defaults::k_thumbnail_contact_shadow;
     return o;
 }
 
@@ -109,6 +113,12 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
         ->capture_default_str();
     c.add_option("--background", o.background, "R,G,B[,A]: R,G,B in 0..1, or 0..255 if any is above 1; A in 0..1, or 0..255 if above 1; or 'transparent'")->check(non_empty);
     c.add_option("--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
+    c.add_option("--aa", o.aa,
+                 "Anti-aliasing by N jittered frames averaged (1, 2, 4 or 8; MSAA's sample positions), N times a frame's cost")
+        ->capture_default_str();
+    c.add_option("--contact-shadow", o.contact_shadow,
+                 "Lit mode: opacity (0..1) of a soft shadow on the ground under the model; 0: none")
+        ->capture_default_str();
     c.add_option("--environment", o.environment,
                  "Lit mode: the environment light, a Radiance .hdr image (equirectangular, +Y up; default: the built-in "
                  "neutral studio)")
@@ -189,6 +199,8 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     RenderPlan p;
     if (o.ssaa < 1 || o.ssaa > 8) return usage("--ssaa must be 1..8, got " + std::to_string(o.ssaa));
     p.ssaa = o.ssaa;
+    if (antialias_offsets(o.aa).empty()) return usage("--aa must be 1, 2, 4 or 8, got " + std::to_string(o.aa));
+    p.aa = o.aa;
     Result<std::pair<int, int>> size = parse_image_size("--size", o.size, o.ssaa, false);
     if (!size) return size.error();
     std::tie(p.width, p.height) = *size;
@@ -197,6 +209,8 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     if (!select_isa(o.isa)) return usage("--isa must be best or one of " + isa_list() + " on this CPU, got '" + o.isa + "'");
     if (!(o.fov > 0 && o.fov < 180)) return usage("--fov must be between 0 and 180 degrees");
     if (!parse_shading(o.shading, p.settings.shading)) return usage("unknown --shading '" + o.shading + "'");
+    if (!(o.contact_shadow >= 0 && o.contact_shadow <= 1)) return usage("--contact-shadow must be 0..1");
+    p.contact_shadow = p.settings.shading == Shading::lit ? o.contact_shadow : 0.0f;  // the other modes draw none
     if (!(o.exposure > 0 && std::isfinite(o.exposure))) return usage("--exposure must be a positive number");
     p.settings.exposure = o.exposure;
     if (!parse_tone_mapping(o.tone_mapping, p.settings.tone_mapping))
@@ -268,8 +282,54 @@ Camera plan_camera(const Scene& scene, const RenderPlan& plan) {
 
 DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
                       Framebuffer& target, Image& colour, std::vector<float>* depth) {
-    const DrawStats stats = render_scene(renderer, target, scene, camera, plan.settings);
-    resolve_supersampled(target, plan.ssaa, colour, depth);
+    // The contact shadow, seen only from above the ground, is drawn after the scene's objects.
+    std::vector<ObjectView> views;
+    std::optional<ContactShadow> shadow;
+    if (plan.contact_shadow > 0) {
+        for (const SceneObject& o : scene.objects) views.push_back(view_of(o));
+        shadow = make_contact_shadow(renderer, views, plan.contact_shadow);
+        if (shadow && camera.position.y > shadow->mesh.positions[0].y) views.push_back(shadow->view());
+        else shadow.reset();
+    }
+    auto draw = [&](const RenderSettings& s) {
+        return shadow ? render_scene(renderer, target, std::span<const ObjectView>(views), camera, s)
+                      : render_scene(renderer, target, scene, camera, s);
+    };
+    if (plan.aa == 1) {
+        const DrawStats stats = draw(plan.settings);
+        resolve_supersampled(target, plan.ssaa, colour, depth);
+        return stats;
+    }
+    RenderSettings settings = plan.settings;
+    Image frame;
+    std::vector<float> frame_depth;
+    std::vector<std::uint16_t> sum;  // per channel; 8 frames of 255 fit
+    DrawStats stats;
+    const std::span<const Vec2> offsets = antialias_offsets(plan.aa);
+    for (std::size_t i = 0; i < offsets.size(); ++i) {
+        // In the target's pixels: with --ssaa a pixel of the image is ssaa of them across.
+        settings.pixel_offset = {offsets[i].x * static_cast<float>(plan.ssaa), offsets[i].y * static_cast<float>(plan.ssaa)};
+        const DrawStats s = draw(settings);
+        if (i == 0) stats = s;
+        resolve_supersampled(target, plan.ssaa, frame, depth ? &frame_depth : nullptr);
+        if (i == 0) {
+            sum.assign(frame.pixels.size() * 4, 0);
+            if (depth) *depth = frame_depth;
+        }
+        for (std::size_t p = 0; p < frame.pixels.size(); ++p) {
+            const Rgba8 c = frame.pixels[p];
+            sum[p * 4] = static_cast<std::uint16_t>(sum[p * 4] + c.r);
+            sum[p * 4 + 1] = static_cast<std::uint16_t>(sum[p * 4 + 1] + c.g);
+            sum[p * 4 + 2] = static_cast<std::uint16_t>(sum[p * 4 + 2] + c.b);
+            sum[p * 4 + 3] = static_cast<std::uint16_t>(sum[p * 4 + 3] + c.a);
+            if (depth && i > 0) (*depth)[p] = std::min((*depth)[p], frame_depth[p]);
+        }
+    }
+    const int n = plan.aa;
+    auto average = [&](std::size_t k) { return static_cast<std::uint8_t>((sum[k] + n / 2) / n); };
+    colour = std::move(frame);
+    for (std::size_t p = 0; p < colour.pixels.size(); ++p)
+        colour.pixels[p] = {average(p * 4), average(p * 4 + 1), average(p * 4 + 2), average(p * 4 + 3)};
     return stats;
 }
 
@@ -295,6 +355,8 @@ CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args) {
     add_render_options(*view, args.options);
     view->get_option("--size")->description("Initial window size WxH");
     view->get_option("--ssaa")->description("Initial supersampling NxN (A toggles 1 and 2)");
+    view->remove_option(view->get_option("--aa"));
+    view->remove_option(view->get_option("--contact-shadow"));  // the viewer supersamples (A); jittered frames are for still images
     view->footer(
         "Mouse: left drag orbit, right or middle drag pan, wheel zoom. Keys: F fit, R reset, 1-7 front/right/top/iso/"
         "back/left/bottom, U up axis y/z, P perspective/ortho, M shading, W wireframe, C back-face culling, Space spin, "

@@ -40,6 +40,8 @@ struct RenderOptions {
     std::string shading = "lit";
     std::string background = "";  // default: the built-in dark grey
     int ssaa = defaults::k_ssaa;
+    int aa = defaults::k_aa;  // jittered frames averaged (antialias_offsets)
+    float contact_shadow = defaults::k_contact_shadow;  // lit mode: its opacity, 0: none
     // The lit mode's light and display (RenderSettings): an .hdr file (empty: the built-in studio).
     std::string environment;
     float exposure = defaults::k_exposure;
@@ -80,6 +82,8 @@ Result<std::pair<int, int>> parse_image_size(const std::string& name, const std:
 struct RenderPlan {
     int width = 0, height = 0;
     int ssaa = 1;
+    int aa = 1;  // jittered frames averaged: 1, 2, 4 or 8
+    float contact_shadow = 0;  // the lit mode's contact shadow's opacity (0: none)
     ViewSpec view;
     RenderSettings settings;
     std::string environment_file;  // --environment, loaded into settings.environment; empty: the studio
@@ -103,7 +107,9 @@ Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_g
 Camera plan_camera(const Scene& scene, const RenderPlan& plan);
 
 // Renders a scene seen by `camera` (plan_camera) into `colour` (and `depth`, window depth per pixel,
-// if given) by the plan.
+// if given) by the plan: with --aa N, N frames jittered by antialias_offsets(N), each resolved
+// (--ssaa), averaged per channel (rounded to nearest), depth the nearest; the stats of the first.
+// With a contact shadow (lit mode, the camera above the ground) its quad is drawn too.
 DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
                       Framebuffer& target, Image& colour, std::vector<float>* depth);
 

@@ -73,6 +73,7 @@ void describe_lighting(ConfigText& out, const RenderPlan& plan) {
         out.add("environment", plan.environment_file.empty() ? "studio" : plan.environment_file);
         out.add("exposure", short_number(s.exposure));
         out.add("tone-mapping", to_string(s.tone_mapping));
+        out.add("contact-shadow", short_number(plan.contact_shadow));
         return;
     case Shading::flat: {
         const Lighting& l = s.lighting;
@@ -113,6 +114,7 @@ void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera,
                   const WorkerLimits& limits, bool isolated) {
     out.add("size", size_text(plan.width, plan.height));
     out.add("ssaa", std::to_string(plan.ssaa));
+    out.add("aa", std::to_string(plan.aa));
     out.add("shading", to_string(plan.settings.shading));
     const Vec4 bg = plan.settings.background;
     out.add("background", short_vec(bg.xyz()) + "," + short_number(bg.w));

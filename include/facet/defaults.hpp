@@ -84,6 +84,11 @@ inline constexpr int k_image_width = 800, k_image_height = 600;  // render: the 
 inline constexpr int k_thumbnail_size = 256;
 inline constexpr float k_thumbnail_azimuth_degrees = 35.0f, k_thumbnail_elevation_degrees = 25.0f;
 inline constexpr int k_ssaa = 1;  // supersampling factor per side
+// Anti-aliasing by jittered frames (antialias_offsets): 1 for render (none), 2 for thumbnails,
+// whose edges show most at their small size, at twice a frame's cost (docs/BENCHMARKS.md).
+inline constexpr int k_aa = 1, k_thumbnail_aa = 2;
+// The lit mode's contact shadow (facet/contact_shadow.hpp): its opacity, 0 for none.
+inline constexpr float k_contact_shadow = 0.0f, k_thumbnail_contact_shadow = 0.6f;
 // Seconds a file may take (load, render, write) before its worker process is abandoned
 // (IsolationLimits, --timeout): generous for real models, short enough for a batch to move on.
 inline constexpr double k_timeout_seconds = 60;

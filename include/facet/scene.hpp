@@ -123,7 +123,16 @@ struct RenderSettings {
     std::shared_ptr<const Environment> environment{};
     float exposure = defaults::k_exposure;
     ToneMapping tone_mapping = ToneMapping::neutral;
+    // Moves the image by this many pixels of the target, right and down: the sub-pixel offset of
+    // one frame of anti-aliasing by jittered frames (antialias_offsets). Zero: none.
+    Vec2 pixel_offset{0, 0};
 };
+
+// Anti-aliasing by n jittered frames (n = 1, 2, 4 or 8): each frame drawn with one of these
+// RenderSettings::pixel_offset values, in pixels from the pixel's centre, and the frames averaged,
+// samples each pixel where n-sample MSAA would (Direct3D's standard sample positions, rotated
+// grids). Empty for another n.
+std::span<const Vec2> antialias_offsets(int n);
 
 // How to look at a scene, as the command line and the viewer take it. Without an eye, the camera
 // orbits the scene by the framing rule below; with one, it looks from there at `target` (default:

@@ -257,6 +257,14 @@ CullMode cull_mode(const SceneObject& object, const RenderSettings& settings) { 
 
 namespace {
 
+// Moves clip space by `offset` pixels of `target` (right and down): x_clip += (2 offset.x / width) w.
+Mat4 jittered(Vec2 offset, const Framebuffer& target) {
+    Mat4 m = Mat4::identity();
+    m(0, 3) = 2 * offset.x / static_cast<float>(target.width());
+    m(1, 3) = -2 * offset.y / static_cast<float>(target.height());
+    return m;
+}
+
 // With `passes`, every draw writes render passes too (the blended ones' write none: they write no
 // depth), object i as instance i + 1.
 template <class Objects>
@@ -264,7 +272,7 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
                          const RenderSettings& settings, const detail::ScenePasses* passes = nullptr) {
     // The clear goes with the first draw, which does it tile by tile (DrawState::clear).
     std::optional<ClearValues> clear = ClearValues{settings.background, 1.0f};
-    const Mat4 clip_from_world = facet::clip_from_world(camera, target);
+    const Mat4 clip_from_world = jittered(settings.pixel_offset, target) * facet::clip_from_world(camera, target);
     const bool lambert = settings.shading == Shading::lambert;
     DrawPasses draw_passes;
     if (passes) {
@@ -392,6 +400,22 @@ void set_camera_passes(DrawPasses& out, const Camera& camera, int width, int hei
 }
 
 }  // namespace detail
+
+std::span<const Vec2> antialias_offsets(int n) {
+    static constexpr float s = 1 / 16.0f;
+    static constexpr Vec2 k_one[] = {{0, 0}};
+    static constexpr Vec2 k_two[] = {{4 * s, 4 * s}, {-4 * s, -4 * s}};
+    static constexpr Vec2 k_four[] = {{-2 * s, -6 * s}, {6 * s, -2 * s}, {-6 * s, 2 * s}, {2 * s, 6 * s}};
+    static constexpr Vec2 k_eight[] = {{1 * s, -3 * s}, {-1 * s, 3 * s}, {5 * s, 1 * s},  {-3 * s, -5 * s},
+                                       {-5 * s, 5 * s}, {-7 * s, -1 * s}, {3 * s, 7 * s}, {7 * s, -7 * s}};
+    switch (n) {
+        case 1: return k_one;
+        case 2: return k_two;
+        case 4: return k_four;
+        case 8: return k_eight;
+        default: return {};
+    }
+}
 
 void resolve_supersampled(const Framebuffer& source, int factor, Image& colour, std::vector<float>* depth) {
     if (factor < 1 || source.width() % factor != 0 || source.height() % factor != 0)

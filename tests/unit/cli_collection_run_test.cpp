@@ -140,15 +140,16 @@ TEST(CliCollection, ManifestOutputsAreNamedByIdInsideTheFolderWithPerObjectOptio
     EXPECT_EQ(decode_png(out / "%2Fetc%2Fx.png").height, 24u);
     EXPECT_EQ(decode_png(out / "zup.png").width, 36u);
 
-    // The same pixels as `facet render` of the file with the thumbnail defaults and the entry's options.
+    // The same pixels as `facet render` of the file with the thumbnail defaults (--aa 2, --contact-shadow
+    // 0.6 among them) and the entry's options.
     const fs::path single = dir / "single.png";
     ASSERT_EQ(run_facet({"render", (dir / "models" / "a.obj").string(), "--size", "36x36", "--azimuth", "35", "--elevation",
-                         "25", "--up-axis", "z", "-o", single.string()})
+                         "25", "--up-axis", "z", "--aa", "2", "--contact-shadow", "0.6", "-o", single.string()})
                   .exit_code,
               0);
     EXPECT_TRUE(decode_png(single).rgba == decode_png(out / "zup.png").rgba);
     ASSERT_EQ(run_facet({"render", (dir / "models" / "a.obj").string(), "--size", "36x36", "--azimuth", "35", "--elevation",
-                         "25", "-o", single.string()})
+                         "25", "--aa", "2", "--contact-shadow", "0.6", "-o", single.string()})
                   .exit_code,
               0);
     EXPECT_FALSE(decode_png(single).rgba == decode_png(out / "zup.png").rgba) << "up_axis had no effect";

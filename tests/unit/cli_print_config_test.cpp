@@ -222,11 +222,14 @@ TEST(PrintConfig, ThumbsDefaultsAreTheOnesItRendersWith) {
     EXPECT_EQ(c.at("threads"), "1");  // each worker draws with one thread
     EXPECT_EQ(c.at("workers"), "1");  // one file
     EXPECT_EQ(c.at("load-threads"), "1");
-    // The thumbnail is `facet render` at the printed size and orbit, byte for byte.
+    EXPECT_EQ(c.at("aa"), "2");  // anti-aliased by two jittered frames
+    EXPECT_EQ(c.at("contact-shadow"), "0.6");
+    // The thumbnail is `facet render` at the printed size, orbit, anti-aliasing and shadow, byte for byte.
     ASSERT_EQ(run_facet({"thumbs", model, "-o", thumbs.string()}).exit_code, 0);
     const fs::path rendered = dir / "render.png";
     const CliRun r = run_facet({"render", model, "--size", c.at("size"), "--azimuth", c.at("azimuth"), "--elevation",
-                                c.at("elevation"), "-o", rendered.string()});
+                                c.at("elevation"), "--aa", c.at("aa"), "--contact-shadow", c.at("contact-shadow"), "-o",
+                                rendered.string()});
     ASSERT_EQ(r.exit_code, 0) << r.all();
     const facet_test::DecodedPng a = png(thumbs / "box.obj.png"), b = png(rendered);
     EXPECT_EQ(a.width, 256u);

@@ -93,12 +93,12 @@ TEST(CliThumbs, OneThumbnailPerGoodModelAndASummaryOfFailures) {
     }
 
     // Each thumbnail shows its own model: the same pixels as `facet render` of that file with the
-    // thumbnail defaults (azimuth 35, elevation 25).
+    // thumbnail defaults (azimuth 35, elevation 25, two jittered frames, a contact shadow).
     for (const auto& [model, thumb] : {std::pair{"a.obj", "a.obj.png"}, std::pair{"sub/a.obj", "sub__a.obj.png"}}) {
         SCOPED_TRACE(model);
         const fs::path single = b.in.parent_path() / "single.png";
         const CliRun s = run_facet({"render", (b.in / model).string(), "--size", "48x48", "--azimuth", "35",
-                                    "--elevation", "25", "-o", single.string()});
+                                    "--elevation", "25", "--aa", "2", "--contact-shadow", "0.6", "-o", single.string()});
         ASSERT_EQ(s.exit_code, 0) << s.all();
         EXPECT_TRUE(decode_png(single).rgba == decode_png(b.out / thumb).rgba);
     }
