@@ -5,6 +5,7 @@
 #   lib/<arch>/pkgconfig/facet.pc     pkg-config --cflags --libs [--static] facet
 #   bin/facet, bin/facet-view         the command line and its viewer (they find each other side by side)
 #   share/man/man1/facet*.1.gz        generated from --help by help2man, when it is installed
+#   share/thumbnailers/facet.thumbnailer, share/mime/packages/facet.xml   the desktop thumbnailer
 # Components: `runtime` (executables, man pages, the shared library) and `dev` (the rest), which
 # the Debian packaging turns into the packages facet and libfacet-dev. tests/install builds two
 # consumer programs against an installed tree.
@@ -68,8 +69,8 @@ install(FILES ${PROJECT_BINARY_DIR}/facet.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}
 if(FACET_BUILD_APPS)
   install(TARGETS facet_cli facet_view RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
   # Man pages from the executables' own --help, so they cannot drift from it: facet(1) for the
-  # command and facet-render(1), facet-thumbs(1), facet-view(1) (also the viewer executable's) and
-  # facet-diff(1) for the subcommands. help2man names a page after the program it runs, so each
+  # command and facet-render(1), facet-thumbs(1), facet-thumbnail(1), facet-view(1) (also the
+  # viewer executable's) and facet-diff(1) for the subcommands. help2man names a page after the program it runs, so each
   # page runs a small wrapper of that name, which also makes the usage line say "facet", not the
   # build tree's path.
   # Not in sanitizer builds, whose executables are for the tests (and whose leak checker would
@@ -81,6 +82,7 @@ if(FACET_BUILD_APPS)
         "facet|a software 3D renderer: model files to PNG on the CPU, or in a window"
         "render|render a model file, or the default scene, to a PNG"
         "thumbs|render a thumbnail PNG of every model in files and directories"
+        "thumbnail|render one thumbnail PNG for a file manager (the freedesktop thumbnailer)"
         "view|show a model in an interactive window"
         "diff|compare two PNG images for visual tests")
       string(REPLACE "|" ";" entry "${entry}")
@@ -114,8 +116,14 @@ if(FACET_BUILD_APPS)
   endif()
 endif()
 
-# Hook for the desktop thumbnailer (issue 25): its files (a .thumbnailer entry, a MIME package)
-# install here with COMPONENT runtime, e.g.
-#   install(FILES data/facet.thumbnailer DESTINATION ${CMAKE_INSTALL_DATADIR}/thumbnailers COMPONENT runtime)
+# The desktop thumbnailer (README, "Thumbnails in the file manager"): the entry file managers read
+# to call `facet thumbnail`, and the MIME types of facet's formats that shared-mime-info lacks (as
+# facet.xml: one file per package; Debian's shared-mime-info trigger updates the database).
+if(FACET_BUILD_APPS)
+  install(FILES ${PROJECT_SOURCE_DIR}/packaging/facet.thumbnailer DESTINATION ${CMAKE_INSTALL_DATADIR}/thumbnailers
+    COMPONENT runtime)
+  install(FILES ${PROJECT_SOURCE_DIR}/packaging/facet-mime.xml DESTINATION ${CMAKE_INSTALL_DATADIR}/mime/packages
+    RENAME facet.xml COMPONENT runtime)
+endif()
 
 include(${CMAKE_CURRENT_LIST_DIR}/package.cmake)

@@ -1,6 +1,6 @@
 // facet command line: subcommands `render` (one model to a PNG), `thumbs` (many models to
-// thumbnails), `view` (an interactive window: the executable apps/viewer builds, which this one
-// becomes after checking the command line) and `diff` (two images compared). Errors go to stderr;
+// thumbnails), `thumbnail` (one, for a file manager), `view` (an interactive window: the
+// executable apps/viewer builds, which this one becomes after checking the command line) and `diff` (two images compared). Errors go to stderr;
 // exit codes: 0 ok, 1 a file failed (diff: the images differ), 2 bad command line (diff: or a file
 // that cannot be read).
 #include <CLI/CLI.hpp>
@@ -66,6 +66,21 @@ int main(int argc, char** argv) {
     thumbs->get_option("--size")->description("Thumbnail size N (square) or WxH");
     add_worker_options(*thumbs, thumbs_options, /*in_process_option=*/false);
 
+    RenderOptions thumbnail_options = thumbnailer_options();
+    std::string thumbnail_input, thumbnail_output;
+    int thumbnail_size = facet::defaults::k_thumbnail_size;
+    CLI::App* thumbnail = app.add_subcommand(
+        "thumbnail", "One thumbnail for a file manager (the freedesktop thumbnailer entry runs it): a PNG of SIZE x SIZE "
+                     "on a transparent background; exit 0 only when it is written");
+    thumbnail->add_option("input", thumbnail_input, "Model file: a path or a file:// URI")->required();
+    thumbnail->add_option("output", thumbnail_output, "Output PNG (written atomically; none when the model fails)")->required();
+    add_render_options(*thumbnail, thumbnail_options);
+    thumbnail->remove_option(thumbnail->get_option("--size"));
+    thumbnail->remove_option(thumbnail->get_option("--threads"));  // one file: one worker, one thread
+    thumbnail->add_option("-s,--size", thumbnail_size, "Thumbnail size N for N x N (the file manager's %s)")
+        ->capture_default_str();
+    add_worker_options(*thumbnail, thumbnail_options, /*in_process_option=*/false);
+
     ViewArgs view_args;
     CLI::App* view = add_view_subcommand(app, view_args);
 
@@ -89,6 +104,7 @@ int main(int argc, char** argv) {
             return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render), reference);
         }
         if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options, collection);
+        if (thumbnail->parsed()) return run_thumbnail(thumbnail_input, thumbnail_output, thumbnail_size, thumbnail_options);
         if (diff->parsed()) return run_diff(diff_a, diff_b, diff_options);
         if (view->parsed() && view_args.options.print_config)
             return print_view_config(view_args, has_camera_options(*view));

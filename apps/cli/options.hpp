@@ -215,4 +215,10 @@ struct CollectionOptions {
 int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options,
                const CollectionOptions& collection);
 
+// `facet thumbnail [-s SIZE] INPUT OUTPUT` (thumbnail_command.cpp), a file manager's thumbnailer:
+// INPUT a path or a file:// URI, OUTPUT a SIZE x SIZE PNG. Its defaults: thumbs' (anti-aliased,
+// grounded) on a transparent background (thumbnailer_options).
+RenderOptions thumbnailer_options();
+int run_thumbnail(const std::string& input, const std::string& output, int size, const RenderOptions& options);
+
 }  // namespace facet::cli

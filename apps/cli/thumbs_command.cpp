@@ -23,10 +23,9 @@
 #include <unordered_set>
 
 #include "collection.hpp"
-#include "facet/io.hpp"
-#include "facet/sandbox.hpp"
 #include "options.hpp"
 #include "results_log.hpp"
+#include "thumbnail_job.hpp"
 #include "worker.hpp"
 
 namespace facet::cli {
@@ -34,37 +33,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double ms_since(Clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-// What a worker measured, sent back through its report (WorkerReport::figures) as text.
-struct JobFigures {
-    std::optional<std::size_t> triangles;
-    std::optional<double> load_ms, render_ms, write_ms;
-    FailReason reason = FailReason::none;
-
-    std::string text() const {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "%lld %.3f %.3f %.3f %d", triangles ? static_cast<long long>(*triangles) : -1LL,
-                      load_ms.value_or(-1), render_ms.value_or(-1), write_ms.value_or(-1), static_cast<int>(reason));
-        return buf;
-    }
-    static JobFigures parse(const std::string& text) {
-        JobFigures f;
-        long long t = -1;
-        double l = -1, r = -1, w = -1;
-        int reason = 0;
-        if (std::sscanf(text.c_str(), "%lld %lf %lf %lf %d", &t, &l, &r, &w, &reason) != 5) return f;
-        if (t >= 0) f.triangles = static_cast<std::size_t>(t);
-        if (l >= 0) f.load_ms = l;
-        if (r >= 0) f.render_ms = r;
-        if (w >= 0) f.write_ms = w;
-        if (reason >= 0 && reason <= static_cast<int>(FailReason::failed)) f.reason = static_cast<FailReason>(reason);
-        return f;
-    }
-};
 
 // One object of the run and what became of it.
 struct Job {
@@ -76,7 +44,7 @@ struct Job {
     // The outcome.
     FailReason reason = FailReason::none;
     std::string error;
-    JobFigures figures;
+    ThumbnailFigures figures;
     double total_ms = 0;
 
     // Outputs, relative to the output directory. Several per object (views, passes) will be the
@@ -199,76 +167,6 @@ private:
     bool tty_;
 };
 
-// Each worker's renderer: loading is single-threaded, so one process per file keeps every core busy.
-constexpr int k_worker_threads = 1;
-
-FailReason reason_for_load_error(const Error& e, const std::string& path) {
-    switch (e.code) {
-    case ErrorCode::io: {
-        std::error_code ec;
-        return fs::exists(path, ec) ? FailReason::unreadable : FailReason::missing;
-    }
-    case ErrorCode::bad_format:
-    case ErrorCode::invalid_argument: return FailReason::bad_file;
-    case ErrorCode::unsupported: return FailReason::unsupported;
-    case ErrorCode::limit_exceeded: return FailReason::too_large;
-    }
-    return FailReason::failed;
-}
-
-// The worker's side: load, render, write, timing each; the figures and any error go to the parent
-// through the report.
-int thumbnail_job(const Job& job, const RenderPlan& global_plan, const fs::path& output, const WorkerReport& report) {
-    test_hook_sleep(job.entry.path);
-    const RenderPlan plan = object_plan(global_plan, job);
-    confine_worker(job.entry.path, {output.string()}, plan.load.resource_dirs);
-    sandbox_test_probe();
-    JobFigures f;
-    std::string error;
-    try {
-        Renderer renderer({.threads = k_worker_threads});
-        Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
-        Image colour;
-        report.phase(WorkerPhase::loading);
-        Clock::time_point start = Clock::now();
-        Result<Scene> scene = load_scene(job.entry.path, plan, "facet thumbs");
-        f.load_ms = ms_since(start);
-        if (!scene) {
-            error = scene.error().message;
-            f.reason = reason_for_load_error(scene.error(), job.entry.path);
-        } else {
-            f.triangles = scene->triangle_count();
-            report.phase(WorkerPhase::rendering);
-            start = Clock::now();
-            try {
-                render_plan(renderer, *scene, plan, plan_camera(*scene, plan), target, colour, nullptr);
-            } catch (const std::bad_alloc&) {
-                throw;
-            } catch (const std::exception& e) {
-                error = job.entry.path + ": " + e.what();
-                f.reason = FailReason::render_failed;
-            }
-            f.render_ms = ms_since(start);
-        }
-        if (error.empty()) {
-            report.phase(WorkerPhase::writing);
-            start = Clock::now();
-            if (Status s = write_png(output.string(), colour); !s) {
-                error = s.error().message;
-                f.reason = FailReason::write_failed;
-            }
-            f.write_ms = ms_since(start);
-        }
-    } catch (const std::bad_alloc&) {
-        error = job.entry.path + ": out of memory";
-        f.reason = FailReason::out_of_memory;
-    }
-    report.figures(f.text());
-    if (error.empty()) return k_exit_ok;
-    report.error(error);
-    return k_exit_failed;
-}
-
 // How a worker that did not finish its job by itself ended, as a reason.
 FailReason reason_for_abnormal_end(const WorkerOutcome& outcome) {
     switch (outcome.end) {
@@ -336,7 +234,9 @@ void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
             WorkerOutcome failed;
             const fs::path output = output_of(i);
             std::optional<Worker> w = start_worker(
-                [&, i, output](const WorkerReport& report) { return thumbnail_job(jobs[i], plan, output, report); }, limits,
+                [&, i, output](const WorkerReport& report) {
+                    return run_thumbnail_job({jobs[i].entry.path, object_plan(plan, jobs[i]), output}, report);
+                }, limits,
                 running, failed);
             if (!w) {
                 finish(i, FailReason::failed, describe_abnormal_end(failed, jobs[i].entry.path, limits));
@@ -347,7 +247,7 @@ void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
         }
         for (auto& [w, outcome] : wait_for_workers(running)) {
             Job& job = jobs[w.tag];
-            job.figures = JobFigures::parse(outcome.figures);
+            job.figures = ThumbnailFigures::parse(outcome.figures);
             if (exited(outcome) && outcome.status == k_exit_ok) {
                 finish(w.tag, FailReason::none, {});
             } else if (exited(outcome) && outcome.status == k_exit_failed && !outcome.message.empty()) {
@@ -477,7 +377,7 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         std::fprintf(stderr, "%s: %s\n", command, limits.error().message.c_str());
         return k_exit_usage;
     }
-    const Renderer renderer({.threads = k_worker_threads});  // as each worker's (starts no thread)
+    const Renderer renderer({.threads = k_thumbnail_threads});  // as each worker's (starts no thread)
 
     std::vector<Job> jobs;
     jobs.reserve(entries.size());

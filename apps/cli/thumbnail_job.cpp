@@ -1,0 +1,116 @@
+// facet command line: one thumbnail in a worker process (thumbnail_job.hpp): confine, load,
+// render, write the PNG atomically. Shared by `facet thumbs` and `facet thumbnail`.
+#include "thumbnail_job.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "facet/io.hpp"
+#include "facet/sandbox.hpp"
+
+namespace facet::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+FailReason reason_for_load_error(const Error& e, const std::string& path) {
+    switch (e.code) {
+    case ErrorCode::io: {
+        std::error_code ec;
+        return fs::exists(path, ec) ? FailReason::unreadable : FailReason::missing;
+    }
+    case ErrorCode::bad_format:
+    case ErrorCode::invalid_argument: return FailReason::bad_file;
+    case ErrorCode::unsupported: return FailReason::unsupported;
+    case ErrorCode::limit_exceeded: return FailReason::too_large;
+    }
+    return FailReason::failed;
+}
+
+}  // namespace
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string ThumbnailFigures::text() const {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%lld %.3f %.3f %.3f %d", triangles ? static_cast<long long>(*triangles) : -1LL,
+                  load_ms.value_or(-1), render_ms.value_or(-1), write_ms.value_or(-1), static_cast<int>(reason));
+    return buf;
+}
+
+ThumbnailFigures ThumbnailFigures::parse(const std::string& text) {
+    ThumbnailFigures f;
+    long long t = -1;
+    double l = -1, r = -1, w = -1;
+    int reason = 0;
+    if (std::sscanf(text.c_str(), "%lld %lf %lf %lf %d", &t, &l, &r, &w, &reason) != 5) return f;
+    if (t >= 0) f.triangles = static_cast<std::size_t>(t);
+    if (l >= 0) f.load_ms = l;
+    if (r >= 0) f.render_ms = r;
+    if (w >= 0) f.write_ms = w;
+    if (reason >= 0 && reason <= static_cast<int>(FailReason::failed)) f.reason = static_cast<FailReason>(reason);
+    return f;
+}
+
+int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
+    test_hook_sleep(job.model);
+    const RenderPlan& plan = job.plan;
+    confine_worker(job.model, {job.output.string()}, plan.load.resource_dirs);
+    sandbox_test_probe();
+    ThumbnailFigures f;
+    std::string error;
+    try {
+        Renderer renderer({.threads = k_thumbnail_threads});
+        Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
+        Image colour;
+        report.phase(WorkerPhase::loading);
+        Clock::time_point start = Clock::now();
+        Result<Scene> scene = load_scene(job.model, plan, job.command);
+        f.load_ms = ms_since(start);
+        if (!scene) {
+            error = scene.error().message;
+            f.reason = reason_for_load_error(scene.error(), job.model);
+        } else {
+            f.triangles = scene->triangle_count();
+            report.phase(WorkerPhase::rendering);
+            start = Clock::now();
+            try {
+                render_plan(renderer, *scene, plan, plan_camera(*scene, plan), target, colour, nullptr);
+                const auto& px = colour.pixels;
+                if (job.refuse_empty && std::all_of(px.begin(), px.end(), [&](Rgba8 p) { return p == px.front(); })) {
+                    error = job.model + ": nothing to draw (" + std::to_string(scene->triangle_count()) +
+                            " triangles, none visible)";
+                    f.reason = FailReason::bad_file;
+                }
+            } catch (const std::bad_alloc&) {
+                throw;
+            } catch (const std::exception& e) {
+                error = job.model + ": " + e.what();
+                f.reason = FailReason::render_failed;
+            }
+            f.render_ms = ms_since(start);
+        }
+        if (error.empty()) {
+            report.phase(WorkerPhase::writing);
+            start = Clock::now();
+            if (Status s = write_png(job.output.string(), colour); !s) {
+                error = s.error().message;
+                f.reason = FailReason::write_failed;
+            }
+            f.write_ms = ms_since(start);
+        }
+    } catch (const std::bad_alloc&) {
+        error = job.model + ": out of memory";
+        f.reason = FailReason::out_of_memory;
+    }
+    report.figures(f.text());
+    if (error.empty()) return k_exit_ok;
+    report.error(error);
+    return k_exit_failed;
+}
+
+}  // namespace facet::cli

@@ -1,0 +1,49 @@
+// facet command line: one thumbnail, the per-object job of `facet thumbs` and `facet thumbnail`.
+// In: a model path, a plan and an output path, inside a worker process (worker.hpp); out: the PNG,
+// written atomically, and the job's figures and error through the worker's report. It confines the
+// worker first (thumbs' sandbox); scheduling, naming, logs and progress stay with the commands.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "collection.hpp"
+#include "options.hpp"
+#include "worker.hpp"
+
+namespace facet::cli {
+
+// The renderer's threads in a thumbnail worker: loading is single-threaded, so thumbs keeps every
+// core busy with one process per file, and one small image is not worth starting threads for.
+constexpr int k_thumbnail_threads = 1;
+
+// Milliseconds since `start`: the figures' unit.
+double ms_since(std::chrono::steady_clock::time_point start);
+
+// What a thumbnail job measured, sent to the parent as text (WorkerReport::figures).
+struct ThumbnailFigures {
+    std::optional<std::size_t> triangles;
+    std::optional<double> load_ms, render_ms, write_ms;
+    FailReason reason = FailReason::none;
+
+    std::string text() const;
+    static ThumbnailFigures parse(const std::string& text);
+};
+
+struct ThumbnailJob {
+    std::string model;
+    RenderPlan plan;
+    std::filesystem::path output;
+    const char* command = "facet thumbs";  // prefixes the model's warnings on stderr
+    // Fail a model that leaves the image blank (every pixel the same: no triangle, or none valid
+    // and with an area) instead of writing it: a file manager shows its own icon then.
+    bool refuse_empty = false;
+};
+
+// The worker's side: confine, load, render, write, timing each; returns the worker's exit status
+// (k_exit_ok only when the PNG is in place).
+int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report);
+
+}  // namespace facet::cli
