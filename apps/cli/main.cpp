@@ -29,10 +29,13 @@ int main(int argc, char** argv) {
     std::optional<int> benchmark;
     CLI::App* render = app.add_subcommand("render", "Render a model file (or, with none, the built-in default scene) to a PNG");
     render->add_option("model", model, "Model file: OBJ, STL, PLY, OFF, glTF/GLB, FBX, 3MF, DAE, 3DS, ...");
-    render->add_option("-o,--output", output, "Output PNG (written atomically)")->capture_default_str();
+    render->add_option("-o,--output", output,
+                       "Output PNG (written atomically); with --views or --passes, the folder to write into")
+        ->capture_default_str();
     render->add_option("--depth-out", depth_out, "Also write window depth as a 16-bit grayscale PNG");
     render->add_option("--benchmark", benchmark, "Render N timed frames after a warm-up; print one JSON line");
     add_render_options(*render, render_options);
+    add_views_options(*render, render_options);
     add_worker_options(*render, render_options, /*in_process_option=*/true);
     ReferenceCheck reference;
     render->add_option("--reference", reference.reference,
@@ -101,7 +104,8 @@ int main(int argc, char** argv) {
                                      "--no-isolation does without\n");
                 return k_exit_usage;
             }
-            return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render), reference);
+            return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render), reference,
+                              render->count("--output") > 0, render->count("--size") > 0);
         }
         if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options, collection);
         if (thumbnail->parsed()) return run_thumbnail(thumbnail_input, thumbnail_output, thumbnail_size, thumbnail_options);

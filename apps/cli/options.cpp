@@ -18,6 +18,7 @@
 
 #include "facet/contact_shadow.hpp"
 #include "facet/isa.hpp"
+#include "views_output.hpp"
 
 namespace facet::cli {
 namespace {
@@ -148,6 +149,34 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
                "without rendering");
 }
 
+void add_views_options(CLI::App& c, RenderOptions& o) {
+    c.add_option("--passes", o.passes,
+                 "Render passes to write, comma-separated: color, alpha, depth, range, normal, instance, material, "
+                 "primitive, uv (-o is then a folder)");
+    c.add_option("--views", o.views,
+                 "Camera rig: orbit:N[:ELEVATION], sphere:N, random:N:SEED or file:CAMERAS.json (-o is then a folder)");
+    c.add_option("--float-format", o.float_format,
+                 "How depth, range, normal and uv are written: npy (float32 .npy files), exr (one OpenEXR file per "
+                 "view with every pass but color) or png (16-bit depth and range, 8-bit normals, 16-bit uv)")
+        ->check(CLI::IsMember({"npy", "exr", "png"}))
+        ->capture_default_str();
+    c.add_option("--normal-space", o.normal_space, "Space of the normal pass: world, or camera (x right, y up, z toward the viewer)")
+        ->check(CLI::IsMember({"world", "camera"}))
+        ->capture_default_str();
+    c.add_option("--depth-scale", o.depth_scale,
+                 "--float-format png: model units per step of the 16-bit depth and range (default: the farthest far "
+                 "plane / 65535)");
+}
+
+const char* to_string(FloatFormat f) {
+    switch (f) {
+        case FloatFormat::npy: return "npy";
+        case FloatFormat::exr: return "exr";
+        case FloatFormat::png: return "png";
+    }
+    return "?";
+}
+
 void add_worker_options(CLI::App& c, RenderOptions& o, bool in_process_option) {
     c.add_option("--timeout", o.timeout,
                  "Seconds one file may take (load, render, write) before it is abandoned; 0: no limit")
@@ -195,7 +224,51 @@ Result<std::pair<int, int>> parse_image_size(const std::string& name, const std:
     return std::pair{w, h};
 }
 
-Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) {
+namespace {
+
+// --passes, --views and the options that go with them into plan.views (after the camera options,
+// which each view of a rig starts from).
+Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
+    const bool wanted = !o.passes.empty() || !o.views.empty();
+    if (!wanted) {
+        if (o.float_format != "npy" || o.normal_space != "world" || o.depth_scale)
+            return usage("--float-format, --normal-space and --depth-scale go with --passes or --views");
+        return Ok{};
+    }
+    ViewsPlan v;
+    if (!o.passes.empty()) {
+        Result<PassSet> passes = parse_passes(o.passes);
+        if (!passes) return usage("--passes: " + passes.error().message);
+        v.passes = *passes;
+    }
+    v.float_format = o.float_format == "exr" ? FloatFormat::exr : o.float_format == "png" ? FloatFormat::png : FloatFormat::npy;
+    v.normal_space = o.normal_space == "camera" ? NormalSpace::camera : NormalSpace::world;
+    if (o.depth_scale && !(*o.depth_scale > 0 && std::isfinite(*o.depth_scale)))
+        return usage("--depth-scale must be a positive number of model units");
+    if (o.depth_scale && v.float_format != FloatFormat::png) return usage("--depth-scale goes with --float-format png");
+    v.depth_scale = o.depth_scale;
+    if (o.ortho)
+        return usage("--views and --passes need a perspective camera (their cameras are written in OpenCV's pinhole "
+                     "model): leave out --ortho");
+    if (!o.views.empty()) {
+        Result<RigViews> rig = parse_views(o.views, p.view);
+        if (!rig) return usage("--views: " + rig.error().message);
+        v.views = std::move(rig->views);
+        v.rig = o.views;
+        if (rig->width > 0 && !size_given) {
+            Result<std::pair<int, int>> size = parse_image_size("the cameras file's size",
+                                                                 size_text(rig->width, rig->height), o.ssaa, false);
+            if (!size) return size.error();
+            std::tie(p.width, p.height) = *size;
+        }
+    }
+    p.views = std::move(v);
+    return Ok{};
+}
+
+}  // namespace
+
+Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, bool size_given) {
     RenderPlan p;
     if (o.ssaa < 1 || o.ssaa > 8) return usage("--ssaa must be 1..8, got " + std::to_string(o.ssaa));
     p.ssaa = o.ssaa;
@@ -272,6 +345,7 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given) 
     const auto side = static_cast<std::size_t>(o.max_texture_size);
     p.load.texture_limits.max_pixels = std::min(p.load.texture_limits.max_pixels, side * side);
     p.use_default_scene_camera = !camera_options_given;
+    if (Status s = make_views_plan(o, size_given, p); !s) return s.error();
     return p;
 }
 

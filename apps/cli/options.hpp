@@ -10,6 +10,7 @@
 #include "facet/error.hpp"
 #include "facet/model.hpp"
 #include "facet/scene.hpp"
+#include "facet/views.hpp"
 #include "worker.hpp"
 
 // CLI11 is header-only and costs seconds of compile time per file that includes it: only
@@ -59,6 +60,12 @@ struct RenderOptions {
     std::string max_memory;  // the worker's memory cap (parse_memory_size); empty: the default
     bool no_isolation = false;  // render: load and render in this process (debugging)
     bool print_config = false;  // print the resolved settings and exit (print_config.cpp)
+    // Views and render passes (add_views_options; views_output.hpp): with either, -o is a folder.
+    std::string passes;          // "color,depth,...": empty: colour alone
+    std::string views;           // a camera rig (parse_views); empty: the one camera above
+    std::string float_format = "npy";
+    std::string normal_space = "world";
+    std::optional<float> depth_scale;  // --float-format png: model units per step of depth and range
 };
 
 // `facet thumbs`' defaults: square thumbnails seen from above and to the right.
@@ -66,6 +73,9 @@ RenderOptions thumbnail_options();
 
 // Adds the options above to a subcommand.
 void add_render_options(CLI::App& command, RenderOptions& options);
+
+// Adds --passes, --views, --float-format, --normal-space and --depth-scale (render).
+void add_views_options(CLI::App& command, RenderOptions& options);
 
 // Adds --timeout and --max-memory (render and thumbs), and with `in_process_option` --no-isolation.
 void add_worker_options(CLI::App& command, RenderOptions& options, bool in_process_option);
@@ -78,6 +88,24 @@ Result<WorkerLimits> make_worker_limits(const RenderOptions& options, unsigned w
 // within the largest target; the error names `name`, the option or key it came from.
 Result<std::pair<int, int>> parse_image_size(const std::string& name, const std::string& text, int ssaa, bool square);
 
+// How floating-point passes (depth, range, normal, uv) are written: NumPy .npy files (float32),
+// one OpenEXR file per view holding every pass but colour, or PNG (depth and range in 16 bits with a
+// scale, normals in 8 bits, uv in 16 bits).
+enum class FloatFormat { npy, exr, png };
+const char* to_string(FloatFormat format);
+
+// Many views, or render passes, of one scene into a folder (views_output.hpp).
+struct ViewsPlan {
+    PassSet passes = PassSet{}.add(Pass::colour);
+    // Each view: a rig's orbit angles with the plan's other camera options, or an OpenCV camera read
+    // from a cameras file. Empty: the plan's one camera (view, or the default scene's).
+    std::vector<ViewSpec> views;
+    std::string rig;  // as given, for --print-config; empty: none
+    FloatFormat float_format = FloatFormat::npy;
+    NormalSpace normal_space = NormalSpace::world;
+    std::optional<float> depth_scale;  // png: model units per step; default: the farthest far plane / 65535
+};
+
 // The options after validation, ready to render with.
 struct RenderPlan {
     int width = 0, height = 0;
@@ -87,6 +115,7 @@ struct RenderPlan {
     ViewSpec view;
     RenderSettings settings;
     std::string environment_file;  // --environment, loaded into settings.environment; empty: the studio
+    std::optional<ViewsPlan> views;  // --views or --passes: a folder of views and passes
     LoadOptions load;
     bool use_default_scene_camera = false;  // no model and no camera options: the designed view
 };
@@ -100,8 +129,10 @@ bool has_camera_options(const CLI::App& command);
 // the process is done (--help and friends: 0, printed; a usage error: k_exit_usage, printed to stderr).
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
 
-// Checks and converts the options; the error message names the offending option.
-Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_given);
+// Checks and converts the options; the error message names the offending option. `size_given`:
+// whether --size was given (a cameras file's views otherwise set the size). A cameras file
+// (--views file:...) is read here.
+Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_given, bool size_given = true);
 
 // The plan's camera for the scene: its automatic framing (which reads every vertex) or the explicit one.
 Camera plan_camera(const Scene& scene, const RenderPlan& plan);
@@ -200,10 +231,10 @@ bool reference_usable(const ReferenceCheck& check, const char* command);
 // After the output is written: compares it with the reference; returns the exit status.
 int check_reference(const std::string& output, const ReferenceCheck& check);
 
-// `benchmark_frames`: --benchmark N if given.
+// `benchmark_frames`: --benchmark N if given; `output_given`, `size_given`: whether -o and --size were.
 int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
                std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given,
-               const ReferenceCheck& reference);
+               const ReferenceCheck& reference, bool output_given, bool size_given);
 // `facet thumbs`' options for collections (README, "Collections").
 struct CollectionOptions {
     std::string manifest;  // inputs from this manifest instead of the command line ("-": stdin)

@@ -124,6 +124,15 @@ void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera,
                                                                                        : cull_name(cull));
     describe_camera(out, plan, camera);
     describe_lighting(out, plan);
+    if (plan.views) {  // --views, --passes
+        const ViewsPlan& v = *plan.views;
+        out.add("passes", to_string(v.passes));
+        out.add("views", v.rig.empty() ? "1 (the camera above)" : v.rig + " (" + std::to_string(v.views.size()) + " views)");
+        out.add("float-format", to_string(v.float_format));
+        out.add("normal-space", v.normal_space == NormalSpace::camera ? "camera" : "world");
+        if (v.float_format == FloatFormat::png)
+            out.add("depth-scale", v.depth_scale ? exact(*v.depth_scale) : "(the farthest far plane / 65535)");
+    }
 
     const LoadOptions& load = plan.load;
     out.add("up-axis", load.up_axis == UpAxis::z ? "z" : "y");

@@ -5,6 +5,8 @@
 // error naming the file and the reason, exit status 1 and no output file, instead of a crash of
 // facet. The worker inherits stdout and stderr, so its warnings, errors and the --benchmark line
 // reach the user as they are written, and its exit status is facet's.
+#include <unistd.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +16,7 @@
 #include "facet/io.hpp"
 #include "facet/sandbox.hpp"
 #include "options.hpp"
+#include "views_output.hpp"
 #include "worker.hpp"
 
 namespace facet::cli {
@@ -59,6 +62,7 @@ void remove_output(const std::string& output) {
 
 struct RenderRequest {
     std::string model, output, depth_out;
+    std::string views_folder;  // --views or --passes: the staging folder the job writes into
     int benchmark_frames = 0;  // 0: no benchmark
     RenderPlan plan;
     int threads = 0;
@@ -84,6 +88,31 @@ void print_config(const RenderRequest& r, const Scene& scene, const Renderer& re
     std::fputs(out.str().c_str(), stdout);
 }
 
+// The views and passes of the loaded scene into the staging folder (views_output.hpp), with
+// progress on a terminal; returns the exit status.
+int views_job(const RenderRequest& r, const Scene& scene, double load_ms) {
+    const bool terminal = ::isatty(STDERR_FILENO) == 1;
+    auto progress = [&](std::size_t done, std::size_t total) {
+        if (terminal) std::fprintf(stderr, "\rfacet render: view %zu of %zu", done, total);
+        if (terminal && done == total) std::fputc('\n', stderr);
+    };
+    Result<ViewsReport> done = render_views_into(scene, r.plan, r.views_folder, r.threads, progress);
+    if (!done) {
+        std::fprintf(stderr, "facet render: %s\n", done.error().message.c_str());
+        return k_exit_failed;
+    }
+    if (done->stats.triangles_in > 0 && done->stats.triangles_invalid == done->stats.triangles_in) {
+        std::fprintf(stderr, "facet render: %s: no valid triangles to draw\n", r.model.c_str());
+        return k_exit_failed;
+    }
+    std::fprintf(stderr,
+                 "facet render: %s: %zu views of %s (%dx%d, %zu files, %zu triangles, load %.1f ms, render %.1f ms, "
+                 "write %.1f ms)\n",
+                 r.output.c_str(), done->views, to_string(r.plan.views->passes).c_str(), r.plan.width, r.plan.height,
+                 done->files.size(), scene.triangle_count(), load_ms, done->render_ms, done->write_ms);
+    return k_exit_ok;
+}
+
 // Load, render, write, printing its own messages; returns the exit status.
 int render_job(const RenderRequest& r, const WorkerReport& report) {
     const RenderPlan& plan = r.plan;
@@ -103,6 +132,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
         print_config(r, *scene, renderer);
         return k_exit_ok;
     }
+    if (plan.views) return views_job(r, *scene, load_ms);
     Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
     Image colour;
     std::vector<float> depth;
@@ -161,11 +191,25 @@ void clean_up_after(const WorkerOutcome& outcome, const RenderRequest& r) {
 
 int run_render(const std::string& model, const std::string& output, const std::string& depth_out,
                std::optional<int> benchmark_frames, const RenderOptions& options, bool camera_options_given,
-               const ReferenceCheck& reference) {
-    Result<RenderPlan> plan = make_plan(options, camera_options_given || !model.empty());
+               const ReferenceCheck& reference, bool output_given, bool size_given) {
+    Result<RenderPlan> plan = make_plan(options, camera_options_given || !model.empty(), size_given);
     if (!plan) {
         std::fprintf(stderr, "facet render: %s\n", plan.error().message.c_str());
         return k_exit_usage;
+    }
+    if (plan->views) {
+        const char* clash = !depth_out.empty()             ? "--depth-out (the depth pass is its exact form)"
+                            : benchmark_frames                ? "--benchmark"
+                            : !reference.reference.empty() ? "--reference"
+                                                              : nullptr;
+        if (clash) {
+            std::fprintf(stderr, "facet render: --views and --passes do not go with %s\n", clash);
+            return k_exit_usage;
+        }
+        if (!output_given && !options.print_config) {
+            std::fprintf(stderr, "facet render: with --views or --passes, -o names the folder to write into\n");
+            return k_exit_usage;
+        }
     }
     if (benchmark_frames && *benchmark_frames < 1) {
         std::fprintf(stderr, "facet render: --benchmark must be 1 or more frames, got %d\n", *benchmark_frames);
@@ -179,9 +223,33 @@ int run_render(const std::string& model, const std::string& output, const std::s
     if (!reference_usable(reference, "facet render")) return k_exit_usage;
     // One job: the load's normals may use the threads the render will (thumbs runs one per worker).
     plan->load.threads = options.threads;
+    // Views: a staging folder made here, which the worker may write into (its sandbox creates no
+    // folders), moved into place when the job succeeds.
+    std::optional<ViewsStaging> staging;
+    if (plan->views && !options.print_config) {
+        Result<ViewsStaging> staged = stage_views(output, *plan->views);
+        if (!staged) {
+            std::fprintf(stderr, "facet render: %s\n", staged.error().message.c_str());
+            return k_exit_failed;
+        }
+        staging = std::move(*staged);
+    }
+    auto finish_views = [&](int status) {
+        if (!staging) return status;
+        if (status != k_exit_ok) {
+            discard_views(*staging);
+            return status;
+        }
+        if (Status s = commit_views(*staging); !s) {
+            std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
+            return k_exit_failed;
+        }
+        return status;
+    };
     const RenderRequest request{.model = model,
                                 .output = output,
                                 .depth_out = depth_out,
+                                .views_folder = staging ? staging->folder.string() : std::string(),
                                 .benchmark_frames = benchmark_frames.value_or(0),
                                 .plan = *plan,
                                 .threads = options.threads,
@@ -202,7 +270,12 @@ int run_render(const std::string& model, const std::string& output, const std::s
     const bool huge_pages = model.empty() || huge_pages_suit(model);
     if (options.no_isolation) {
         if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
-        return then_check(render_job(request, WorkerReport{}));
+        return finish_views(then_check(render_job(request, WorkerReport{})));
+    }
+    std::vector<std::string> outputs{output, depth_out};
+    if (staging) {  // the files go into these folders: confine_worker allows the folders of its outputs
+        outputs.clear();
+        for (const std::string& folder : staging->write_folders) outputs.push_back(folder + "/file");
     }
 
     // Nothing has started a thread yet (the Renderer is made in the worker), so forking is safe.
@@ -210,12 +283,14 @@ int run_render(const std::string& model, const std::string& output, const std::s
         [&](const WorkerReport& report) {
             if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
             test_hook_sleep(model);
-            confine_worker(model, {output, depth_out}, plan->load.resource_dirs);
+            confine_worker(model, outputs, plan->load.resource_dirs);
             return render_job(request, report);
         },
         *limits);
     // The worker has printed its own messages for the statuses it chose.
-    if (exited(outcome) && (outcome.status == k_exit_ok || outcome.status == k_exit_failed)) return then_check(outcome.status);
+    if (exited(outcome) && (outcome.status == k_exit_ok || outcome.status == k_exit_failed))
+        return finish_views(then_check(outcome.status));
+    finish_views(k_exit_failed);
     clean_up_after(outcome, request);
     const std::string input = model.empty() ? "the default scene" : model;
     std::fprintf(stderr, "facet render: %s\n", describe_abnormal_end(outcome, input, *limits).c_str());

@@ -77,6 +77,14 @@ std::optional<OpenCvCamera> to_opencv(const Camera& camera, int width, int heigh
 // transform_matrix): the camera at the origin looking down -Z, +Y up the image; the inverse of
 // view(). For right-handed cameras (of either projection).
 Mat4 camera_to_world_gl(const Camera& camera);
+// The same for an OpenCV camera, in double (row-major 4x4, last row 0 0 0 1), and its inverse:
+// sets R and t from such a matrix (its 3x3 part a rotation: validate() checks).
+std::array<double, 16> camera_to_world_gl(const OpenCvCamera& camera);
+void set_camera_to_world_gl(OpenCvCamera& camera, const std::array<double, 16>& camera_to_world);
+// Makes R orthonormal in double precision (Gram-Schmidt from its viewing direction) unless it is
+// within 1e-12: a camera read off float matrices (to_opencv) is orthonormal to float precision only,
+// and then [R|t] read back from its camera-to-world, R^T's inverse, would not be the same numbers.
+void orthonormalize(OpenCvCamera& camera);
 
 // The camera basis (right, up, forward) for a view direction, stable at the poles: when `up` is
 // parallel to `forward` (looking straight up or down) the up vector falls back to the direction the

@@ -16,8 +16,11 @@ namespace facet {
 
 // 8-bit PNG: RGB when every pixel is opaque (alpha 255), RGBA otherwise; read back, the pixels are the same.
 Status write_png(const std::string& path, const Image& image);
-// 16-bit grayscale PNG of width * height values, first row at the top.
+// 8-bit and 16-bit grayscale PNG of width * height values, first row at the top.
+Status write_png_gray8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& values);
 Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values);
+// 16-bit RGB PNG of width * height * 3 values (R, G, B per pixel), first row at the top.
+Status write_png_rgb16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values);
 // Any PNG, converted to RGBA8.
 Result<Image> read_png(const std::string& path);
 

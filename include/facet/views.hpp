@@ -54,6 +54,8 @@ struct ViewImages {
     PixelVector<Vec2> uv;
     PassImages images();  // pointers to the non-empty ones
 };
+// Images for `request`'s passes at its size.
+ViewImages make_view_images(const ViewRequest& request);
 
 // Renders views of scenes. Keeps its Renderer and targets between calls: once warm, rendering the
 // same scene at the same size into the caller's memory allocates nothing.

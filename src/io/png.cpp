@@ -151,20 +151,40 @@ Status write_png(const std::string& path, const Image& image) {
     return write_file_atomic(path, png->data(), png->size());
 }
 
-Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values) {
-    if (width <= 0 || height <= 0 || values.size() != static_cast<std::size_t>(width) * height)
+namespace {
+
+// A PNG of `channels` samples per pixel (8 or 16 bits as T), `color_type`'s, from width * height *
+// channels values, first row at the top.
+template <class T>
+Status write_png_samples(const std::string& path, int width, int height, const std::vector<T>& values, int channels,
+                         std::uint8_t color_type) {
+    if (width <= 0 || height <= 0 || values.size() != static_cast<std::size_t>(width) * height * channels)
         return Error{ErrorCode::invalid_argument, path + ": image size and value count do not match"};
     spng_ihdr ihdr{};
     ihdr.width = static_cast<std::uint32_t>(width);
     ihdr.height = static_cast<std::uint32_t>(height);
-    ihdr.bit_depth = 16;
-    ihdr.color_type = SPNG_COLOR_TYPE_GRAYSCALE;
+    ihdr.bit_depth = 8 * sizeof(T);
+    ihdr.color_type = color_type;
     // libspng takes 16-bit samples in host byte order and writes them big-endian as PNG requires.
-    const auto row_values = static_cast<std::size_t>(width);
-    auto png = encode(path, ihdr, row_values * sizeof(std::uint16_t),
+    const auto row_values = static_cast<std::size_t>(width) * static_cast<std::size_t>(channels);
+    auto png = encode(path, ihdr, row_values * sizeof(T),
                       [&](std::uint32_t y, unsigned char*) { return values.data() + y * row_values; });
     if (!png) return png.error();
     return write_file_atomic(path, png->data(), png->size());
+}
+
+}  // namespace
+
+Status write_png_gray8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& values) {
+    return write_png_samples(path, width, height, values, 1, SPNG_COLOR_TYPE_GRAYSCALE);
+}
+
+Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values) {
+    return write_png_samples(path, width, height, values, 1, SPNG_COLOR_TYPE_GRAYSCALE);
+}
+
+Status write_png_rgb16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values) {
+    return write_png_samples(path, width, height, values, 3, SPNG_COLOR_TYPE_TRUECOLOR);
 }
 
 Result<Image> read_png(const std::string& path) {

@@ -183,18 +183,77 @@ std::optional<OpenCvCamera> to_opencv(const Camera& c, int width, int height) {
     return out;
 }
 
-Mat4 camera_to_world_gl(const Camera& c) {
-    // [R^T | -R^T t] is OpenCV's camera-to-world; OpenGL's camera axes are OpenCV's with Y and Z negated.
-    const Pose p = pose_of(c);
+namespace {
+
+// [R^T | -R^T t] is OpenCV's camera-to-world; OpenGL's camera axes are OpenCV's with Y and Z negated.
+std::array<double, 16> camera_to_world_gl(const Pose& p) {
     const double flip[3] = {1, -1, -1};
-    Mat4 m;
+    std::array<double, 16> m{};
     for (int i = 0; i < 3; ++i) {
         double eye = 0;
         for (int k = 0; k < 3; ++k) eye -= p.r[k][i] * p.t[k];
-        for (int j = 0; j < 3; ++j) m(i, j) = static_cast<float>(p.r[j][i] * flip[j]);
-        m(i, 3) = static_cast<float>(eye);
+        for (int j = 0; j < 3; ++j) m[static_cast<std::size_t>(i * 4 + j)] = p.r[j][i] * flip[j];
+        m[static_cast<std::size_t>(i * 4 + 3)] = eye;
     }
+    m[15] = 1;
     return m;
+}
+
+}  // namespace
+
+Mat4 camera_to_world_gl(const Camera& c) {
+    const std::array<double, 16> d = camera_to_world_gl(pose_of(c));
+    Mat4 m;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) m(i, j) = static_cast<float>(d[static_cast<std::size_t>(i * 4 + j)]);
+    return m;
+}
+
+std::array<double, 16> camera_to_world_gl(const OpenCvCamera& c) {
+    Camera camera;
+    camera.opencv = c;
+    return camera_to_world_gl(pose_of(camera));
+}
+
+void orthonormalize(OpenCvCamera& c) {
+    auto& r = c.rotation;
+    double worst = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            double d = 0;
+            for (int k = 0; k < 3; ++k) d += r[static_cast<std::size_t>(i * 3 + k)] * r[static_cast<std::size_t>(j * 3 + k)];
+            worst = std::max(worst, std::fabs(d - (i == j ? 1.0 : 0.0)));
+        }
+    if (worst <= 1e-12) return;  // already is: a camera read back keeps its numbers
+    // Gram-Schmidt from the viewing direction (the third row), then the right (the first); the
+    // second is their cross product, so the determinant stays +1.
+    auto row = [&](int i) { return std::array<double, 3>{r[static_cast<std::size_t>(3 * i)], r[static_cast<std::size_t>(3 * i + 1)], r[static_cast<std::size_t>(3 * i + 2)]}; };
+    auto dot = [](const std::array<double, 3>& a, const std::array<double, 3>& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
+    auto unit = [&](std::array<double, 3> a) {
+        const double n = std::sqrt(dot(a, a));
+        return std::array<double, 3>{a[0] / n, a[1] / n, a[2] / n};
+    };
+    const std::array<double, 3> z = unit(row(2));
+    std::array<double, 3> x = row(0);
+    const double along = dot(x, z);
+    x = unit({x[0] - along * z[0], x[1] - along * z[1], x[2] - along * z[2]});
+    const std::array<double, 3> y{z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]};
+    for (int j = 0; j < 3; ++j) {
+        const auto k = static_cast<std::size_t>(j);
+        r[k] = x[k], r[3 + k] = y[k], r[6 + k] = z[k];
+    }
+}
+
+void set_camera_to_world_gl(OpenCvCamera& c, const std::array<double, 16>& m) {
+    // R's rows are the camera's axes in world space (OpenGL's with Y and Z negated), t = -R eye.
+    const double flip[3] = {1, -1, -1};
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) c.rotation[static_cast<std::size_t>(i * 3 + j)] = flip[i] * m[static_cast<std::size_t>(j * 4 + i)];
+    for (int i = 0; i < 3; ++i) {
+        double t = 0;
+        for (int j = 0; j < 3; ++j) t -= c.rotation[static_cast<std::size_t>(i * 3 + j)] * m[static_cast<std::size_t>(j * 4 + 3)];
+        c.translation[static_cast<std::size_t>(i)] = t;
+    }
 }
 
 Mat4 Camera::view() const {

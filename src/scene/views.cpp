@@ -209,25 +209,29 @@ DrawStats ViewRenderer::render(const Scene& scene, std::span<const Camera> camer
     return render(scene_views_, cameras, request, out);
 }
 
+ViewImages make_view_images(const ViewRequest& request) {
+    const std::size_t n = static_cast<std::size_t>(std::max(request.width, 0)) * static_cast<std::size_t>(std::max(request.height, 0));
+    ViewImages v;
+    v.width = request.width, v.height = request.height;
+    const PassSet p = request.passes;
+    if (p.has(Pass::colour)) v.colour.resize(n);
+    if (p.has(Pass::alpha)) v.alpha.resize(n);
+    if (p.has(Pass::depth)) v.depth.resize(n);
+    if (p.has(Pass::range)) v.range.resize(n);
+    if (p.has(Pass::normal)) v.normal.resize(n);
+    if (p.has(Pass::instance)) v.instance.resize(n);
+    if (p.has(Pass::material)) v.material.resize(n);
+    if (p.has(Pass::primitive)) v.primitive.resize(n);
+    if (p.has(Pass::uv)) v.uv.resize(n);
+    return v;
+}
+
 std::vector<ViewImages> ViewRenderer::render(std::span<const ObjectView> objects, std::span<const Camera> cameras,
                                              const ViewRequest& request) {
-    const std::size_t n = static_cast<std::size_t>(std::max(request.width, 0)) * static_cast<std::size_t>(std::max(request.height, 0));
-    std::vector<ViewImages> images(cameras.size());
+    std::vector<ViewImages> images;
     std::vector<PassImages> out;
-    for (ViewImages& v : images) {
-        v.width = request.width, v.height = request.height;
-        const PassSet p = request.passes;
-        if (p.has(Pass::colour)) v.colour.resize(n);
-        if (p.has(Pass::alpha)) v.alpha.resize(n);
-        if (p.has(Pass::depth)) v.depth.resize(n);
-        if (p.has(Pass::range)) v.range.resize(n);
-        if (p.has(Pass::normal)) v.normal.resize(n);
-        if (p.has(Pass::instance)) v.instance.resize(n);
-        if (p.has(Pass::material)) v.material.resize(n);
-        if (p.has(Pass::primitive)) v.primitive.resize(n);
-        if (p.has(Pass::uv)) v.uv.resize(n);
-        out.push_back(v.images());
-    }
+    for (std::size_t i = 0; i < cameras.size(); ++i) images.push_back(make_view_images(request));
+    for (ViewImages& v : images) out.push_back(v.images());
     render(objects, cameras, request, out);
     return images;
 }

@@ -1,4 +1,4 @@
-"""A small PNG reader for the tests (8-bit greyscale, RGB and RGBA, not interlaced): zlib and
+"""A small PNG reader for the tests (8-bit greyscale, RGB and RGBA, 16-bit too, not interlaced): zlib and
 NumPy only, independent of facet's own PNG code (libspng), so that comparing its pixels with an
 array facet rendered compares facet's two outputs, not one decoder with itself."""
 import struct
@@ -10,7 +10,7 @@ _CHANNELS = {0: 1, 2: 3, 4: 2, 6: 4}
 
 
 def read_png(path) -> np.ndarray:
-    """The image as an (H, W, C) uint8 array, first row at the top."""
+    """The image as an (H, W, C) array, first row at the top: uint8, or uint16 for 16-bit PNGs."""
     data = open(path, "rb").read()
     if data[:8] != b"\x89PNG\r\n\x1a\n":
         raise ValueError(f"{path}: not a PNG file")
@@ -26,9 +26,10 @@ def read_png(path) -> np.ndarray:
         elif kind == b"IEND":
             break
     width, height, depth, colour, _, _, interlace = header
-    if depth != 8 or interlace != 0 or colour not in _CHANNELS:
-        raise ValueError(f"{path}: only 8-bit, non-interlaced grey, RGB or RGBA PNGs are read here")
-    bpp = _CHANNELS[colour]
+    if depth not in (8, 16) or interlace != 0 or colour not in _CHANNELS:
+        raise ValueError(f"{path}: only 8- and 16-bit, non-interlaced grey, RGB or RGBA PNGs are read here")
+    channels = _CHANNELS[colour]
+    bpp = channels * depth // 8  # the filters work on bytes, a whole pixel apart
     stride = width * bpp
     raw = zlib.decompress(b"".join(idat))
     out = np.zeros((height, stride), np.uint8)
@@ -62,4 +63,7 @@ def read_png(path) -> np.ndarray:
             raise ValueError(f"{path}: bad filter type {kind} in row {y}")
         out[y] = cur
         prev = cur
-    return out.reshape(height, width, bpp)
+    if depth == 16:  # big-endian samples
+        pairs = out.reshape(height, width, channels, 2).astype(np.uint16)
+        return (pairs[..., 0] << 8) | pairs[..., 1]
+    return out.reshape(height, width, channels)
