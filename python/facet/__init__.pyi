@@ -10,7 +10,8 @@ __version__: str
 
 ArrayLike = npt.ArrayLike
 Colour = Sequence[float]
-PassName = Literal["color", "alpha"]
+PassName = Literal["color", "alpha", "depth", "range", "normal", "instance", "material", "primitive", "uv"]
+NormalSpace = Literal["world", "camera"]
 ShadingName = Literal["lit", "lambert", "flat", "normals", "mask", "vertex-color", "texture"]
 
 class _MeshLike(Protocol):
@@ -126,6 +127,7 @@ class Renderer:
         shading: ShadingName = "lit",
         ssaa: int = ...,
         background: Union[Colour, Literal["transparent"], None] = None,
+        normal_space: NormalSpace = "world",
         out: Optional[dict[str, np.ndarray]] = None,
     ) -> dict[str, np.ndarray]: ...
     @property
@@ -163,6 +165,7 @@ def render(
     shading: ShadingName = "lit",
     ssaa: int = ...,
     background: Union[Colour, Literal["transparent"], None] = None,
+    normal_space: NormalSpace = "world",
     threads: Optional[int] = None,
 ) -> dict[str, np.ndarray]: ...
 def write_png(path: Union[str, os.PathLike[str]], image: npt.NDArray[np.uint8]) -> None: ...

@@ -1,32 +1,19 @@
 // facet._facet.render and Renderer: a scene seen by one camera or a list of them into NumPy
-// arrays, one per pass. Without supersampling the renderer draws straight into the colour array
-// (Framebuffer::use_colour_memory); with it, resolve_supersampled writes the array. The GIL is
-// released from the first camera to the last image.
+// arrays, one per pass (facet/passes.hpp), through the library's ViewRenderer: without
+// supersampling it draws straight into the colour array, and every pass comes from the visibility
+// the colour resolves. The GIL is released from the first camera to the last image.
 #include <algorithm>
 #include <chrono>
 #include <mutex>
 
 #include "binding.hpp"
+#include "facet/views.hpp"
 
 namespace facet::python {
 namespace {
 
-// The passes this build renders, and those of the render-passes issue still to come, which are
-// refused by name rather than as unknown.
-constexpr const char* k_passes[] = {"color", "alpha"};
-constexpr const char* k_future_passes[] = {"depth", "range", "normal", "instance", "material", "primitive", "uv"};
-
-struct Passes {
-    bool color = false, alpha = false;
-};
-
-std::string available_passes() {
-    std::string s;
-    for (const char* p : k_passes) s += (s.empty() ? "" : ", ") + std::string(p);
-    return s;
-}
-
-Passes parse_passes(py::handle obj) {
+PassSet parse_passes(py::handle obj) {
+    const std::string known = to_string(PassSet::all());
     std::vector<std::string> names;
     if (py::isinstance<py::str>(obj)) {
         names.push_back(obj.cast<std::string>());
@@ -34,20 +21,19 @@ Passes parse_passes(py::handle obj) {
         try {
             names = obj.cast<std::vector<std::string>>();
         } catch (const py::cast_error&) {
-            value_error("passes must be a sequence of pass names (" + available_passes() + ")");
+            value_error("passes must be a sequence of pass names (" + known + ")");
         }
     }
-    if (names.empty()) value_error("passes is empty: ask for at least one of " + available_passes());
-    Passes p;
+    if (names.empty()) value_error("passes is empty: ask for at least one of " + known);
+    PassSet passes;
     for (const std::string& n : names) {
-        if (n == "color") p.color = true;
-        else if (n == "alpha") p.alpha = true;
-        else if (std::find(std::begin(k_future_passes), std::end(k_future_passes), n) != std::end(k_future_passes))
-            value_error("pass '" + n + "' is not available yet (available: " + available_passes() + ")");
-        else
-            value_error("unknown pass '" + n + "' (available: " + available_passes() + ")");
+        if (n.find(',') != std::string::npos) value_error("unknown pass '" + n + "' (passes: " + known + ")");
+        Result<PassSet> one = facet::parse_passes(n);
+        if (!one) value_error("unknown pass '" + n + "' (passes: " + known + ")");
+        if ((passes.bits & one->bits) != 0) value_error("pass '" + n + "' is asked for twice");
+        passes.bits |= one->bits;
     }
-    return p;
+    return passes;
 }
 
 RenderSettings parse_settings(const std::string& shading, py::handle background) {
@@ -98,62 +84,34 @@ py::array_t<T> checked_out(py::handle obj, const std::string& name, const std::v
 // What one render call draws, settled while the GIL is held.
 struct Job {
     std::vector<ViewSpec> views;
-    int width = 0, height = 0, ssaa = 1;
-    RenderSettings settings;
-    Rgba8* colour = nullptr;  // views.size() images, or null
-    float* alpha = nullptr;   // likewise
+    ViewRequest request;
+    std::vector<PassImages> out;  // one per view
 };
-
-// Coverage from the depth the draw left: a sample is covered when some surface wrote depth there
-// (the clear value is 1, which the default depth test never lets a surface write). Blended
-// surfaces do not write depth.
-void resolve_alpha(const Framebuffer& fb, int factor, float* out) {
-    const int w = fb.width() / factor, h = fb.height() / factor;
-    const float per_sample = 1.0f / static_cast<float>(factor * factor);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            int covered = 0;
-            for (int sy = 0; sy < factor; ++sy)
-                for (int sx = 0; sx < factor; ++sx) covered += fb.depth(x * factor + sx, y * factor + sy) < 1.0f;
-            out[static_cast<std::size_t>(y) * w + x] = static_cast<float>(covered) * per_sample;
-        }
-}
 
 }  // namespace
 
-// A Renderer and the target it keeps between calls; one call at a time (the lock).
+// A ViewRenderer and the cameras it keeps between calls; one call at a time (the lock).
 class PyRenderer {
 public:
-    explicit PyRenderer(int threads) : renderer_({.threads = threads}) {}
+    explicit PyRenderer(int threads) : views_({.threads = threads}) {}
 
     // Draws the job; called without the GIL.
     void draw(std::span<const ObjectView> objects, const Job& job) {
-        const int tw = job.width * job.ssaa, th = job.height * job.ssaa;
-        if (!target_ || target_->width() != tw || target_->height() != th) target_.emplace(tw, th);
-        const std::size_t pixels = static_cast<std::size_t>(job.width) * job.height;
-        const float aspect = static_cast<float>(job.width) / static_cast<float>(job.height);
-        stats_ = {};
-        for (std::size_t i = 0; i < job.views.size(); ++i) {
-            const Camera camera = make_camera(objects, job.views[i], aspect);
-            Rgba8* colour = job.colour ? job.colour + i * pixels : nullptr;
-            // Without supersampling, straight into the caller's image.
-            target_->use_colour_memory(job.ssaa == 1 ? colour : nullptr);
-            stats_ += render_scene(renderer_, *target_, objects, camera, job.settings);
-            if (job.ssaa > 1 && colour) resolve_supersampled(*target_, job.ssaa, colour, nullptr);
-            if (job.alpha) resolve_alpha(*target_, job.ssaa, job.alpha + i * pixels);
-        }
-        target_->use_colour_memory(nullptr);
+        const float aspect = static_cast<float>(job.request.width) / static_cast<float>(job.request.height);
+        cameras_.clear();
+        for (const ViewSpec& v : job.views) cameras_.push_back(make_camera(objects, v, aspect));
+        stats_ = views_.render(objects, cameras_, job.request, job.out);
     }
 
     std::mutex& mutex() { return mutex_; }
-    int threads() const { return renderer_.threads(); }
+    int threads() { return views_.renderer().threads(); }
     const DrawStats& stats() const { return stats_; }
     // How long the last render's draw took (seconds), for the benchmark of the Python overhead.
     double& draw_seconds() { return draw_seconds_; }
 
 private:
-    Renderer renderer_;
-    std::optional<Framebuffer> target_;
+    ViewRenderer views_;
+    std::vector<Camera> cameras_;
     DrawStats stats_;
     double draw_seconds_ = 0;
     std::mutex mutex_;
@@ -164,8 +122,20 @@ namespace {
 // None: one per core. More than a few thousand is a mistake, not a machine.
 int checked_threads(std::optional<Integer> threads) { return threads ? in_range(*threads, "threads", 1, 4096) : 0; }
 
+// The caller's array for `p` (checked_out) or a new one; returns its memory.
+template <class T>
+T* pass_output(Pass p, std::vector<py::ssize_t> shape, int channels, const py::dict& given, py::dict& result) {
+    if (channels) shape.push_back(channels);
+    const char* name = pass_name(p);
+    py::array_t<T> a = given.contains(name) ? checked_out<T>(given[name], "out['" + std::string(name) + "']", shape)
+                                            : aligned_array<T>(shape);
+    result[name] = a;
+    return a.mutable_data();
+}
+
 py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, Integer width_arg, Integer height_arg,
-                py::object passes_obj, const std::string& shading, Integer ssaa_arg, py::object background, py::object out) {
+                py::object passes_obj, const std::string& shading, Integer ssaa_arg, py::object background,
+                const std::string& normal_space, py::object out) {
     PyScene& scene = scene_of(scene_obj);
     Job job;
     const bool batch = !py::isinstance<PyCamera>(cameras);
@@ -182,49 +152,70 @@ py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, Integer
     const int ssaa = in_range(ssaa_arg, "ssaa", 1, 8);
     if (static_cast<long>(width) * ssaa > k_max_target_size || static_cast<long>(height) * ssaa > k_max_target_size)
         value_error("width and height times ssaa must stay within " + std::to_string(k_max_target_size));
-    job.width = width, job.height = height, job.ssaa = ssaa;
-    job.settings = parse_settings(shading, background);
-    const Passes passes = parse_passes(passes_obj);
+    ViewRequest& request = job.request;
+    request.width = width, request.height = height, request.ssaa = ssaa;
+    request.settings = parse_settings(shading, background);
+    request.passes = parse_passes(passes_obj);
+    if (normal_space != "world" && normal_space != "camera") value_error("normal_space must be 'world' or 'camera'");
+    request.normal_space = normal_space == "camera" ? NormalSpace::camera : NormalSpace::world;
 
     // The outputs: the caller's (out=) or new arrays.
     std::vector<py::ssize_t> lead;
     if (batch) lead.push_back(static_cast<py::ssize_t>(job.views.size()));
     lead.push_back(height);
     lead.push_back(width);
-    py::dict out_arrays;
+    py::dict given;
     if (!out.is_none()) {
         if (!py::isinstance<py::dict>(out)) value_error("out must be a dict of arrays by pass name");
-        out_arrays = py::reinterpret_borrow<py::dict>(out);
-        for (auto item : out_arrays) {
+        given = py::reinterpret_borrow<py::dict>(out);
+        for (auto item : given) {
             const std::string name = py::str(item.first);
-            if ((name == "color" && !passes.color) || (name == "alpha" && !passes.alpha) || (name != "color" && name != "alpha"))
+            Result<PassSet> p = facet::parse_passes(name);
+            if (!p || name.find(',') != std::string::npos || (p->bits & request.passes.bits) == 0)
                 value_error("out['" + name + "'] is not among the passes asked for");
         }
     }
     py::dict result;
-    if (passes.color) {
-        std::vector<py::ssize_t> shape = lead;
-        shape.push_back(4);
-        py::array_t<std::uint8_t> a = out_arrays.contains("color") ? checked_out<std::uint8_t>(out_arrays["color"], "out['color']", shape)
-                                                                 : aligned_array<std::uint8_t>(shape);
-        job.colour = reinterpret_cast<Rgba8*>(a.mutable_data());
-        result["color"] = a;
+    PassImages first;  // the first view's images; the others follow, one image apart
+    for (Pass p : k_all_passes) {
+        if (!request.passes.has(p)) continue;
+        PassTargets& t = first.passes;
+        switch (p) {
+            case Pass::colour: first.colour = reinterpret_cast<Rgba8*>(pass_output<std::uint8_t>(p, lead, 4, given, result)); break;
+            case Pass::alpha: t.alpha = pass_output<float>(p, lead, 0, given, result); break;
+            case Pass::depth: t.depth = pass_output<float>(p, lead, 0, given, result); break;
+            case Pass::range: t.range = pass_output<float>(p, lead, 0, given, result); break;
+            case Pass::normal: t.normal = reinterpret_cast<Vec3*>(pass_output<float>(p, lead, 3, given, result)); break;
+            case Pass::instance: t.instance = pass_output<std::uint32_t>(p, lead, 0, given, result); break;
+            case Pass::material: t.material = pass_output<std::uint32_t>(p, lead, 0, given, result); break;
+            case Pass::primitive: t.primitive = pass_output<std::uint32_t>(p, lead, 0, given, result); break;
+            case Pass::uv: t.uv = reinterpret_cast<Vec2*>(pass_output<float>(p, lead, 2, given, result)); break;
+        }
     }
-    if (passes.alpha) {
-        py::array_t<float> a = out_arrays.contains("alpha") ? checked_out<float>(out_arrays["alpha"], "out['alpha']", lead)
-                                                          : aligned_array<float>(lead);
-        job.alpha = a.mutable_data();
-        result["alpha"] = a;
+    const std::size_t pixels = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    for (std::size_t i = 0; i < job.views.size(); ++i) {
+        auto at = [&](auto* p) { return p ? p + i * pixels : nullptr; };
+        PassImages v;
+        v.colour = at(first.colour);
+        const PassTargets& t = first.passes;
+        v.passes = {at(t.alpha), at(t.depth), at(t.range), at(t.normal), at(t.instance), at(t.material), at(t.primitive), at(t.uv)};
+        job.out.push_back(v);
     }
+    std::optional<std::string> error;  // the request checks of ViewRenderer::render (all made above)
     {
         py::gil_scoped_release release;
         std::scoped_lock lock(r.mutex());
         std::shared_lock scene_lock(scene.mutex());  // other renders may read it too
         note_gil_state();
         const auto start = std::chrono::steady_clock::now();
-        r.draw(scene.views(), job);
+        try {
+            r.draw(scene.views(), job);
+        } catch (const FacetError& e) {
+            error = e.what();
+        }
         r.draw_seconds() = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
+    if (error) value_error(*error);
     return result;
 }
 
@@ -238,9 +229,14 @@ camera : Camera or list of Camera
 width, height : int
     Image size in pixels, 1..8192 (default 800x600, as `facet render`).
 passes : sequence of str
-    What to return: 'color' (H, W, 4) uint8 RGBA; 'alpha' (H, W) float32, the fraction of
-    samples a surface covers (alpha-blended surfaces do not count). Later passes (depth,
-    normal, instance, ...) raise ValueError until they exist.
+    What to return, each from the same visibility (background value in brackets):
+    'color' (H, W, 4) uint8 RGBA; 'alpha' (H, W) float32, the fraction of samples a surface
+    covers (alpha-blended surfaces do not count) [0]; 'depth' (H, W) float32, distance along
+    the viewing axis [inf]; 'range' (H, W) float32, distance from the eye along the ray [inf];
+    'normal' (H, W, 3) float32 unit normals [0]; 'instance' (H, W) uint32, scene object + 1
+    [0]; 'material' (H, W) uint32, material + 1 [0]; 'primitive' (H, W) uint32, triangle
+    index within its mesh + 1 [0]; 'uv' (H, W, 2) float32 [0]. With ssaa, color and alpha
+    average the samples, the other passes are the surface at each pixel's centre.
 shading : str
     'lit' (default), 'lambert', 'flat', 'normals', 'mask', 'vertex-color', 'texture'; as
     `facet render --shading`.
@@ -248,6 +244,8 @@ ssaa : int
     Supersampling, NxN samples per pixel (1..8).
 background : sequence of 3 or 4 floats in 0..1, or 'transparent', optional
     Default: `facet render`'s dark grey.
+normal_space : str
+    'world' (default) or 'camera' (x right, y up, z toward the viewer) for the normal pass.
 %s
 Returns
 -------
@@ -291,13 +289,14 @@ parallel.
         .def(
             "render",
             [](PyRenderer& r, py::object scene, py::object camera, Integer width, Integer height, py::object passes,
-               const std::string& shading, Integer ssaa, py::object background, py::object out) {
-                return render(r, scene, camera, width, height, passes, shading, ssaa, background, out);
+               const std::string& shading, Integer ssaa, py::object background, const std::string& normal_space,
+               py::object out) {
+                return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, out);
             },
             py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
             py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
             py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
-            py::arg("background") = py::none(), py::arg("out") = py::none(),
+            py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("out") = py::none(),
             doc("Render `scene` seen by `camera` into arrays.",
                 "out : dict of str to numpy.ndarray, optional\n    Arrays to render into (C-contiguous, of each pass's "
                 "shape and dtype),\n    returned in the dict: no allocation.\n")
@@ -324,14 +323,14 @@ parallel.
     m.def(
         "render",
         [](py::object scene, py::object camera, Integer width, Integer height, py::object passes, const std::string& shading,
-           Integer ssaa, py::object background, std::optional<Integer> threads) {
+           Integer ssaa, py::object background, const std::string& normal_space, std::optional<Integer> threads) {
             PyRenderer r(checked_threads(threads));
-            return render(r, scene, camera, width, height, passes, shading, ssaa, background, py::none());
+            return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, py::none());
         },
         py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
         py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
         py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
-        py::arg("background") = py::none(), py::arg("threads") = py::none(),
+        py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("threads") = py::none(),
         doc("Render `scene` seen by `camera` into arrays (with a Renderer made for the call; keep a\nfacet.Renderer "
             "for many renders).",
             "threads : int, optional\n    Threads drawing; None: one per core. The image is the same.\n")
@@ -346,8 +345,8 @@ parallel.
               py::array_t<std::uint8_t> colour = aligned_array<std::uint8_t>({height, width, 4});
               Job job;
               job.views.push_back(camera_of(camera).spec);
-              job.width = width, job.height = height;
-              job.colour = reinterpret_cast<Rgba8*>(colour.mutable_data());
+              job.request.width = width, job.request.height = height;
+              job.out.push_back({.colour = reinterpret_cast<Rgba8*>(colour.mutable_data())});
               std::vector<double> seconds;
               py::gil_scoped_release release;
               std::scoped_lock lock(r.mutex());

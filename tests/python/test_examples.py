@@ -40,3 +40,20 @@ def test_write_png_round_trips(tmp_path):
     with pytest.raises(facet.Error, match="no_such_dir"):
         facet.write_png(tmp_path / "no_such_dir" / "d.png", rgba)
     assert not (tmp_path / "c.png").exists()
+
+
+def test_the_passes_example_writes_four_panels(tmp_path):
+    # The default scene: colour, depth, normals and instance ids of one view, side by side.
+    out = tmp_path / "passes.png"
+    example = QUICKSTART.parent / "passes.py"
+    r = subprocess.run([sys.executable, str(example), str(out)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    image = read_png(out)
+    assert image.shape == (240, 4 * 320, 3)
+    colour, depth, normal, instance = (image[:, i * 320:(i + 1) * 320] for i in range(4))
+    covered = (instance != 0).any(axis=2)
+    assert 0.05 < covered.mean() < 0.95
+    # Each pass panel is black exactly where no object is.
+    for panel in (depth, normal):
+        assert not panel[~covered].any() and panel[covered].any(axis=1).mean() > 0.99
+    assert len(np.unique(instance[covered].reshape(-1, 3), axis=0)) >= 2  # several objects
