@@ -2,24 +2,71 @@
 // facet's loader (as `facet render` does), frames it by facet's rule (azimuth 0, elevation 0, fov 45),
 // renders it once with Mesa llvmpipe through EGL surfaceless in facet's lambert mode, and writes a PNG.
 // The whole process (start, driver load, file load, shader compile, draw, read back, PNG) is what
-// scripts/bench times against `facet render MODEL --shading lambert`.
+// scripts/bench times against `facet render MODEL --shading lambert`. With --views N, the dataset
+// comparison (`facet render --views orbit:N --passes ...`): N views on the orbit at elevation 0
+// from one load and one upload, each read back and written as OUT_DIR/color/K.png and
+// OUT_DIR/depth/K.npy (window depth, float32). llvmpipe gives no normal or instance pass here.
 //
-//   facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N]
+//   facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N] [--views N -o OUT_DIR]
 //   (--threads N: as facet's; LP_NUM_THREADS = 0 for 1, N otherwise; default: llvmpipe's own)
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <string>
 
+#include <filesystem>
+
 #include "facet/io.hpp"
 #include "facet/model.hpp"
 #include "facet/scene.hpp"
 #include "gl_oracle.hpp"
+#if FACET_EGL_VIEWS
+#include "pass_files.hpp"  // apps/cli: write_npy
+#endif
+
+namespace {
+
+#if FACET_EGL_VIEWS
+// --views: every view drawn, read back and written before the next.
+int render_views(facet::bench::GlOracle& oracle, const facet::Scene& scene, int views, int width, int height,
+                 const std::string& folder) {
+    using namespace facet;
+    std::error_code ec;
+    std::filesystem::create_directories(std::filesystem::path(folder) / "color", ec);
+    std::filesystem::create_directories(std::filesystem::path(folder) / "depth", ec);
+    if (Status s = oracle.load(scene); !s) {
+        std::cerr << "facet_egl_render_file: " << s.error().message << "\n";
+        return 1;
+    }
+    if (Status s = oracle.resize(width, height); !s) {
+        std::cerr << "facet_egl_render_file: " << s.error().message << "\n";
+        return 1;
+    }
+    for (int k = 0; k < views; ++k) {
+        const float azimuth = radians(360.0f * static_cast<float>(k) / static_cast<float>(views));
+        const Camera camera = frame_scene(scene, azimuth, 0, radians(45.0f), static_cast<float>(width) / static_cast<float>(height));
+        oracle.draw(camera, RenderSettings{}.background);
+        bench::GlFrame frame = oracle.read();
+        char name[32];
+        std::snprintf(name, sizeof(name), "%04d", k);
+        const std::string base = folder + "/";
+        Status s = write_png(base + "color/" + name + ".png", Image{width, height, std::move(frame.colour)});
+        if (s) s = cli::write_npy(base + "depth/" + name + ".npy", frame.depth.data(), "<f4", {height, width});
+        if (!s) {
+            std::cerr << "facet_egl_render_file: " << s.error().message << "\n";
+            return 1;
+        }
+    }
+    return 0;
+}
+#endif
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace facet;
     std::string model, output = "egl.png";
-    int width = 800, height = 600, threads = 0;
+    int width = 800, height = 600, threads = 0, views = 0;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const bool has_value = i + 1 < argc;
@@ -30,14 +77,15 @@ int main(int argc, char** argv) {
                 return 2;
             }
         } else if (a == "--threads" && has_value) threads = std::atoi(argv[++i]);
+        else if (a == "--views" && has_value) views = std::atoi(argv[++i]);
         else if (!a.empty() && a[0] != '-' && model.empty()) model = a;
         else {
-            std::cerr << "usage: facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N]\n";
+            std::cerr << "usage: facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N] [--views N]\n";
             return 2;
         }
     }
     if (model.empty()) {
-        std::cerr << "usage: facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N]\n";
+        std::cerr << "usage: facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N] [--views N]\n";
         return 2;
     }
 
@@ -54,6 +102,14 @@ int main(int argc, char** argv) {
         return 1;
     }
     const Scene& scene = loaded->scene;
+#if FACET_EGL_VIEWS
+    if (views > 0) return render_views(**oracle, scene, views, width, height, output);
+#else
+    if (views > 0) {
+        std::cerr << "facet_egl_render_file: --views needs the command line's parts (FACET_BUILD_APPS)\n";
+        return 2;
+    }
+#endif
     const Camera camera = frame_scene(scene, 0, 0, radians(45.0f), static_cast<float>(width) / static_cast<float>(height));
     auto frame = (*oracle)->render(scene, camera, width, height, RenderSettings{}.background);
     if (!frame) {
