@@ -235,6 +235,10 @@ Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
             return usage("--float-format, --normal-space and --depth-scale go with --passes or --views");
         return Ok{};
     }
+    // The views are drawn by ViewRenderer, which has neither the jittered frames nor the ground quad.
+    if (p.aa != 1 || p.contact_shadow > 0)
+        return usage("--aa and --contact-shadow do not apply to --views or --passes (yet): leave them out; --ssaa "
+                     "anti-aliases the colour of the views");
     ViewsPlan v;
     if (!o.passes.empty()) {
         Result<PassSet> passes = parse_passes(o.passes);

@@ -346,7 +346,9 @@ parallel.
               Job job;
               job.views.push_back(camera_of(camera).spec);
               job.request.width = width, job.request.height = height;
-              job.out.push_back({.colour = reinterpret_cast<Rgba8*>(colour.mutable_data())});
+              PassImages out;
+              out.colour = reinterpret_cast<Rgba8*>(colour.mutable_data());
+              job.out.push_back(out);
               std::vector<double> seconds;
               py::gil_scoped_release release;
               std::scoped_lock lock(r.mutex());

@@ -178,6 +178,8 @@ TEST(CliViews, BadRigSpecsAndOptionsAreUsageErrors) {
         {{"--passes", "depth", "--ortho"}, "--ortho"},
         {{"--float-format", "exr"}, "--float-format"},
         {{"--passes", "depth", "--depth-out", (dir / "d.png").string()}, "--depth-out"},
+        {{"--views", "orbit:2", "--aa", "2"}, "--aa"},
+        {{"--passes", "depth", "--contact-shadow", "0.5"}, "--contact-shadow"},
     };
     for (const auto& [args, word] : cases) {
         std::vector<std::string> all{model, "-o", (dir / "out").string()};
