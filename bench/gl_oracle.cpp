@@ -94,9 +94,10 @@ struct GlOracle::Impl {
     GLint u_clip_from_object = -1, u_normal_to_world = -1, u_light = -1;
     GLuint fbo = 0, colour_rb = 0, depth_rb = 0;
     int width = 0, height = 0;
+    float point_size = 1, line_width = 1;
     struct Object {
         GLuint vao = 0, vbo = 0, ibo = 0;
-        GLsizei index_count = 0;
+        GLsizei index_count = 0, point_count = 0, line_count = 0;  // in the index buffer in this order
         Mat4 model;
     };
     std::vector<Object> objects;
@@ -285,7 +286,7 @@ Status GlOracle::load(const Scene& scene) {
     g.release_objects();
     for (const SceneObject& so : scene.objects) {
         const Mesh& m = so.mesh;
-        if (m.indices.empty()) continue;
+        if (m.indices.empty() && m.points.empty() && m.lines.empty()) continue;
         if (m.normals.size() != m.positions.size())
             return Error{ErrorCode::invalid_argument, "llvmpipe oracle: an object has no normals (facet would shade it flat)"};
         std::vector<float> interleaved(m.positions.size() * 6);
@@ -297,6 +298,11 @@ Status GlOracle::load(const Scene& scene) {
         Impl::Object o;
         o.model = so.model;
         o.index_count = static_cast<GLsizei>(m.indices.size() / 3 * 3);
+        o.point_count = static_cast<GLsizei>(m.points.size());
+        o.line_count = static_cast<GLsizei>(m.lines.size() / 2 * 2);
+        std::vector<std::uint32_t> all(m.indices.begin(), m.indices.begin() + o.index_count);
+        all.insert(all.end(), m.points.begin(), m.points.end());
+        all.insert(all.end(), m.lines.begin(), m.lines.begin() + o.line_count);
         glGenVertexArrays(1, &o.vao);
         glBindVertexArray(o.vao);
         glGenBuffers(1, &o.vbo);
@@ -309,8 +315,8 @@ Status GlOracle::load(const Scene& scene) {
         glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
         glGenBuffers(1, &o.ibo);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, o.ibo);
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(o.index_count * sizeof(std::uint32_t)),
-                     m.indices.data(), GL_STATIC_DRAW);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(all.size() * sizeof(std::uint32_t)), all.data(),
+                     GL_STATIC_DRAW);
         glBindVertexArray(0);
         g.objects.push_back(o);
     }
@@ -385,9 +391,23 @@ void GlOracle::draw(const Camera& camera, Vec4 background) {
         glUniformMatrix4fv(g.u_clip_from_object, 1, GL_FALSE, m4);  // column-major, as facet stores it
         glUniformMatrix3fv(g.u_normal_to_world, 1, GL_FALSE, m3);
         glBindVertexArray(o.vao);
-        glDrawElements(GL_TRIANGLES, o.index_count, GL_UNSIGNED_INT, nullptr);
+        if (o.index_count) glDrawElements(GL_TRIANGLES, o.index_count, GL_UNSIGNED_INT, nullptr);
+        const auto offset = [](GLsizei n) { return reinterpret_cast<const void*>(static_cast<std::uintptr_t>(n) * sizeof(std::uint32_t)); };
+        if (o.point_count) {
+            glPointSize(g.point_size);
+            glDrawElements(GL_POINTS, o.point_count, GL_UNSIGNED_INT, offset(o.index_count));
+        }
+        if (o.line_count) {
+            glLineWidth(g.line_width);
+            glDrawElements(GL_LINES, o.line_count, GL_UNSIGNED_INT, offset(o.index_count + o.point_count));
+        }
     }
     glBindVertexArray(0);
+}
+
+void GlOracle::set_primitive_style(float point_size, float line_width) {
+    impl_->point_size = point_size;
+    impl_->line_width = line_width;
 }
 
 void GlOracle::finish() { glFinish(); }

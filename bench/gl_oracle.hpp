@@ -70,13 +70,17 @@ public:
     bool has_clip_control() const { return clip_control_; }
     int llvmpipe_threads() const;  // LP_NUM_THREADS as the driver saw it (-1: not set)
 
-    // Uploads the scene's meshes (positions, normals, indices; one set of buffers per object).
+    // Uploads the scene's meshes (positions, normals, indices, points and lines; one set of buffers
+    // per object).
     // Objects without normals are an error: facet would fall back to flat shading for them.
     Status load(const Scene& scene);
     // (Re)creates the framebuffer object at this size.
     Status resize(int width, int height);
+    // The size of GL_POINTS (glPointSize: square points) and the width of GL_LINES (glLineWidth), in
+    // pixels, for the objects' points and lines.
+    void set_primitive_style(float point_size, float line_width);
     // Clears to `background` and depth 1, then draws every loaded object with the camera: one
-    // glDrawElements per object. Does not wait for the GPU thread(s): see finish().
+    // glDrawElements per object and kind (triangles, then points, then lines). Does not wait for the GPU thread(s): see finish().
     void draw(const Camera& camera, Vec4 background);
     void finish();  // glFinish: returns when llvmpipe has rasterized everything drawn
     GlFrame read(); // glReadPixels of colour and depth, flipped to row 0 = top

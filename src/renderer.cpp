@@ -63,7 +63,18 @@ Renderer::Plan Renderer::begin_draw(Framebuffer& target, const DrawState& state,
     p.tiles_x = (target.width() + tile_size_ - 1) / tile_size_;
     p.tiles_y = (target.height() + tile_size_ - 1) / tile_size_;
 
-    plan.triangle_count = input.triangle_count();
+    const PrimitiveStyle& style = input.style;
+    if (input.topology == Topology::points) {
+        require(style.point_size > 0 && style.point_size <= PrimitiveStyle::k_max_point_size, [&] {
+            return "draw: the point size must be in (0, 256], got " + std::to_string(style.point_size);
+        });
+        require(style.model_scale >= 0 && style.model_scale < 1e30f, [&] {
+            return "draw: the point model scale must be finite and not negative, got " + std::to_string(style.model_scale);
+        });
+    }
+    require(input.topology != Topology::lines || (style.line_width > 0 && style.line_width <= PrimitiveStyle::k_max_line_width),
+            [&] { return "draw: the line width must be in (0, 256], got " + std::to_string(style.line_width); });
+    plan.primitive_count = input.primitive_count();
     plan.stride = shading.varyings;
     plan.batch_size = batch_size_;
     plan.chunk_count = 0;
@@ -71,7 +82,8 @@ Renderer::Plan Renderer::begin_draw(Framebuffer& target, const DrawState& state,
     plan.passes = passes != nullptr;
     if (passes) {
         detail::PassDraw& d = passes_->draw;
-        d = {passes, detail::pass_layout(*passes), &passes_->vertices, input.indices, state.front_face, target.width()};
+        d = {passes, detail::pass_layout(*passes), &passes_->vertices, input.indices, state.front_face, target.width(),
+             input.topology};
         passes_->vertices.stride = d.layout.count;
         passes_->vertices.varyings.resize(std::size_t{input.vertex_count} * static_cast<std::size_t>(d.layout.count));
     }

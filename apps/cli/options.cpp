@@ -134,7 +134,14 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
         ->capture_default_str();
     c.add_option("--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")
         ->capture_default_str();
-    c.add_option("--max-triangles", o.max_triangles, "Refuse models with more triangles, before loading them")
+    c.add_option("--point-size", o.point_size, "Points' diameter in pixels of the output image (0 < PX <= 256 / ssaa)")
+        ->capture_default_str();
+    c.add_option("--point-world-size", o.point_world_size,
+                 "Points' diameter in model units instead, perspective-scaled (at most 256 pixels / ssaa)");
+    c.add_option("--point-shape", o.point_shape, "round | square")->check(CLI::IsMember({"round", "square"}))->capture_default_str();
+    c.add_option("--line-width", o.line_width, "Lines' width in pixels of the output image (0 < PX <= 256 / ssaa)")
+        ->capture_default_str();
+    c.add_option("--max-triangles", o.max_triangles, "Refuse models with more triangles (points and segments count too), before loading them")
         ->capture_default_str();
     c.add_option("--max-texture-size", o.max_texture_size,
                  "Largest texture side in pixels (and at most N*N, 64 Mpixels by default); larger ones are not used")
@@ -270,6 +277,12 @@ Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
     return Ok{};
 }
 
+std::string general_number(float v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", static_cast<double>(v));
+    return text;
+}
+
 }  // namespace
 
 Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, bool size_given) {
@@ -310,6 +323,19 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, 
         if (!bg) return bg.error();
         p.settings.background = *bg;
     }
+    // Sizes are in output pixels: the supersampled target draws them ssaa times larger.
+    const float most = PrimitiveStyle::k_max_point_size / static_cast<float>(o.ssaa);
+    if (!(o.point_size > 0 && o.point_size <= most))
+        return usage("--point-size must be more than 0 and at most 256 / --ssaa pixels, got " + general_number(o.point_size));
+    if (!(o.line_width > 0 && o.line_width <= most))
+        return usage("--line-width must be more than 0 and at most 256 / --ssaa pixels, got " + general_number(o.line_width));
+    if (o.point_world_size && !(*o.point_world_size > 0 && *o.point_world_size < 1e30f))
+        return usage("--point-world-size must be a positive number of model units, got " + general_number(*o.point_world_size));
+    PrimitiveStyle& style = p.settings.primitives;
+    style.point_size = (o.point_world_size ? *o.point_world_size : o.point_size) * (o.point_world_size ? 1.0f : static_cast<float>(o.ssaa));
+    style.point_shape = o.point_shape == "square" ? PointShape::square : PointShape::round;
+    style.line_width = o.line_width * static_cast<float>(o.ssaa);
+    p.settings.point_size_in_model_units = o.point_world_size.has_value();
     p.view.azimuth = radians(o.azimuth);
     p.view.elevation = radians(o.elevation);
     p.view.fovy = radians(o.fov);

@@ -50,6 +50,12 @@ struct RenderOptions {
     int threads = defaults::k_threads;
     std::string isa = "best";  // instruction set of the SIMD kernels (facet/isa.hpp)
     float crease_angle = defaults::k_crease_angle_degrees;
+    // Points and lines (RenderSettings::primitives), in output pixels; --point-world-size instead
+    // gives points a size in model units.
+    float point_size = defaults::k_point_size;
+    std::optional<float> point_world_size;
+    std::string point_shape = "round";
+    float line_width = defaults::k_line_width;
     // Resource limits for loading (LoadOptions, TextureLimits): checked before anything is allocated.
     long long max_triangles = static_cast<long long>(defaults::k_max_triangles);  // signed: -1 is an error, not 2^64 - 1
     int max_texture_size = defaults::k_max_texture_size;

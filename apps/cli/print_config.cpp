@@ -122,6 +122,12 @@ void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera,
     const CullMode cull = plan.settings.shading == Shading::lambert ? CullMode::none : plan.settings.cull;
     out.add("cull", cull == CullMode::none && plan.settings.shading != Shading::lambert ? "single-sided"
                                                                                        : cull_name(cull));
+    const PrimitiveStyle& style = plan.settings.primitives;
+    const float ssaa = static_cast<float>(plan.ssaa);
+    out.add("point-size", plan.settings.point_size_in_model_units ? short_number(style.point_size) + " model units"
+                                                                  : short_number(style.point_size / ssaa));
+    out.add("point-shape", style.point_shape == PointShape::square ? "square" : "round");
+    out.add("line-width", short_number(style.line_width / ssaa));
     describe_camera(out, plan, camera);
     describe_lighting(out, plan);
     if (plan.views) {  // --views, --passes

@@ -76,6 +76,11 @@ inline constexpr float k_metallic = 0.0f, k_roughness = 0.5f;
 // diffuse surface facing the built-in studio's key light reads a little below white.
 inline constexpr float k_exposure = 1.0f;
 
+// Points and lines (RenderSettings::primitives), in pixels of the target: splats that read as a
+// surface on a dense scan at 800x600 without hiding its detail, and lines a little heavier than one
+// pixel so that thin diagonals do not look dotted.
+inline constexpr float k_point_size = 3.0f, k_line_width = 1.5f;
+
 // ---- The command line and the viewer ----
 
 inline constexpr int k_image_width = 800, k_image_height = 600;  // render: the image; view: the window

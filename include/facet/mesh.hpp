@@ -1,6 +1,7 @@
 // facet: triangle meshes in object space, and generators for the shapes examples and tests use.
 // A Mesh is plain arrays: positions, and optionally one normal, colour and uv per position;
-// indices name three positions per triangle. Loading files is io's job, not this header's.
+// indices name three positions per triangle, points one per point, lines two per segment.
+// Loading files is io's job, not this header's.
 #pragma once
 
 #include <cstdint>
@@ -30,14 +31,19 @@ struct Mesh {
     // the normal), w = +1 or -1, the side of the bitangent: b = w cross(n, t) points toward the top of
     // the texture image (decreasing v), as glTF's TANGENT. What normal maps are read with.
     std::vector<Vec4> tangents;
+    // Points and line segments drawn besides the triangles (README, "Points and lines"), from the
+    // same vertices: one index per point, two per segment (strips and loops as segments that share
+    // their ends, which join without gaps).
+    std::vector<std::uint32_t> points;
+    std::vector<std::uint32_t> lines;
 
     std::size_t triangle_count() const { return indices.size() / 3; }
     // Checks that the attribute arrays match the positions and every index is in range.
     Status validate() const;
     // Bounds of the finite positions.
     Aabb bounds() const;
-    // Appends another mesh (its indices shifted), transformed by `model`. Attributes missing on
-    // one side are filled with defaults (normal 0, colour white, uv 0) so the arrays stay aligned.
+    // Appends another mesh (its indices, points and lines shifted), transformed by `model`. Attributes
+    // missing on one side are filled with defaults (normal 0, colour white, uv 0) so the arrays stay aligned.
     void append(const Mesh& other, const Mat4& model = Mat4::identity());
 };
 

@@ -121,13 +121,45 @@ LambdaShader<N, VertexFn, FragmentFn> make_shader(VertexFn vertex_fn, FragmentFn
     return {std::move(vertex_fn), std::move(fragment_fn)};
 }
 
-// What to draw: `vertex_count` vertices, assembled into triangles by `indices` (three per
-// triangle) or, when indices is empty, by consecutive triples.
+// What the indices of a draw assemble: triangles (three indices each), points (one each, drawn as
+// screen-space splats) or line segments (two each, drawn as screen-space quads of a width in pixels).
+// The coverage rules of points and lines are in README.md ("Points and lines"); their splats and
+// quads go through the same tiles, depth test and shading as triangles.
+enum class Topology { triangles, points, lines };
+enum class PointShape { round, square };
+
+// The size of points and the width of lines. A point covers the pixel centres within size / 2 of its
+// projected centre (round), or inside the size x size square around it (square); a segment the pixel
+// centres within width / 2 of it, without caps; consecutive segments that share a vertex (the second
+// index of one is the first of the next) meet in a mitred join, so strips have neither gaps nor
+// double hits. With `model_scale` > 0 the point size is in model units instead: a point at clip w
+// is size * model_scale / w pixels (model_scale: pixels per unit at w = 1, e.g. the projection's
+// y scale times half the viewport's height), at most k_max_point_size.
+struct PrimitiveStyle {
+    static constexpr float k_max_point_size = 256.0f;  // pixels; sizes and widths must be in (0, this]
+    static constexpr float k_max_line_width = 256.0f;
+    float point_size = 1.0f;
+    PointShape point_shape = PointShape::round;
+    float model_scale = 0.0f;
+    float line_width = 1.0f;
+};
+
+// What to draw: `vertex_count` vertices, assembled into primitives of `topology` by `indices` or,
+// when indices is empty, by consecutive vertices.
 struct DrawInput {
     std::uint32_t vertex_count = 0;
     std::span<const std::uint32_t> indices;
-    // The triangles assembled; a trailing partial triangle (index count not a multiple of 3) is ignored.
-    std::size_t triangle_count() const { return indices.empty() ? vertex_count / 3 : indices.size() / 3; }
+    Topology topology = Topology::triangles;
+    PrimitiveStyle style{};  // points and lines
+    // Indices per primitive of the topology.
+    int arity() const { return topology == Topology::triangles ? 3 : topology == Topology::lines ? 2 : 1; }
+    // The primitives assembled; a trailing partial one (index count not a multiple of the arity) is ignored.
+    std::size_t primitive_count() const {
+        const std::size_t n = indices.empty() ? vertex_count : indices.size();
+        return n / static_cast<std::size_t>(arity());
+    }
+    // The triangles of a triangle draw (0 for points and lines).
+    std::size_t triangle_count() const { return topology == Topology::triangles ? primitive_count() : 0; }
 };
 
 // What a draw call did, for tests, statistics and warnings.
@@ -136,7 +168,9 @@ struct DrawStats {
     std::uint64_t triangles_invalid = 0;   // dropped: index out of range or non-finite position
     std::uint64_t triangles_culled = 0;    // dropped: back/front face or zero area
     std::uint64_t triangles_clipped = 0;   // crossed a clip plane and were cut
-    std::uint64_t triangles_rasterized = 0;  // set up and binned (after clipping)
+    std::uint64_t triangles_rasterized = 0;  // set up and binned (after clipping; points' and lines' too)
+    std::uint64_t points_in = 0, points_invalid = 0;  // invalid: index out of range or non-finite position
+    std::uint64_t segments_in = 0, segments_invalid = 0;
 
     // The counts of several draws, summed.
     DrawStats& operator+=(const DrawStats& s) {
@@ -145,6 +179,8 @@ struct DrawStats {
         triangles_culled += s.triangles_culled;
         triangles_clipped += s.triangles_clipped;
         triangles_rasterized += s.triangles_rasterized;
+        points_in += s.points_in, points_invalid += s.points_invalid;
+        segments_in += s.segments_in, segments_invalid += s.segments_invalid;
         return *this;
     }
 };

@@ -53,9 +53,10 @@ public:
     int tile_size() const { return tile_size_; }
     std::size_t batch_triangles() const { return batch_size_; }  // per batch, all threads together
 
-    // Draws triangles with `shader`. Invalid geometry (indices out of range, NaN or infinite
-    // positions, zero-area triangles, parts behind the eye) is dropped and counted in the returned
-    // stats; the rest renders. Throws FacetError for an empty or off-target viewport. With `passes`,
+    // Draws triangles, points or lines (input.topology) with `shader`. Invalid geometry (indices out
+    // of range, NaN or infinite positions, zero-area triangles, parts behind the eye) is dropped and
+    // counted in the returned stats; the rest renders. Throws FacetError for an empty or off-target
+    // viewport, or a point size or line width outside (0, 256]. With `passes`,
     // also writes the render passes of the pixels where the draw's triangles end up visible
     // (facet/passes.hpp; its targets of the target's size); without, a draw costs nothing more.
     template <Shader S>
@@ -65,7 +66,7 @@ public:
 private:
     struct Plan {
         detail::FrontEndParams params;
-        std::size_t triangle_count;
+        std::size_t primitive_count;  // triangles, points or segments
         int stride;               // varyings per vertex
         std::size_t batch_size;   // triangles per batch
         std::size_t chunk_count;  // of the current batch
@@ -140,12 +141,12 @@ void Renderer::run_vertex_stage(const S& shader, std::uint32_t vertex_count, con
 template <Shader S>
 DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader,
                          const DrawPasses* passes) {
-    const detail::TileShading shading = detail::tile_shading(shader, state, input.triangle_count());  // the order
+    const detail::TileShading shading = detail::tile_shading(shader, state, input.primitive_count());  // the order
     Plan plan = begin_draw(target, state, input, shading, passes);  // viewport, tiles, batches, passes
     run_vertex_stage(shader, input.vertex_count, plan);             // vertex(), then projection
     DrawStats stats;
-    for (std::size_t first = 0; first < plan.triangle_count; first += plan.batch_size) {
-        run_front_end(input, plan, first, std::min(plan.triangle_count, first + plan.batch_size));  // set up, bin
+    for (std::size_t first = 0; first < plan.primitive_count; first += plan.batch_size) {
+        run_front_end(input, plan, first, std::min(plan.primitive_count, first + plan.batch_size));  // set up, bin
         run_tiles(target, plan, shading);  // depth, shading, stores: tile by tile
         add_stats(plan, stats);
     }

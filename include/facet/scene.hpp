@@ -78,6 +78,8 @@ struct ObjectView {
     Mat4 model = Mat4::identity();
     const Material* material = nullptr;  // never null
     const Vec4* tangents = nullptr;      // Mesh::tangents, or null (normal maps are then not used)
+    std::span<const std::uint32_t> points;  // one per point (Mesh::points)
+    std::span<const std::uint32_t> lines;   // two per segment (Mesh::lines)
 };
 ObjectView view_of(const SceneObject& object);
 
@@ -126,6 +128,13 @@ struct RenderSettings {
     // Moves the image by this many pixels of the target, right and down: the sub-pixel offset of
     // one frame of anti-aliasing by jittered frames (antialias_offsets). Zero: none.
     Vec2 pixel_offset{0, 0};
+    // Points and lines (Mesh::points, Mesh::lines): size, shape and width, in pixels of the target;
+    // with point_size_in_model_units, the point size is in world units, perspective-scaled
+    // (render_scene sets primitives.model_scale from the camera; the value given there is ignored).
+    // Points and lines without normals are drawn unlit (their vertex or base colour) in the lit,
+    // lambert and flat modes; with normals they are lit like surfaces facing that way.
+    PrimitiveStyle primitives{defaults::k_point_size, PointShape::round, 0.0f, defaults::k_line_width};
+    bool point_size_in_model_units = false;
 };
 
 // Anti-aliasing by n jittered frames (n = 1, 2, 4 or 8): each frame drawn with one of these

@@ -98,4 +98,16 @@ int clip_triangle(const ClipVertex (&tri)[3], std::uint32_t planes, GuardBand g,
     return count;
 }
 
+bool clip_segment(ClipVertex& a, ClipVertex& b, std::uint32_t planes, GuardBand g, const ClipVertices& vertices,
+                  ClipVertices& extras, const ClipPassVaryings* passes) {
+    for (int plane = 0; plane < k_clip_plane_count; ++plane) {
+        if (!(planes & (1u << plane))) continue;
+        const bool a_in = plane_distance(plane, a.pos, g) >= 0, b_in = plane_distance(plane, b.pos, g) >= 0;
+        if (!a_in && !b_in) return false;
+        if (!a_in) a = intersect(b, a, plane, g, vertices, extras, passes);
+        if (!b_in) b = intersect(a, b, plane, g, vertices, extras, passes);
+    }
+    return true;
+}
+
 }  // namespace facet::detail

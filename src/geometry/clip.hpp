@@ -41,4 +41,10 @@ struct ClipPassVaryings {
 int clip_triangle(const ClipVertex (&tri)[3], std::uint32_t planes, GuardBand g, const ClipVertices& vertices,
                   ClipVertices& extras, ClipVertex (&out)[k_max_clip_polygon], const ClipPassVaryings* passes = nullptr);
 
+// Clips the segment a-b against the planes in `planes` (an outcode union), in place: an end outside
+// a plane is replaced by the crossing, made as clip_triangle makes its vertices (appended to `extras`
+// and `passes`' extras). False when nothing is left.
+bool clip_segment(ClipVertex& a, ClipVertex& b, std::uint32_t planes, GuardBand g, const ClipVertices& vertices,
+                  ClipVertices& extras, const ClipPassVaryings* passes = nullptr);
+
 }  // namespace facet::detail

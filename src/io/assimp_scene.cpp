@@ -1,10 +1,11 @@
 // facet io, the conversion every reader ends in (assimp_scene.hpp): a SourceScene into a Scene.
 // The node hierarchy is walked, each mesh reference becomes a SceneObject (the mesh in its own
-// space, the accumulated node transform as `model`); triangles with non-finite or out-of-range
-// vertices are dropped with a warning; missing normals are computed with the crease angle (and
-// tangents where a normal map needs them); materials become glTF metallic-roughness (README,
-// "Materials"): factors, alpha mode, sidedness and each map's texture (embedded, or a file the
-// model's resource folders allow, found leniently: resources.hpp), a file's textures decoded in
+// space, the accumulated node transform as `model`; faces of 3, 2 and 1 vertices as triangles, line
+// segments and points); those with non-finite or out-of-range vertices are dropped with a warning;
+// missing normals are computed with the crease angle (and tangents where a normal map needs them);
+// materials become glTF metallic-roughness (README, "Materials"): factors, alpha mode, sidedness and
+// each map's texture (embedded, or a file the model's resource folders allow, found leniently:
+// resources.hpp), a file's textures decoded in
 // parallel. Not the reading itself.
 #include "io/assimp_scene.hpp"
 
@@ -43,28 +44,29 @@ Mat4 to_mat4(const aiMatrix4x4& m) {
     return Mat4::from_rows({m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3, m.d4});
 }
 
-// The triangles of a mesh as (a, b, c) vertex indices, in order.
+// The faces of a mesh, in order: triangles, line segments and points (3, 2 and 1 vertex indices).
 template <class F>
-void for_each_triangle(const SourceMesh& m, F&& f) {
+void for_each_face(const SourceMesh& m, F&& f) {
     if (m.triangles) {
-        for (std::size_t t = 0; t < 3 * m.triangle_count; t += 3) f(m.triangles[t], m.triangles[t + 1], m.triangles[t + 2]);
+        for (std::size_t t = 0; t < 3 * m.triangle_count; t += 3) f(m.triangles + t, 3u);
         return;
     }
-    for (std::uint32_t i = 0; m.triangle_mesh && i < m.face_count; ++i)
-        if (m.faces[i].mNumIndices == 3) f(m.faces[i].mIndices[0], m.faces[i].mIndices[1], m.faces[i].mIndices[2]);
+    for (std::uint32_t i = 0; m.drawn_mesh && i < m.face_count; ++i)
+        if (m.faces[i].mNumIndices >= 1 && m.faces[i].mNumIndices <= 3) f(m.faces[i].mIndices, m.faces[i].mNumIndices);
 }
 
-bool is_triangle_mesh(const SourceMesh& m) { return m.triangles ? m.triangle_count > 0 : m.triangle_mesh; }
+bool is_drawn_mesh(const SourceMesh& m) { return m.triangles ? m.triangle_count > 0 : m.drawn_mesh; }
 
-std::size_t triangle_count(const SourceMesh& m) {
+// Triangles, points and segments: what the limits (max_triangles, the size estimate) count.
+std::size_t face_count(const SourceMesh& m) {
     if (m.triangles) return m.triangle_count;
     std::size_t n = 0;
-    for_each_triangle(m, [&](unsigned, unsigned, unsigned) { ++n; });
+    for_each_face(m, [&](const unsigned*, unsigned) { ++n; });
     return n;
 }
 
 std::uint64_t estimated_bytes(const SourceMesh& m) {
-    return estimated_scene_bytes(m.vertex_count, triangle_count(m), m.colours != nullptr, m.uvs != nullptr);
+    return estimated_scene_bytes(m.vertex_count, face_count(m), m.colours != nullptr, m.uvs != nullptr);
 }
 
 // Node transforms are composed parent-first. The walk is iterative (deep hierarchies cannot
@@ -118,7 +120,7 @@ Status walk_nodes(const std::string& path, const SourceScene& scene, const Mat4&
 // One mesh converted, shared by every node that refers to it.
 struct ConvertedMesh {
     Mesh mesh;
-    std::size_t dropped = 0;     // triangles with a non-finite or out-of-range vertex
+    std::size_t dropped = 0;     // triangles, points and segments with a non-finite or out-of-range vertex
     std::size_t degenerate = 0;  // kept triangles with two corners at the same position
 };
 
@@ -133,9 +135,9 @@ Vec4 clamp_colour(const aiColor4D& c) {
     return {unit(c.r), unit(c.g), unit(c.b), unit(c.a)};
 }
 
-// Keeps the triangles whose three vertices exist and are finite, then only the vertices they use,
-// numbered in order of first use. With `tangents` (its material has a normal map), the file's
-// tangents when it has them for its normals, else computed (compute_tangents).
+// Keeps the triangles, segments and points whose vertices exist and are finite, then only the
+// vertices they use, numbered in order of first use. With `tangents` (its material has a normal
+// map), the file's tangents when it has them for its normals, else computed (compute_tangents).
 ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float crease_angle_radians, int threads,
                            bool tangents) {
     ConvertedMesh out;
@@ -145,24 +147,26 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         const aiVector3D& p = in.positions[i];
         return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
     };
-    out.mesh.indices.reserve(3 * triangle_count(in));
-    for_each_triangle(in, [&](unsigned a, unsigned b, unsigned c) {
-        const unsigned corner[3] = {a, b, c};
+    if (in.triangles) out.mesh.indices.reserve(3 * in.triangle_count);
+    for_each_face(in, [&](const unsigned* corner, unsigned n) {
         bool ok = true;
-        for (unsigned k = 0; k < 3; ++k) ok = ok && corner[k] < in.vertex_count && finite(corner[k]);
+        for (unsigned k = 0; k < n; ++k) ok = ok && corner[k] < in.vertex_count && finite(corner[k]);
         if (!ok) {
             ++out.dropped;
             return;
         }
-        const aiVector3D &pa = in.positions[a], &pb = in.positions[b], &pc = in.positions[c];
-        out.degenerate += pa == pb || pb == pc || pc == pa;
-        for (unsigned k = 0; k < 3; ++k) {
+        if (n == 3) {
+            const aiVector3D &pa = in.positions[corner[0]], &pb = in.positions[corner[1]], &pc = in.positions[corner[2]];
+            out.degenerate += pa == pb || pb == pc || pc == pa;
+        }
+        std::vector<std::uint32_t>& list = n == 3 ? out.mesh.indices : n == 2 ? out.mesh.lines : out.mesh.points;
+        for (unsigned k = 0; k < n; ++k) {
             std::uint32_t& r = remap[corner[k]];
             if (r == ~0u) {
                 r = static_cast<std::uint32_t>(used.size());
                 used.push_back(corner[k]);
             }
-            out.mesh.indices.push_back(r);
+            list.push_back(r);
         }
     });
     Mesh& m = out.mesh;
@@ -529,7 +533,8 @@ SourceScene source_of(const aiScene& scene, bool gltf) {
         s.uvs = m.HasTextureCoords(0) ? m.mTextureCoords[0] : nullptr;
         if (m.HasTangentsAndBitangents()) s.tangents = m.mTangents, s.bitangents = m.mBitangents;
         s.material = m.mMaterialIndex;
-        s.triangle_mesh = (m.mPrimitiveTypes & aiPrimitiveType_TRIANGLE) != 0 && m.mNumFaces > 0;
+        s.drawn_mesh = (m.mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_LINE | aiPrimitiveType_POINT)) != 0 &&
+                       m.mNumFaces > 0;
         s.faces = m.mFaces;
         s.face_count = m.mNumFaces;
         out.meshes.push_back(s);
@@ -554,7 +559,7 @@ SourceScene OwnScene::view() const {
         s.material = m.material;
         s.triangles = m.triangles.data();
         s.triangle_count = m.triangles.size() / 3;
-        s.triangle_mesh = s.triangle_count > 0;
+        s.drawn_mesh = s.triangle_count > 0;
         out.meshes.push_back(s);
     }
     for (const std::unique_ptr<aiMaterial>& m : materials) out.materials.push_back(m.get());
@@ -571,7 +576,7 @@ Result<LoadedModel> convert_scene(const std::string& path, const SourceScene& sc
     std::vector<std::size_t> references(scene.meshes.size(), 0);
     Status counted = walk_nodes(path, scene, root, [&](unsigned mesh, const Mat4&) -> Status {
         ++references[mesh];
-        instance_triangles += triangle_count(scene.meshes[mesh]);
+        instance_triangles += face_count(scene.meshes[mesh]);
         if (instance_triangles > options.max_triangles) return too_many_triangles(path, instance_triangles, options);
         scene_bytes += estimated_bytes(scene.meshes[mesh]);
         if (scene_bytes > options.max_scene_bytes)
@@ -583,7 +588,7 @@ Result<LoadedModel> convert_scene(const std::string& path, const SourceScene& sc
     });
     if (!counted) return counted.error();
     if (instance_triangles == 0)
-        return fail(ErrorCode::bad_format, path, "contains no triangles (only points or lines, or nothing placed in the scene)");
+        return fail(ErrorCode::bad_format, path, "contains no triangles, points or lines (or nothing placed in the scene)");
 
     // The meshes converted and placed, then their textures decoded together, then the objects.
     Converter converter(path, scene, options, roots);
@@ -592,10 +597,10 @@ Result<LoadedModel> convert_scene(const std::string& path, const SourceScene& sc
         Mat4 world;
     };
     std::vector<Placement> placements;
-    std::size_t dropped = 0, kept = 0, degenerate = 0;
+    std::size_t dropped = 0, kept = 0, degenerate = 0, points_lines = 0;
     std::unordered_set<unsigned> counted_meshes;
     Status placed = walk_nodes(path, scene, root, [&](unsigned index, const Mat4& world) -> Status {
-        if (!is_triangle_mesh(scene.meshes[index])) {
+        if (!is_drawn_mesh(scene.meshes[index])) {
             --references[index];
             return Ok{};
         }
@@ -604,8 +609,10 @@ Result<LoadedModel> convert_scene(const std::string& path, const SourceScene& sc
             dropped += converted.dropped;
             kept += converted.mesh.triangle_count();
             degenerate += converted.degenerate;
+            points_lines += converted.mesh.points.size() + converted.mesh.lines.size();
         }
-        if (converted.mesh.indices.empty()) {
+        const Mesh& m = converted.mesh;
+        if (m.indices.empty() && m.points.empty() && m.lines.empty()) {
             --references[index];
             return Ok{};
         }
@@ -628,15 +635,15 @@ Result<LoadedModel> convert_scene(const std::string& path, const SourceScene& sc
     }
     if (out.scene.objects.empty())
         return fail(ErrorCode::bad_format, path,
-                    "has no valid triangles (" + std::to_string(dropped) +
+                    "has no valid triangles, points or lines (" + std::to_string(dropped) +
                         " dropped for non-finite coordinates or out-of-range indices)");
     // Zero-area triangles are harmless among others, but a file of nothing else shows nothing.
-    if (degenerate == kept)
+    if (degenerate == kept && points_lines == 0)
         return fail(ErrorCode::bad_format, path,
                     "has no valid triangles (all " + std::to_string(kept) + " have two corners at the same position)");
     if (dropped > 0)
         out.warnings.push_back(path + ": dropped " + std::to_string(dropped) +
-                               " triangles with non-finite coordinates or out-of-range indices");
+                               " triangles, points or segments with non-finite coordinates or out-of-range indices");
     for (std::string& w : converter.warnings()) out.warnings.push_back(std::move(w));
     return out;
 }

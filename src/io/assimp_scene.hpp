@@ -29,8 +29,9 @@ namespace facet::io_detail {
 class ResourceRoots;
 
 // One mesh as views of its arrays (vertex_count entries each; normals, colours, uvs may be null).
-// Its triangles are either assimp's faces (the faces of three indices of a mesh whose primitive
-// types include triangles) or, from facet's readers, three indices per triangle.
+// Its faces are either assimp's (of three, two and one indices: triangles, line segments and points,
+// of a mesh whose primitive types include any of them) or, from facet's readers, three indices per
+// triangle.
 struct SourceMesh {
     std::uint32_t vertex_count = 0;
     const aiVector3D* positions = nullptr;
@@ -40,7 +41,7 @@ struct SourceMesh {
     const aiVector3D* tangents = nullptr;    // with bitangents, or neither (glTF's TANGENT, as assimp gives it)
     const aiVector3D* bitangents = nullptr;
     unsigned material = 0;
-    bool triangle_mesh = false;        // assimp: its primitive types include triangles and it has faces
+    bool drawn_mesh = false;           // assimp: its types include triangles, lines or points and it has faces
     const aiFace* faces = nullptr;     // assimp's
     std::uint32_t face_count = 0;
     const std::uint32_t* triangles = nullptr;  // facet's readers'

@@ -29,14 +29,6 @@ struct Overloaded : F... {
 template <class... F>
 Overloaded(F...) -> Overloaded<F...>;
 
-std::optional<std::string> read_whole_file(const std::string& path, std::uint64_t size) {
-    std::ifstream in(path, std::ios::binary);
-    std::string text(static_cast<std::size_t>(size), '\0');
-    if (!in.read(text.data(), static_cast<std::streamsize>(text.size())) || in.peek() != std::char_traits<char>::eof())
-        return std::nullopt;  // changed while being read: assimp reads it again and decides
-    return text;
-}
-
 // A file's bytes followed by a NUL, as the OBJ reader takes them, read straight into memory that is
 // not first cleared (tens of megabytes). Not mapped: a file cut short while mapped would crash
 // the reader (SIGBUS) instead of failing. Nullopt when the file's size is no longer `size`.
@@ -100,6 +92,14 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
     return model;
 }
 
+std::optional<std::string> read_whole_file(const std::string& path, std::uint64_t size) {
+    std::ifstream in(path, std::ios::binary);
+    std::string text(static_cast<std::size_t>(size), '\0');
+    if (!in.read(text.data(), static_cast<std::streamsize>(text.size())) || in.peek() != std::char_traits<char>::eof())
+        return std::nullopt;  // changed while being read: assimp reads it again and decides
+    return text;
+}
+
 std::optional<OwnFormatHeader> OwnFormatHeader::parse(const std::string& ext, std::string_view head, std::uint64_t size) {
     if (ext == "off") return OwnFormatHeader(parse_off_header(head));
     if (ext == "stl") return OwnFormatHeader(parse_stl_header(head, size));
@@ -112,6 +112,16 @@ Status OwnFormatHeader::check(const std::string& path, std::uint64_t size, const
                                  [&](const StlHeader& h) { return check_stl_header(path, h, size, options); },
                                  [&](const PlyHeader& h) { return check_ply_header(path, h, size, options); }},
                       header_);
+}
+
+std::optional<Result<LoadedModel>> OwnFormatHeader::load_point_cloud(const std::string& path, std::string_view head,
+                                                                     std::uint64_t size, const LoadOptions& options) const {
+    const PlyHeader* ply = std::get_if<PlyHeader>(&header_);
+    if (!ply || !is_ply_point_cloud(*ply)) return std::nullopt;
+    const std::optional<std::string> bytes = read_whole_file(path, size);
+    if (!bytes || std::string_view(*bytes).substr(0, head.size()) != head)
+        return fail(ErrorCode::io, path, "changed while it was being read");
+    return read_ply_point_cloud(path, *bytes, *ply, options);
 }
 
 std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::string_view head, std::uint64_t size,

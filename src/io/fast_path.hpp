@@ -25,6 +25,9 @@ namespace facet::io_detail {
 std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const std::string& ext, std::uint64_t size,
                                                   const LoadOptions& options);
 
+// The file's `size` bytes, or nullopt when it cannot be read whole or has changed size.
+std::optional<std::string> read_whole_file(const std::string& path, std::uint64_t size);
+
 class OwnFormatHeader {
 public:
     // The header of a file with the extension `ext` (lower case) whose format has a reader of
@@ -39,6 +42,11 @@ public:
     // Reads the whole file (which must still start with `head`) with facet's own reader.
     std::optional<LoadedModel> load(const std::string& path, std::string_view head, std::uint64_t size,
                                     const LoadOptions& options) const;
+
+    // A PLY point cloud (ply.hpp, is_ply_point_cloud) read whole, or its error; nullopt for any
+    // other file. Not a fast path: assimp reads no such file.
+    std::optional<Result<LoadedModel>> load_point_cloud(const std::string& path, std::string_view head,
+                                                        std::uint64_t size, const LoadOptions& options) const;
 
 private:
     explicit OwnFormatHeader(std::variant<OffHeader, StlHeader, PlyHeader> header) : header_(std::move(header)) {}

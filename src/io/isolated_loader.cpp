@@ -140,6 +140,8 @@ void write_model(Writer& w, const LoadedModel& m) {
         w.array(o.mesh.uvs);
         w.array(o.mesh.indices);
         w.array(o.mesh.tangents);
+        w.array(o.mesh.points);
+        w.array(o.mesh.lines);
         w.pod(o.model);
         for (const std::shared_ptr<const Texture>* t : material_textures(materials[i]))
             w.pod<std::int32_t>(*t ? texture_index[t->get()] : -1);
@@ -172,6 +174,8 @@ std::optional<LoadedModel> read_model(Reader& r) {
         o.mesh.uvs = r.array<Vec2>();
         o.mesh.indices = r.array<std::uint32_t>();
         o.mesh.tangents = r.array<Vec4>();
+        o.mesh.points = r.array<std::uint32_t>();
+        o.mesh.lines = r.array<std::uint32_t>();
         o.model = r.pod<Mat4>();
         for (std::shared_ptr<const Texture>* t : material_textures(o.material)) {
             const auto index = r.pod<std::int32_t>();

@@ -7,7 +7,9 @@
 //   2. plain OFF, STL and PLY files are read by facet's own readers (fast_path.hpp), several times
 //      faster, into the same Scene;
 //   3. everything else, and whatever those readers decline, is read by assimp and converted
-//      (assimp_import.hpp, assimp_scene.hpp).
+//      (assimp_import.hpp, assimp_scene.hpp);
+//   point clouds, which assimp does not read (PLY of vertices alone, XYZ, PTS, OBJ of `v` lines
+//   alone), are read by point_cloud.hpp's readers.
 #include "facet/model.hpp"
 
 #include <algorithm>
@@ -26,6 +28,7 @@
 #include "io/fast_path.hpp"
 #include "io/load_common.hpp"
 #include "io/load_paths.hpp"
+#include "io/point_cloud.hpp"
 
 namespace facet {
 namespace {
@@ -87,11 +90,24 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
     }
 
     try {
+        if (ext == "xyz" || ext == "pts") {
+            const std::optional<std::string> bytes = io_detail::read_whole_file(path, size);
+            if (!bytes) return fail(ErrorCode::io, path, "changed while it was being read");
+            return io_detail::read_text_points(path, *bytes, ext == "pts", options);
+        }
+        if (own)
+            if (std::optional<Result<LoadedModel>> cloud = own->load_point_cloud(path, head, size, options)) return std::move(*cloud);
         if (fast_paths && own)
             if (std::optional<LoadedModel> model = own->load(path, head, size, options)) return std::move(*model);
         if (fast_paths)
             if (std::optional<Result<LoadedModel>> model = io_detail::load_own_scene(path, ext, size, options)) return std::move(*model);
-        return io_detail::load_with_assimp(path, ext, options);
+        Result<LoadedModel> model = io_detail::load_with_assimp(path, ext, options);
+        // assimp refuses OBJ files of vertices alone ("no faces"): those are point clouds.
+        if (!model && ext == "obj" && model.error().code == ErrorCode::bad_format)
+            if (const std::optional<std::string> bytes = io_detail::read_whole_file(path, size))
+                if (std::optional<Result<LoadedModel>> cloud = io_detail::read_obj_points(path, *bytes, options))
+                    return std::move(*cloud);
+        return model;
     } catch (const std::bad_alloc&) {
         return io_detail::out_of_memory(path);
     } catch (const FacetError& e) {
@@ -115,7 +131,7 @@ bool has_own_parser(const std::string& path) {
 
 bool is_supported_model_file(const std::string& path) {
     const std::string ext = model_extension(path);
-    return !ext.empty() && io_detail::assimp_reads_extension(ext);
+    return !ext.empty() && (ext == "xyz" || ext == "pts" || io_detail::assimp_reads_extension(ext));
 }
 
 Result<LoadedModel> load_model(const std::string& path, const LoadOptions& options) {

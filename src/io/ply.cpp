@@ -4,7 +4,10 @@
 // fast_atoreal_move<double> and then cast, each element from its own line.
 #include "io/ply.hpp"
 
+#include <algorithm>
 #include <bit>
+#include <charconv>
+#include <system_error>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,6 +16,7 @@
 
 #include "io/assimp_text.hpp"
 #include "io/load_common.hpp"
+#include "io/point_cloud.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -297,6 +301,126 @@ std::optional<JoinedMesh> read_plain_ply_with_header(std::string_view bytes, con
                                                  : read_binary(bytes, *h, positions, indices);
     if (!read) return std::nullopt;
     return join_identical_vertices(positions, indices);
+}
+
+namespace {
+
+// A point cloud's header (is_ply_point_cloud): the vertex properties, and which is which.
+struct CloudForm {
+    Format format = Format::ascii;
+    std::uint64_t vertices = 0;
+    std::vector<Type> types;
+    int position[3] = {-1, -1, -1}, normal[3] = {-1, -1, -1}, colour[4] = {-1, -1, -1, -1};
+    std::size_t body = 0;  // where the vertices start
+};
+
+std::optional<CloudForm> cloud_form(const PlyHeader& header) {
+    if (!header.magic || !header.end || header.lines.empty() || header.after_end.empty()) return std::nullopt;
+    CloudForm f;
+    int element = -1;  // 0: vertex, 1: an empty other element
+    static constexpr const char* k_names[] = {"x", "y", "z", "nx", "ny", "nz", "red", "green", "blue", "alpha"};
+    for (const PlyHeader::Line& line : header.lines) {
+        const std::vector<std::string>& w = line.words;
+        if (w.empty() || w[0] == "comment" || w[0] == "obj_info" || w[0] == "ply" || w[0] == "PLY") continue;
+        if (w[0] == "format" && w.size() == 3) {
+            f.format = w[1] == "ascii" ? Format::ascii : w[1] == "binary_little_endian" ? Format::little_endian
+                                                                                         : Format::big_endian;
+            if (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") return std::nullopt;
+        } else if (w[0] == "element" && w.size() == 3) {
+            const std::optional<std::uint64_t> n = parse_count(w[2]);
+            if (!n) return std::nullopt;
+            if (element < 0 && w[1] == "vertex") f.vertices = *n, element = 0;
+            else if (element >= 0 && *n == 0) element = 1;
+            else return std::nullopt;
+        } else if (w[0] == "property" && element == 1) {
+            continue;  // of an empty element
+        } else if (w[0] == "property" && element == 0 && w.size() == 3) {
+            const std::optional<Type> t = type_named(w[1]);
+            if (!t) return std::nullopt;
+            const int index = static_cast<int>(f.types.size());
+            f.types.push_back(*t);
+            for (int k = 0; k < 10; ++k)
+                if (w[2] == k_names[k]) (k < 3 ? f.position[k] : k < 6 ? f.normal[k - 3] : f.colour[k - 6]) = index;
+        } else {
+            return std::nullopt;
+        }
+    }
+    if (element < 0 || f.position[0] < 0 || f.position[1] < 0 || f.position[2] < 0) return std::nullopt;
+    f.body = *header.end + 10 + (header.after_end[0] == '\r' ? 2 : 1);
+    return f;
+}
+
+// A colour channel's value in [0, 1]: an integer over its type's largest value, a float as it is.
+float channel(double v, Type t) {
+    double scale = 1;
+    switch (t) {
+        case Type::u8: case Type::i8: scale = 255; break;
+        case Type::u16: case Type::i16: scale = 65535; break;
+        case Type::u32: case Type::i32: scale = 4294967295.0; break;
+        default: break;
+    }
+    const double c = v / scale;
+    return std::isfinite(c) ? static_cast<float>(std::clamp(c, 0.0, 1.0)) : 1.0f;
+}
+
+}  // namespace
+
+bool is_ply_point_cloud(const PlyHeader& header) { return cloud_form(header).has_value(); }
+
+Result<LoadedModel> read_ply_point_cloud(const std::string& path, std::string_view bytes, const PlyHeader& header,
+                                         const LoadOptions& options) {
+    const std::optional<CloudForm> f = cloud_form(header);
+    if (!f) return fail(ErrorCode::bad_format, path, "is not a PLY point cloud");
+    if (f->vertices > options.max_triangles)
+        return fail(ErrorCode::limit_exceeded, path,
+                    "has " + std::to_string(f->vertices) + " points, more than the limit of " +
+                        std::to_string(options.max_triangles) + " (--max-triangles counts points too)");
+    const std::size_t n = static_cast<std::size_t>(f->vertices), props = f->types.size();
+    std::size_t stride = 0;
+    for (Type t : f->types) stride += size_of(t);
+    // Checked before anything is allocated: binary vertices take their size, ASCII ones two bytes a value.
+    const std::size_t available = bytes.size() > f->body ? bytes.size() - f->body : 0;
+    const std::size_t least = f->format == Format::ascii ? 2 * props : stride;
+    if (n > available / least)
+        return fail(ErrorCode::bad_format, path,
+                    "PLY header claims " + std::to_string(n) + " vertices, more than the " + std::to_string(available) +
+                        " bytes of data can hold (truncated or corrupt)");
+    const bool normals = f->normal[0] >= 0 && f->normal[1] >= 0 && f->normal[2] >= 0;
+    const bool colours = f->colour[0] >= 0 && f->colour[1] >= 0 && f->colour[2] >= 0;
+    PointCloud cloud;
+    cloud.positions.resize(n);
+    if (normals) cloud.normals.resize(n);
+    if (colours) cloud.colours.assign(n, Vec4{1, 1, 1, 1});
+    std::vector<double> value(props);
+    const bool swap = (f->format == Format::big_endian) == (std::endian::native == std::endian::little);
+    const char* c = bytes.data() + f->body;
+    const char* const end = bytes.data() + bytes.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (f->format == Format::ascii) {
+            for (std::size_t k = 0; k < props; ++k) {
+                while (c < end && (is_space(*c) || is_line_end(*c))) ++c;
+                const auto [next, ec] = std::from_chars(c + (c < end && *c == '+'), end, value[k]);
+                if (ec != std::errc())
+                    return fail(ErrorCode::bad_format, path, "PLY vertex " + std::to_string(i) + " has a value that is not a number");
+                c = next;
+            }
+        } else {
+            for (std::size_t k = 0; k < props; ++k) {
+                value[k] = binary_value(c, f->types[k], swap);
+                c += size_of(f->types[k]);
+            }
+        }
+        for (int a = 0; a < 3; ++a) {
+            cloud.positions[i][static_cast<std::size_t>(a)] = static_cast<float>(value[static_cast<std::size_t>(f->position[a])]);
+            if (normals) cloud.normals[i][static_cast<std::size_t>(a)] = static_cast<float>(value[static_cast<std::size_t>(f->normal[a])]);
+        }
+        for (int a = 0; colours && a < 4; ++a)
+            if (f->colour[a] >= 0) {
+                const auto k = static_cast<std::size_t>(f->colour[a]);
+                cloud.colours[i][static_cast<std::size_t>(a)] = channel(value[k], f->types[k]);
+            }
+    }
+    return point_cloud_model(path, std::move(cloud), options);
 }
 
 std::optional<JoinedMesh> read_plain_ply(std::string_view bytes) { return read_plain_ply_with_header(bytes, parse_ply_header(bytes)); }

@@ -57,4 +57,14 @@ Status check_ply_header(const std::string& path, const PlyHeader& header, std::u
 std::optional<JoinedMesh> read_plain_ply_with_header(std::string_view bytes, const PlyHeader& header);
 std::optional<JoinedMesh> read_plain_ply(std::string_view bytes);
 
+// A point cloud: a PLY header whose first element is `vertex`, with scalar properties among which
+// x, y and z, and whose other elements (faces, edges) have none. Such files are read by
+// read_ply_point_cloud (assimp 5.2.5 refuses them: "contains no faces"): x, y, z; nx, ny, nz when all
+// three are there; red, green, blue and alpha (integers scaled by their type's maximum, floats as
+// they are); other properties skipped. `bytes` is the whole file followed by a NUL character. A body
+// shorter than the header says, or a value that does not parse, is an error naming the vertex.
+bool is_ply_point_cloud(const PlyHeader& header);
+Result<LoadedModel> read_ply_point_cloud(const std::string& path, std::string_view bytes, const PlyHeader& header,
+                                         const LoadOptions& options);
+
 }  // namespace facet::io_detail

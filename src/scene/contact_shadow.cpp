@@ -34,7 +34,7 @@ void blur(std::vector<float>& v, int n, int r) {
 
 ObjectView ContactShadow::view() const {
     return {mesh.positions.data(), mesh.normals.data(), nullptr, mesh.uvs.data(), static_cast<std::uint32_t>(mesh.positions.size()),
-            mesh.indices, Mat4::identity(), &material, nullptr};
+            mesh.indices, Mat4::identity(), &material, nullptr, mesh.points, mesh.lines};
 }
 
 std::optional<ContactShadow> make_contact_shadow(Renderer& renderer, std::span<const ObjectView> objects, float opacity) {

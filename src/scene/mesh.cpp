@@ -18,10 +18,14 @@ Status Mesh::validate() const {
     if (!uvs.empty() && uvs.size() != n) return bad("uvs and positions differ in count");
     if (!tangents.empty() && tangents.size() != n) return bad("tangents and positions differ in count");
     if (indices.size() % 3 != 0) return bad("index count is not a multiple of 3");
-    for (std::size_t i = 0; i < indices.size(); ++i)
-        if (indices[i] >= n)
-            return bad("index " + std::to_string(indices[i]) + " at position " + std::to_string(i) +
-                       " is out of range (" + std::to_string(n) + " vertices)");
+    if (lines.size() % 2 != 0) return bad("line index count is not a multiple of 2");
+    for (const auto* list : {&indices, &points, &lines}) {
+        const char* name = list == &indices ? "index " : list == &points ? "point index " : "line index ";
+        for (std::size_t i = 0; i < list->size(); ++i)
+            if ((*list)[i] >= n)
+                return bad(name + std::to_string((*list)[i]) + " at position " + std::to_string(i) +
+                           " is out of range (" + std::to_string(n) + " vertices)");
+    }
     return Ok{};
 }
 
@@ -55,6 +59,8 @@ void Mesh::append(const Mesh& other, const Mat4& model) {
     for (std::size_t i = old; i < tangents.size() && !other.tangents.empty(); ++i)
         tangents[i] = Vec4(normalize(model.upper3x3() * tangents[i].xyz()), tangents[i].w * side);
     for (std::uint32_t i : other.indices) indices.push_back(base + i);
+    for (std::uint32_t i : other.points) points.push_back(base + i);
+    for (std::uint32_t i : other.lines) lines.push_back(base + i);
 }
 
 void compute_smooth_normals(Mesh& mesh) {

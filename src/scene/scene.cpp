@@ -78,6 +78,48 @@ DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, co
     return r.draw(target, state, DrawInput{o.vertex_count, o.indices}, shader, passes);
 }
 
+// An object's points and lines, after its triangles (state.clear, if any, is done by the first draw).
+template <class S>
+DrawStats draw_points_lines_with(Renderer& r, Framebuffer& target, DrawState state, const ObjectView& o,
+                                 const S& shader, const DrawPasses* passes, const PrimitiveStyle& style) {
+    DrawStats stats;
+    for (const Topology topology : {Topology::points, Topology::lines}) {
+        const std::span<const std::uint32_t> indices = topology == Topology::points ? o.points : o.lines;
+        if (indices.empty()) continue;
+        stats += r.draw(target, state, DrawInput{o.vertex_count, indices, topology, style}, shader, passes);
+        state.clear.reset();
+    }
+    return stats;
+}
+
+// The shader of an object's points and lines: as its triangles' where the mode needs no derivatives
+// and the normals are there; unlit (vertex or base colour) in the lit, lambert and flat modes
+// without normals, and Blinn-Phong under the flat mode's lights rather than flat with them (a point
+// has no face to take a normal from).
+DrawStats draw_points_lines(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o,
+                            const ShadingUniforms& u, MeshArrays arrays, const RenderSettings& settings,
+                            const DrawPasses* passes, const PrimitiveStyle& style) {
+    const bool has_normals = arrays.normals != nullptr;
+    const auto draw = [&](const auto& shader) { return draw_points_lines_with(r, target, state, o, shader, passes, style); };
+    switch (settings.shading) {
+        case Shading::lit:
+            if (!has_normals) return draw(shaders::VertexColour{arrays, u});
+            return draw(shaders::Pbr{arrays, u, scene_detail::pbr_uniforms(*o.material, arrays.uvs != nullptr, settings)});
+        case Shading::flat:
+            if (!has_normals) return draw(shaders::VertexColour{arrays, u});
+            if (!arrays.colours) return draw(shaders::BlinnPhongBaseColour{arrays, u});
+            return draw(shaders::BlinnPhong{arrays, u});
+        case Shading::lambert:
+            if (!has_normals) return draw(shaders::VertexColour{arrays, u});
+            return draw(shaders::LambertBaseColour{arrays, u});
+        case Shading::normals: return draw(shaders::Normals{arrays, u});
+        case Shading::mask: return draw(shaders::Mask{arrays, u});
+        case Shading::vertex_color:
+        case Shading::texture: return draw(shaders::VertexColour{arrays, u});
+    }
+    return {};
+}
+
 TextureBinding binding_of(const Material& m) {
     return {m.base_colour_texture.get(), m.sampler, m.alpha_mode == AlphaMode::mask ? m.alpha_cutoff : -1.0f};
 }
@@ -135,7 +177,7 @@ const char* to_string(Shading s) {
 ObjectView view_of(const SceneObject& o) {
     const MeshArrays a = MeshArrays::of(o.mesh);
     return {a.positions, a.normals, a.colours, a.uvs, static_cast<std::uint32_t>(o.mesh.positions.size()),
-            o.mesh.indices, o.model, &o.material, a.tangents};
+            o.mesh.indices, o.model, &o.material, a.tangents, o.mesh.points, o.mesh.lines};
 }
 
 namespace {
@@ -274,6 +316,12 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
     std::optional<ClearValues> clear = ClearValues{settings.background, 1.0f};
     const Mat4 clip_from_world = jittered(settings.pixel_offset, target) * facet::clip_from_world(camera, target);
     const bool lambert = settings.shading == Shading::lambert;
+    PrimitiveStyle primitives = settings.primitives;
+    // Pixels per world unit at w = 1: the projection's y scale times half the height.
+    primitives.model_scale = settings.point_size_in_model_units
+                                 ? camera.projection(static_cast<float>(target.width()) / static_cast<float>(target.height()))(1, 1) *
+                                       (0.5f * static_cast<float>(target.height()))
+                                 : 0.0f;
     DrawPasses draw_passes;
     if (passes) {
         draw_passes.targets = passes->targets;
@@ -305,7 +353,17 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
             state.depth_write = false;
         }
         state.clear = std::exchange(clear, std::nullopt);
-        return draw_object(renderer, target, state, o, u, arrays, settings, passes ? &draw_passes : nullptr);
+        const DrawPasses* p = passes ? &draw_passes : nullptr;
+        // An object of points or lines alone draws no triangles (and a mesh of nothing draws nothing,
+        // but still clears).
+        DrawStats stats;
+        if (!o.indices.empty() || (o.points.empty() && o.lines.empty())) {
+            stats = draw_object(renderer, target, state, o, u, arrays, settings, p);
+            state.clear.reset();
+        }
+        if (o.points.empty() && o.lines.empty()) return stats;
+        stats += draw_points_lines(renderer, target, state, o, u, arrays, settings, p, primitives);
+        return stats;
     };
     DrawStats total;
     std::vector<std::pair<float, std::size_t>> blended;

@@ -77,7 +77,7 @@ void write_pass_records(TileBuffers& b, std::size_t first, const PassDraw& d, co
         const std::uint32_t primitive = primitives[static_cast<std::size_t>(&t - bin.data())];
         float* out = b.pass_records.data() + i * stride;
         std::memcpy(out + ph_primitive, &primitive, sizeof(primitive));
-        const Vec3 normal = face ? face_normal(d, primitive) : Vec3{};
+        const Vec3 normal = face && d.topology == Topology::triangles ? face_normal(d, primitive) : Vec3{};
         out[ph_face_x] = normal.x, out[ph_face_y] = normal.y, out[ph_face_z] = normal.z;
         if (n > 0) {
             const float* var[3];

@@ -43,6 +43,7 @@ struct PassDraw {
     std::span<const std::uint32_t> indices;    // the draw's (empty: consecutive triples)
     FrontFace front_face = FrontFace::ccw;
     int stride = 0;  // pixels per row of the targets
+    Topology topology = Topology::triangles;  // points and lines have no face normal (0, 0, 0)
 };
 
 // A Renderer's render passes: the current draw's (valid during its draw), and the pass vertex

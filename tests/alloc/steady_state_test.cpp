@@ -118,6 +118,27 @@ TEST_P(SteadyStateDraws, DrawAllocatesNothingOnceWarm) {
     EXPECT_EQ(during, 0) << "threads " << GetParam();
 }
 
+// Points and lines: the same for a scene whose mesh carries them (round and square points, a strip).
+TEST_P(SteadyStateDraws, PointsAndLinesAllocateNothingOnceWarm) {
+    Scene scene = test_scene();
+    Mesh& m = scene.objects[0].mesh;
+    for (std::uint32_t i = 0; i < m.positions.size(); ++i) m.points.push_back(i);
+    for (std::uint32_t i = 0; i + 1 < m.positions.size(); ++i) m.lines.insert(m.lines.end(), {i, i + 1});
+    Renderer renderer(RendererConfig{.threads = GetParam()});
+    Framebuffer fb(320, 240);
+    const Camera camera = frame_scene(scene, 0.4f, 0.3f, 0.8f, 320.0f / 240.0f);
+    for (PointShape shape : {PointShape::round, PointShape::square}) {
+        RenderSettings settings;
+        settings.primitives.point_size = 5;
+        settings.primitives.point_shape = shape;
+        for (int warm = 0; warm < 3; ++warm) render_scene(renderer, fb, scene, camera, settings);
+        const long during = allocations_during([&] {
+            for (int frame = 0; frame < 5; ++frame) render_scene(renderer, fb, scene, camera, settings);
+        });
+        EXPECT_EQ(during, 0) << "threads " << GetParam();
+    }
+}
+
 // Render passes: a warm ViewRenderer rendering every pass of views into the caller's memory, with
 // and without supersampling, allocates nothing either.
 TEST_P(SteadyStateDraws, RenderingViewsWithEveryPassAllocatesNothingOnceWarm) {

@@ -1,0 +1,193 @@
+// facet bin: the Emitter, which sets up the front end's triangles (the SIMD batch or one by one) and
+// bins their records into screen tiles in submission order. In: projected, snapped triangles (from
+// assembled triangles, clipped polygons, or the quads of points and lines). Out: the chunk's bins.
+// Does not assemble, clip or project.
+#pragma once
+
+#include <algorithm>
+#include <bit>
+
+#include "facet/detail/front_end.hpp"
+#include "setup/setup.hpp"
+
+namespace facet::detail {
+
+// True when the edge function is negative over the whole rectangle (no pixel of it is inside).
+inline bool edge_rejects(const TriangleSetup& t, int e, const PixelRect& r) {
+    // The largest value of a*x + b*y + c over the rectangle is at the corner its gradient points to.
+    const std::int64_t x = t.a[e] > 0 ? r.x1 - 1 : r.x0;
+    const std::int64_t y = t.b[e] > 0 ? r.y1 - 1 : r.y0;
+    return edge_at(t, e, x, y) < 0;
+}
+
+// Sets up each triangle and stores its record in the bin of every tile it reaches. Unclipped
+// triangles are collected into a batch set up together by the SIMD kernel; the batch is flushed
+// before any clipped triangle and at the end, so every bin keeps submission order. A record that
+// goes to one tile (most) is written straight into its bin; the others are set up in a small
+// scratch array (it stays in L1) and copied into each bin. With Primitives (a draw with render
+// passes), the index of each record's triangle goes beside it, into the chunk's primitives.
+template <bool Primitives>
+class Emitter {
+    static constexpr int k_record_write_distance = 24;
+
+public:
+    Emitter(const FrontEndParams& p, FrontEndChunk& out)
+        : p_(p), out_(out) {}
+
+    // Triangle `triangle` of the draw, with every vertex inside all clip planes (most of them): set
+    // up later with its batch.
+    void add_unclipped(const ClipVertices& vertices, const std::uint32_t (&idx)[3], std::uint32_t triangle) {
+        const int i = batch_.count;
+        for (int k = 0; k < 3; ++k) {
+            batch_.v[k][i] = vertices.screen[idx[k]];
+            batch_.ref[k][i] = idx[k];
+        }
+        if constexpr (Primitives) primitive_[i] = triangle;
+        if (++batch_.count == SetupBatch::k_capacity) flush();
+    }
+
+    // A projected, snapped triangle made from primitive `primitive` (a quad's half of a point or a line
+    // segment), its vertices' varyings named by `ref`: set up later with its batch, like the unclipped
+    // triangles. (The SIMD set-up takes the same coordinate range as clip-made vertices; larger ones
+    // make the whole batch go one by one, the same bytes.)
+    void add(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], std::uint32_t primitive) {
+        const int i = batch_.count;
+        for (int k = 0; k < 3; ++k) {
+            batch_.v[k][i] = v[k];
+            batch_.ref[k][i] = ref[k];
+        }
+        if constexpr (Primitives) primitive_[i] = primitive;
+        if (++batch_.count == SetupBatch::k_capacity) flush();
+    }
+
+    // A triangle made by clipping triangle `triangle`: the pending batch goes first, so records keep
+    // submission order.
+    void emit(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], std::uint32_t triangle) {
+        flush();
+        set_up_and_bin(v, ref, triangle);
+    }
+
+    void finish() {
+        flush();
+        out_.stats.triangles_rasterized += set_up_;
+        out_.stats.triangles_culled += culled_;
+    }
+
+private:
+    // Sets up the pending batch in one go (SIMD) and bins the survivors in batch order.
+    void flush() {
+        if (batch_.count == 0) return;
+        if (!setup_lanes(batch_, p_, lanes_)) {  // one by one, as setup_one_by_one does
+            for (int i = 0; i < batch_.count; ++i) {
+                const ScreenVertex v[3] = {batch_.v[0][i], batch_.v[1][i], batch_.v[2][i]};
+                const std::uint32_t ref[3] = {batch_.ref[0][i], batch_.ref[1][i], batch_.ref[2][i]};
+                set_up_and_bin(v, ref, primitive_[i]);
+            }
+            batch_.count = 0;
+            return;
+        }
+        culled_ += static_cast<std::uint64_t>(std::popcount(lanes_.culled));
+        set_up_ += static_cast<std::uint64_t>(std::popcount(lanes_.keep));
+        // A local copy: the record copies below may write any byte, so what a member holds would be
+        // read again from memory for every triangle.
+        const BinGrid grid = grid_of();
+        for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
+            const int i = std::countr_zero(keep);
+            const std::int32_t* bounds = lanes_.bounds(i);
+            if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
+                const std::size_t tile = grid.tile_of_pixel(bounds[0], bounds[1]);
+                TriangleSetup& t = grid.bins[tile].emplace_back();
+                if constexpr (Primitives) grid.primitives[tile].push_back(primitive_[i]);
+                // The bin's lines a few records on, owned before they are written: a bin is a
+                // stream the hardware has not learnt, and a store that misses waits for its line
+                // (measured 6% of a 1M-triangle frame). Past the allocation, a prefetch does nothing.
+                // 24 records (3 KB) on: since records are written as 16-byte copies, 8 was too close
+                // (the 1M-triangle sphere's front end 19.8 -> 17.2 ms; 16 to 64 measured the same).
+                prefetch_for_write(&t + k_record_write_distance);
+                write_record(lanes_, i, t);
+                continue;
+            }
+            write_record(lanes_, i, scratch_[0]);
+            bin_across_tiles(scratch_[0], grid.tiles_of(bounds[0], bounds[2], bounds[1], bounds[3]),
+                             Primitives ? primitive_[i] : 0);
+        }
+        batch_.count = 0;
+    }
+
+    // The tiles a triangle's inclusive pixel bounds reach, inclusive. Tile sizes are powers of two
+    // and the bounds are inside the scissor (non-negative), so a shift finds the tile.
+    struct TileSpan {
+        int x0, x1, y0, y1;
+    };
+    // The chunk's bins, and which tiles pixel bounds reach.
+    struct BinGrid {
+        int shift;
+        std::size_t tiles_x;
+        TileBin* bins;
+        std::vector<std::uint32_t>* primitives;  // with Primitives
+        TileSpan tiles_of(int min_x, int max_x, int min_y, int max_y) const {
+            return {min_x >> shift, max_x >> shift, min_y >> shift, max_y >> shift};
+        }
+        // tiles_of(...).one() in fewer operations: non-negative bounds share their tile exactly
+        // when they agree above the tile's bits.
+        bool one_tile(int min_x, int max_x, int min_y, int max_y) const {
+            return (((min_x ^ max_x) | (min_y ^ max_y)) >> shift) == 0;
+        }
+        std::size_t tile(int tx, int ty) const { return static_cast<std::size_t>(ty) * tiles_x + static_cast<std::size_t>(tx); }
+        std::size_t tile_of_pixel(int x, int y) const { return tile(x >> shift, y >> shift); }
+    };
+    BinGrid grid_of() const {
+        return {std::countr_zero(static_cast<unsigned>(p_.tile_size)), static_cast<std::size_t>(p_.tiles_x),
+                out_.bins.data(), out_.primitives.data()};
+    }
+
+    // One triangle set up by the scalar code, and binned.
+    void set_up_and_bin(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], std::uint32_t primitive) {
+        TriangleSetup& t = scratch_[0];
+        switch (setup_triangle(v, ref, p_, t)) {
+            case SetupResult::culled: ++culled_; return;
+            case SetupResult::empty: return;
+            case SetupResult::ok: break;
+        }
+        bin(t, primitive);
+        ++set_up_;
+    }
+
+    // Record t of triangle `primitive` into the bin of every tile it reaches. A triangle inside one
+    // tile (most of them) goes to that tile's bin unexamined. Forced inline into the batch loop: as a
+    // call, its entry and exit were a third of its samples.
+    [[gnu::always_inline]] void bin(const TriangleSetup& t, std::uint32_t primitive) {
+        const BinGrid grid = grid_of();
+        if (grid.one_tile(t.min_x, t.max_x, t.min_y, t.max_y)) {
+            const std::size_t tile = grid.tile_of_pixel(t.min_x, t.min_y);
+            grid.bins[tile].push_back(t);
+            if constexpr (Primitives) grid.primitives[tile].push_back(primitive);
+            return;
+        }
+        bin_across_tiles(t, grid.tiles_of(t.min_x, t.max_x, t.min_y, t.max_y), primitive);
+    }
+
+    // Out of line: few triangles span tiles, and the batch loop stays small without this one.
+    [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, TileSpan span, std::uint32_t primitive) {
+        const int s = p_.tile_size;
+        const BinGrid grid = grid_of();
+        for (int ty = span.y0; ty <= span.y1; ++ty)
+            for (int tx = span.x0; tx <= span.x1; ++tx) {
+                const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
+                if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
+                grid.bins[grid.tile(tx, ty)].push_back(t);
+                if constexpr (Primitives) grid.primitives[grid.tile(tx, ty)].push_back(primitive);
+            }
+    }
+
+    const FrontEndParams& p_;
+    FrontEndChunk& out_;
+    std::uint64_t set_up_ = 0, culled_ = 0;
+    SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
+    SetupLanes lanes_;
+    TriangleSetup scratch_[SetupBatch::k_capacity];
+    std::uint32_t primitive_[SetupBatch::k_capacity] = {};  // with Primitives: batch triangle i's index in the draw
+};
+
+
+}  // namespace facet::detail

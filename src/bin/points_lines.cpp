@@ -1,0 +1,253 @@
+// facet bin: points and line segments as screen-space triangles, by the rules of README.md ("Points
+// and lines"). In: projected, snapped vertices. Out: triangles to the Emitter. Every decision is
+// made from the draw's input alone (never from what another chunk did), in exact integer or exactly
+// rounded double arithmetic, so the pixels do not depend on threads, tiles or ISA.
+#include "bin/points_lines.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace facet::detail {
+namespace {
+
+// Index k of the draw: indices[k], or k itself (out-of-range values stay out of range).
+struct IndexOf {
+    std::span<const std::uint32_t> indices;
+    std::uint32_t operator()(std::size_t k) const {
+        if (!indices.empty()) return indices[k];
+        return k > 0xffffffffu ? 0xffffffffu : static_cast<std::uint32_t>(k);
+    }
+};
+
+// Triangle (a, b, c) to the emitter, turned so that its signed area is positive (the winding the
+// point and line params take as the front), so every fragment of a point or a line is front-facing.
+template <bool Primitives>
+void emit_triangle(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, const std::uint32_t (&ref)[3],
+                   std::uint32_t primitive, Emitter<Primitives>& emitter) {
+    const std::int64_t area = std::int64_t{b.x - a.x} * (c.y - a.y) - std::int64_t{c.x - a.x} * (b.y - a.y);
+    if (area >= 0) {
+        const ScreenVertex v[3] = {a, b, c};
+        emitter.add(v, ref, primitive);
+    } else {
+        const ScreenVertex v[3] = {a, c, b};
+        const std::uint32_t r[3] = {ref[0], ref[2], ref[1]};
+        emitter.add(v, r, primitive);
+    }
+}
+
+// The quad a, b, c, d (in order around it) as triangles (a, b, c) and (a, c, d): their shared
+// diagonal goes by the top-left rule, so no pixel is covered twice.
+template <bool Primitives>
+void emit_quad(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c, const ScreenVertex& d,
+               std::uint32_t ref_ab, std::uint32_t ref_cd, std::uint32_t primitive, Emitter<Primitives>& emitter) {
+    const std::uint32_t r0[3] = {ref_ab, ref_ab, ref_cd}, r1[3] = {ref_ab, ref_cd, ref_cd};
+    emit_triangle(a, b, c, r0, primitive, emitter);
+    emit_triangle(a, c, d, r1, primitive, emitter);
+}
+
+// Pixels [x0, x1) x [y0, y1) with point c's depth and varyings: pixel-aligned edges, so every pixel
+// centre is half a pixel from them and the rectangle covers exactly these pixels.
+template <bool Primitives>
+void emit_pixels(int x0, int y0, int x1, int y1, const ScreenVertex& c, std::uint32_t ref, std::uint32_t primitive,
+                 Emitter<Primitives>& emitter) {
+    const auto at = [&](int x, int y) { return ScreenVertex{x * k_subpixel_one, y * k_subpixel_one, c.z, c.q}; };
+    emit_quad(at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1), ref, ref, primitive, emitter);
+}
+
+// A round point: the pixels whose centre lies within r = size / 2 of c (distance <= r), decided
+// exactly: in fixed point the offsets are integers below 2^24, so their squares, sums and (128 size)²
+// are exact in double. Rows with the same span are merged into one rectangle.
+template <bool Primitives>
+void emit_round_point(const ScreenVertex& c, float size, const PixelRect& scissor, std::uint32_t ref,
+                      std::uint32_t primitive, Emitter<Primitives>& emitter) {
+    const double radius = static_cast<double>(size) * (k_subpixel_one / 2);  // in 1/256 pixel
+    const double r2 = radius * radius;
+    constexpr int half = k_subpixel_one / 2;
+    const int y_lo = std::max(scissor.y0, static_cast<int>(std::floor((c.y - radius - half) / k_subpixel_one)));
+    const int y_hi = std::min(scissor.y1 - 1, static_cast<int>(std::ceil((c.y + radius - half) / k_subpixel_one)));
+    int run_x0 = 0, run_x1 = 0, run_y0 = 0;  // the rectangle being grown: [run_x0, run_x1) from row run_y0
+    const auto flush = [&](int y_end) {
+        if (run_x1 > run_x0) emit_pixels(run_x0, run_y0, run_x1, y_end, c, ref, primitive, emitter);
+        run_x0 = run_x1 = 0;
+    };
+    for (int y = y_lo; y <= y_hi; ++y) {
+        const double dy = static_cast<double>(std::int64_t{y} * k_subpixel_one + half - c.y);
+        const double rest = r2 - dy * dy;
+        int x0 = 0, x1 = 0;  // the row's pixels [x0, x1)
+        if (rest >= 0) {
+            const auto inside = [&](int x) {
+                const double dx = static_cast<double>(std::int64_t{x} * k_subpixel_one + half - c.x);
+                return dx * dx <= rest;
+            };
+            const double h = std::sqrt(rest);
+            int lo = static_cast<int>(std::ceil((c.x - half - h) / k_subpixel_one));
+            int hi = static_cast<int>(std::floor((c.x - half + h) / k_subpixel_one));
+            // sqrt and the division round: settle the ends by the exact test.
+            while (inside(lo - 1)) --lo;
+            while (lo <= hi && !inside(lo)) ++lo;
+            while (inside(hi + 1)) ++hi;
+            while (hi >= lo && !inside(hi)) --hi;
+            x0 = std::max(lo, scissor.x0);
+            x1 = std::min(hi + 1, scissor.x1);
+            if (x1 <= x0) x0 = x1 = 0;
+        }
+        if (x0 != run_x0 || x1 != run_x1) {
+            flush(y);
+            run_x0 = x0, run_x1 = x1, run_y0 = y;
+        }
+    }
+    flush(y_hi + 1);
+}
+
+// A square point: the pixel centres p with c - h <= p < c + h on both axes, h = size / 2 rounded to
+// 1/256 pixel (left and top edges included, as the top-left rule has it). Corners are kept within a
+// pixel of the scissor, which changes no pixel inside it.
+template <bool Primitives>
+void emit_square_point(const ScreenVertex& c, float size, const PixelRect& scissor, std::uint32_t ref,
+                       std::uint32_t primitive, Emitter<Primitives>& emitter) {
+    const auto h = static_cast<std::int32_t>(std::llround(static_cast<double>(size) * (k_subpixel_one / 2)));
+    const auto clamp_x = [&](std::int32_t x) {
+        return std::clamp(x, (scissor.x0 - 1) * k_subpixel_one, (scissor.x1 + 1) * k_subpixel_one);
+    };
+    const auto clamp_y = [&](std::int32_t y) {
+        return std::clamp(y, (scissor.y0 - 1) * k_subpixel_one, (scissor.y1 + 1) * k_subpixel_one);
+    };
+    const std::int32_t x0 = clamp_x(c.x - h), x1 = clamp_x(c.x + h), y0 = clamp_y(c.y - h), y1 = clamp_y(c.y + h);
+    if (x0 >= x1 || y0 >= y1) return;
+    const auto at = [&](std::int32_t x, std::int32_t y) { return ScreenVertex{x, y, c.z, c.q}; };
+    emit_quad(at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1), ref, ref, primitive, emitter);
+}
+
+struct Vec2d {
+    double x, y;
+};
+
+// The unit normal (to the left of a -> b in screen coordinates) of a segment's snapped ends; false
+// when they coincide.
+bool segment_normal(const ScreenVertex& a, const ScreenVertex& b, Vec2d& n) {
+    const double dx = static_cast<double>(b.x - a.x), dy = static_cast<double>(b.y - a.y);
+    const double length = std::sqrt(dx * dx + dy * dy);
+    if (length == 0) return false;
+    n = {-dy / length, dx / length};
+    return true;
+}
+
+// Miter joins that reach further than this many half-widths from the shared vertex (a turn sharper
+// than about 151 degrees) are not made: both segments end square there instead.
+constexpr double k_miter_limit = 4.0;
+
+// The offset, in 1/256 pixel, of the mitred corner left of the vertex shared by segments with unit
+// normals na (the first) and nb (the second), for half-width h (pixels): the bisector m = na + nb
+// scaled to reach h from both segments' sides, h / cos = 2h / |m|. Both segments compute it from the
+// same arguments in the same order, so the corners they share are the same bits. False past the limit.
+bool join_offset(Vec2d na, Vec2d nb, double h, std::int32_t& ox, std::int32_t& oy) {
+    const double mx = na.x + nb.x, my = na.y + nb.y;
+    const double m2 = mx * mx + my * my;
+    if (m2 * k_miter_limit * k_miter_limit < 4.0) return false;  // |m| / 2 = cos < 1 / limit
+    const double s = 2.0 * h / m2 * k_subpixel_one;
+    ox = static_cast<std::int32_t>(std::llround(mx * s));
+    oy = static_cast<std::int32_t>(std::llround(my * s));
+    return true;
+}
+
+// A segment's end at screen vertex v: its corners left and right of the segment, v +- offset.
+struct SegmentEnd {
+    std::int32_t ox, oy;
+};
+
+}  // namespace
+
+template <bool Primitives>
+void assemble_points(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,
+                     const FrontEndParams& p, Emitter<Primitives>& emitter, FrontEndChunk& out) {
+    const IndexOf index_of{input.indices};
+    const PrimitiveStyle& style = input.style;
+    const std::size_t vertex_count = vertices.pos.size();
+    out.stats.points_in += end - first;
+    for (std::size_t k = first; k < end; ++k) {
+        const std::uint32_t i = index_of(k);
+        if (i >= vertex_count || vertices.outcode[i] == k_outcode_invalid) {
+            ++out.stats.points_invalid;
+            continue;
+        }
+        if (vertices.outcode[i] != 0) continue;  // the centre is outside the view volume (or the guard band)
+        const ScreenVertex& c = vertices.screen[i];
+        const float size = style.model_scale > 0
+                               ? std::min(style.point_size * style.model_scale * c.q, PrimitiveStyle::k_max_point_size)
+                               : style.point_size;
+        const auto primitive = static_cast<std::uint32_t>(k);
+        if (style.point_shape == PointShape::square) emit_square_point(c, size, p.scissor, i, primitive, emitter);
+        else emit_round_point(c, size, p.scissor, i, primitive, emitter);
+    }
+}
+
+template <bool Primitives>
+void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,
+                    const FrontEndParams& p, Emitter<Primitives>& emitter, FrontEndChunk& out,
+                    const ClipPassVaryings* passes) {
+    const IndexOf index_of{input.indices};
+    const std::size_t vertex_count = vertices.pos.size(), segment_count = input.primitive_count();
+    const GuardBand guard = guard_band(p);
+    const double h = 0.5 * static_cast<double>(input.style.line_width);
+    out.stats.segments_in += end - first;
+    // Segment s's ends when both are valid and inside every plane (only such segments join), and its normal.
+    const auto unclipped = [&](std::size_t s, std::uint32_t& i0, std::uint32_t& i1, Vec2d& n) {
+        i0 = index_of(2 * s), i1 = index_of(2 * s + 1);
+        return i0 < vertex_count && i1 < vertex_count && (vertices.outcode[i0] | vertices.outcode[i1]) == 0 &&
+               segment_normal(vertices.screen[i0], vertices.screen[i1], n);
+    };
+    for (std::size_t s = first; s < end; ++s) {
+        std::uint32_t i0 = index_of(2 * s), i1 = index_of(2 * s + 1);
+        if (i0 >= vertex_count || i1 >= vertex_count || vertices.outcode[i0] == k_outcode_invalid ||
+            vertices.outcode[i1] == k_outcode_invalid) {
+            ++out.stats.segments_invalid;
+            continue;
+        }
+        const std::uint32_t codes = vertices.outcode[i0] | vertices.outcode[i1];
+        if (vertices.outcode[i0] & vertices.outcode[i1]) continue;  // wholly outside one plane
+        ScreenVertex a, b;
+        ClipVertex ca{vertices.pos[i0], i0}, cb{vertices.pos[i1], i1};
+        Vec2d n;
+        SegmentEnd e0{}, e1{};
+        if (codes == 0) {
+            a = vertices.screen[i0], b = vertices.screen[i1];
+            if (!segment_normal(a, b, n)) continue;
+            const auto square = [&](SegmentEnd& e) {
+                e.ox = static_cast<std::int32_t>(std::llround(n.x * h * k_subpixel_one));
+                e.oy = static_cast<std::int32_t>(std::llround(n.y * h * k_subpixel_one));
+            };
+            std::uint32_t j0, j1;
+            Vec2d m;
+            if (!(s > 0 && unclipped(s - 1, j0, j1, m) && j1 == i0 && join_offset(m, n, h, e0.ox, e0.oy))) square(e0);
+            if (!(s + 1 < segment_count && unclipped(s + 1, j0, j1, m) && j0 == i1 && join_offset(n, m, h, e1.ox, e1.oy)))
+                square(e1);
+        } else {
+            ++out.stats.triangles_clipped;
+            if (!clip_segment(ca, cb, codes, guard, vertices, out.extras, passes)) continue;
+            if (!is_finite(ca.pos) || !is_finite(cb.pos) || !(ca.pos.w > 0) || !(cb.pos.w > 0)) {
+                ++out.stats.segments_invalid;
+                continue;
+            }
+            a = project(ca.pos, p), b = project(cb.pos, p);
+            if (!segment_normal(a, b, n)) continue;
+            e0.ox = e1.ox = static_cast<std::int32_t>(std::llround(n.x * h * k_subpixel_one));
+            e0.oy = e1.oy = static_cast<std::int32_t>(std::llround(n.y * h * k_subpixel_one));
+        }
+        const auto corner = [](const ScreenVertex& v, std::int32_t ox, std::int32_t oy) {
+            return ScreenVertex{v.x + ox, v.y + oy, v.z, v.q};
+        };
+        emit_quad(corner(a, e0.ox, e0.oy), corner(a, -e0.ox, -e0.oy), corner(b, -e1.ox, -e1.oy),
+                  corner(b, e1.ox, e1.oy), ca.ref, cb.ref, static_cast<std::uint32_t>(s), emitter);
+    }
+}
+
+template void assemble_points<false>(const ClipVertices&, const DrawInput&, std::size_t, std::size_t,
+                                     const FrontEndParams&, Emitter<false>&, FrontEndChunk&);
+template void assemble_points<true>(const ClipVertices&, const DrawInput&, std::size_t, std::size_t,
+                                    const FrontEndParams&, Emitter<true>&, FrontEndChunk&);
+template void assemble_lines<false>(const ClipVertices&, const DrawInput&, std::size_t, std::size_t,
+                                    const FrontEndParams&, Emitter<false>&, FrontEndChunk&, const ClipPassVaryings*);
+template void assemble_lines<true>(const ClipVertices&, const DrawInput&, std::size_t, std::size_t,
+                                   const FrontEndParams&, Emitter<true>&, FrontEndChunk&, const ClipPassVaryings*);
+
+}  // namespace facet::detail

@@ -1,0 +1,26 @@
+// facet bin: the front end of point and line draws. In: projected vertices and the draw's point or
+// segment indices. Each point becomes the pixel-aligned rectangles of the pixel centres it covers
+// (round) or one square; each segment a quad around it (lines clipped in clip space first), handed
+// to the Emitter as triangles, so that set-up, binning and the tiles are the triangles'.
+// Does not shade, and knows nothing of the tiles.
+#pragma once
+
+#include <cstddef>
+
+#include "bin/emitter.hpp"
+#include "geometry/clip.hpp"
+
+namespace facet::detail {
+
+// Points [first, end) of the draw. Params: the emitter's, with culling off.
+template <bool Primitives>
+void assemble_points(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,
+                     const FrontEndParams& p, Emitter<Primitives>& emitter, FrontEndChunk& out);
+
+// Segments [first, end) of the draw.
+template <bool Primitives>
+void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::size_t first, std::size_t end,
+                    const FrontEndParams& p, Emitter<Primitives>& emitter, FrontEndChunk& out,
+                    const ClipPassVaryings* passes);
+
+}  // namespace facet::detail

@@ -1,0 +1,379 @@
+// Property: points and lines cover the pixels their rules (README.md, "Points and lines") say, checked
+// against brute-force references written from the rules alone: a round point covers the pixel
+// centres within size / 2 of its snapped centre, a square one those inside its square (left and top
+// edges included); a segment those within width / 2 of it between its ends (up to the 1/256-pixel
+// snapping of its corners), and strips meet without gaps or double hits. Depth against triangles,
+// clipping, bad input, and the same bytes over threads, tile sizes and ISAs.
+//
+// Centres are placed exactly on the 1/256-pixel grid: on a 64x64 target with w = 1, clip x = X / 8192 - 1
+// is exact in float and projects to X / 256 pixels, so the test knows the snapped centre without
+// repeating the projection's arithmetic.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "facet/error.hpp"
+#include "facet/isa.hpp"
+#include "facet/renderer.hpp"
+
+namespace {
+
+using namespace facet;
+
+constexpr int k_size = 64;
+
+// Clip position of the fixed-point screen position (X, Y) (1/256 pixel) on the 64x64 target, at depth z.
+Vec4 clip_at(std::int32_t X, std::int32_t Y, float z = 0.5f) {
+    return {static_cast<float>(X) / 8192.0f - 1.0f, 1.0f - static_cast<float>(Y) / 8192.0f, z, 1.0f};
+}
+
+// Counts every fragment of a draw per pixel (depth test always, so every covered pixel is shaded once
+// per primitive triangle covering it).
+struct CountingShader {
+    static constexpr int k_varyings = 0;
+    static constexpr bool k_shade_hidden = true;
+    const std::vector<Vec4>* pos;
+    std::vector<std::atomic<int>>* hits;
+    Vec4 vertex(std::uint32_t i, Varyings<0>&) const { return (*pos)[i]; }
+    Vec4 fragment(const FragmentIn<0>& in) const {
+        const int x = static_cast<int>(in.pos_screen.x), y = static_cast<int>(in.pos_screen.y);
+        (*hits)[static_cast<std::size_t>(y) * k_size + x].fetch_add(1, std::memory_order_relaxed);
+        return Vec4{1, 1, 1, 1};
+    }
+};
+
+struct Hits {
+    std::vector<int> count;
+    DrawStats stats;
+};
+
+Hits draw_counting(const std::vector<Vec4>& pos, const std::vector<std::uint32_t>& indices, Topology topology,
+                   PrimitiveStyle style, RendererConfig config = {.threads = 2, .tile_size = 16}) {
+    Renderer renderer(config);
+    Framebuffer fb(k_size, k_size);
+    std::vector<std::atomic<int>> hits(k_size * k_size);
+    const CountingShader shader{&pos, &hits};
+    DrawState state;
+    state.depth_test = DepthTest::always;
+    state.depth_write = false;
+    state.clear = ClearValues{};
+    DrawInput input{static_cast<std::uint32_t>(pos.size()), indices, topology, style};
+    Hits out;
+    out.stats = renderer.draw(fb, state, input, shader);
+    for (auto& h : hits) out.count.push_back(h.load());
+    return out;
+}
+
+std::int64_t centre(int pixel) { return std::int64_t{pixel} * 256 + 128; }
+
+TEST(Points, RoundPointsCoverThePixelCentresWithinTheirRadius) {
+    std::mt19937 rng(26);
+    std::uniform_int_distribution<std::int32_t> coordinate(-8 * 256, 72 * 256);
+    std::uniform_real_distribution<float> size(0.25f, 24.0f);
+    int covered = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::int32_t X = coordinate(rng), Y = coordinate(rng);
+        const float s = trial < 20 ? static_cast<float>(trial + 1) : size(rng);  // whole sizes too: ties
+        const Hits h = draw_counting({clip_at(X, Y)}, {}, Topology::points, {.point_size = s});
+        const double r = static_cast<double>(s) * 128.0;
+        for (int y = 0; y < k_size; ++y)
+            for (int x = 0; x < k_size; ++x) {
+                const double dx = static_cast<double>(centre(x) - X), dy = static_cast<double>(centre(y) - Y);
+                const int expected = dx * dx + dy * dy <= r * r ? 1 : 0;
+                covered += expected;
+                ASSERT_EQ(h.count[y * k_size + x], expected)
+                    << "pixel " << x << "," << y << " of a point at " << X / 256.0 << "," << Y / 256.0 << " size " << s;
+            }
+        EXPECT_EQ(h.stats.points_in, 1u);
+    }
+    EXPECT_GT(covered, 10000);
+}
+
+TEST(Points, SquarePointsCoverTheirSquareLeftAndTopEdgesIncluded) {
+    std::mt19937 rng(27);
+    std::uniform_int_distribution<std::int32_t> coordinate(-8 * 256, 72 * 256);
+    std::uniform_real_distribution<float> size(0.25f, 24.0f);
+    int covered = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        // Half of them on pixel corners and centres with whole sizes, where the edges pass through centres.
+        const bool grid = trial % 2 == 0;
+        const std::int32_t X = grid ? coordinate(rng) / 128 * 128 : coordinate(rng);
+        const std::int32_t Y = grid ? coordinate(rng) / 128 * 128 : coordinate(rng);
+        const float s = grid ? static_cast<float>(1 + trial % 9) : size(rng);
+        const Hits h = draw_counting({clip_at(X, Y)}, {}, Topology::points, {.point_size = s, .point_shape = PointShape::square});
+        const std::int64_t half = std::llround(static_cast<double>(s) * 128.0);
+        for (int y = 0; y < k_size; ++y)
+            for (int x = 0; x < k_size; ++x) {
+                const bool in_x = X - half <= centre(x) && centre(x) < X + half;
+                const bool in_y = Y - half <= centre(y) && centre(y) < Y + half;
+                const int expected = in_x && in_y ? 1 : 0;
+                covered += expected;
+                ASSERT_EQ(h.count[y * k_size + x], expected)
+                    << "pixel " << x << "," << y << " of a point at " << X / 256.0 << "," << Y / 256.0 << " size " << s;
+            }
+    }
+    EXPECT_GT(covered, 10000);
+}
+
+// Distance from pixel centre (x, y) to the segment's band: negative inside (within w/2 of the line and
+// between the ends), in pixels; `margin` is how far the pixel centre is from the band's boundary.
+struct Band {
+    double ax, ay, bx, by, h;
+    // Signed distance to the rectangle's boundary (negative inside).
+    double signed_distance(double px, double py) const {
+        const double dx = bx - ax, dy = by - ay, length = std::sqrt(dx * dx + dy * dy);
+        const double ux = dx / length, uy = dy / length;
+        const double along = (px - ax) * ux + (py - ay) * uy, across = std::abs(-(px - ax) * uy + (py - ay) * ux);
+        const double out_along = std::max(-along, along - length), out_across = across - h;
+        if (out_along <= 0 || out_across <= 0) return std::max(out_along, out_across);
+        return std::hypot(out_along, out_across);
+    }
+};
+
+TEST(Lines, SegmentsCoverThePixelCentresWithinHalfTheirWidth) {
+    std::mt19937 rng(28);
+    std::uniform_int_distribution<std::int32_t> coordinate(-16 * 256, 80 * 256);
+    std::uniform_real_distribution<float> width(0.5f, 12.0f);
+    int covered = 0, undecided = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::int32_t X0 = coordinate(rng), Y0 = coordinate(rng), X1 = coordinate(rng), Y1 = coordinate(rng);
+        if (X0 == X1 && Y0 == Y1) continue;
+        const float w = trial < 30 ? 1.0f : width(rng);
+        const Hits h = draw_counting({clip_at(X0, Y0), clip_at(X1, Y1)}, {}, Topology::lines, {.line_width = w});
+        const Band band{X0 / 256.0, Y0 / 256.0, X1 / 256.0, Y1 / 256.0, w / 2.0};
+        for (int y = 0; y < k_size; ++y)
+            for (int x = 0; x < k_size; ++x) {
+                const double d = band.signed_distance(x + 0.5, y + 0.5);
+                const int count = h.count[y * k_size + x];
+                ASSERT_LE(count, 1) << "pixel " << x << "," << y << " drawn twice, trial " << trial;
+                // The corners are snapped to 1/256 pixel: only centres that close to the boundary may go either way.
+                if (std::abs(d) < 1.0 / 128) {
+                    ++undecided;
+                    continue;
+                }
+                ASSERT_EQ(count, d < 0 ? 1 : 0) << "pixel " << x << "," << y << " at " << d << " px from the band's edge, trial "
+                                                << trial << " width " << w;
+                covered += count;
+            }
+        EXPECT_EQ(h.stats.segments_in, 1u);
+    }
+    EXPECT_GT(covered, 10000);
+    EXPECT_LT(undecided, covered / 100);
+}
+
+// A random polyline drawn as a list of segments sharing their ends (indices 0 1 1 2 2 3 ...): every
+// pixel at most once, every pixel centre within w/2 of the polyline drawn (no gaps at the joins), and
+// nothing further than the mitre reaches.
+TEST(Lines, StripsJoinWithoutGapsOrDoubleHits) {
+    std::mt19937 rng(29);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int joins = 0, covered = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        const double w = 1.0 + 7.0 * unit(rng), h = w / 2;
+        const double length = 6 * h + 4 + 8 * unit(rng);
+        double x = 8 + 48 * unit(rng), y = 8 + 48 * unit(rng), heading = 6.2832 * unit(rng);
+        std::vector<Vec4> pos;
+        std::vector<std::pair<double, double>> snapped;
+        for (int k = 0; k < 8; ++k) {
+            const auto X = static_cast<std::int32_t>(std::lround(x * 256)), Y = static_cast<std::int32_t>(std::lround(y * 256));
+            pos.push_back(clip_at(X, Y));
+            snapped.emplace_back(X / 256.0, Y / 256.0);
+            heading += (unit(rng) - 0.5) * 2 * 2.0;  // turns of up to about 115 degrees
+            x += length * std::cos(heading), y += length * std::sin(heading);
+        }
+        std::vector<std::uint32_t> indices;
+        for (std::uint32_t k = 0; k + 1 < pos.size(); ++k) indices.insert(indices.end(), {k, k + 1});
+        joins += static_cast<int>(pos.size()) - 2;
+        const Hits hits = draw_counting(pos, indices, Topology::lines, {.line_width = static_cast<float>(w)});
+        for (int py = 0; py < k_size; ++py)
+            for (int px = 0; px < k_size; ++px) {
+                double nearest = 1e30;
+                // A random polyline may cross itself: there, two segments that do not meet at a join
+                // both cover the pixel, and a double hit is right.
+                std::vector<std::size_t> reaching;
+                for (std::size_t k = 0; k + 1 < snapped.size(); ++k) {
+                    const Band band{snapped[k].first, snapped[k].second, snapped[k + 1].first, snapped[k + 1].second, h};
+                    const double d = band.signed_distance(px + 0.5, py + 0.5);
+                    nearest = std::min(nearest, d);
+                    if (d < 2 * h + 1) reaching.push_back(k);
+                }
+                const bool crossing = reaching.size() >= 2 && reaching.back() - reaching.front() >= 2;
+                const int count = hits.count[py * k_size + px];
+                if (crossing) continue;
+                ASSERT_LE(count, 1) << "pixel " << px << "," << py << " drawn twice, trial " << trial;
+                if (nearest < -1.0 / 64) {
+                    ASSERT_EQ(count, 1) << "gap at " << px << "," << py << ", trial " << trial;
+                }
+                if (count) {
+                    EXPECT_LT(nearest, 2 * h) << "stray pixel " << px << "," << py << ", trial " << trial;
+                }
+                covered += count;
+            }
+    }
+    EXPECT_GT(joins, 300);
+    EXPECT_GT(covered, 10000);
+}
+
+// A point or a line on a surface's depth: in front of the surface it wins, behind it loses.
+TEST(PointsAndLines, AreDepthTestedAgainstTriangles) {
+    std::vector<Vec4> pos = {{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1}, {-1, 1, 0, 1}};  // z set below
+    std::vector<Vec4> colour = {{1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}, {1, 0, 0, 1}};
+    for (Vec4& p : pos) p.z = 0.5f;
+    const std::uint32_t quad[] = {0, 1, 2, 0, 2, 3};
+    // Points at 16,16 (in front: z 0.4) and 48,48 (behind: z 0.6); a line in front along row 8 and behind along row 56.
+    const std::uint32_t first = static_cast<std::uint32_t>(pos.size());
+    for (auto [X, Y, z] : {std::tuple{16, 16, 0.4f}, {48, 48, 0.6f}, {4, 8, 0.4f}, {60, 8, 0.4f}, {4, 56, 0.6f}, {60, 56, 0.6f}}) {
+        pos.push_back(clip_at(X * 256, Y * 256, z));
+        colour.push_back({0, 1, 0, 1});
+    }
+    const auto shader = make_shader<4>(
+        [&](std::uint32_t i, Varyings<4>& out) {
+            out.set(0, colour[i]);
+            return pos[i];
+        },
+        [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+    for (int threads : {1, 2}) {
+        Renderer renderer({.threads = threads, .tile_size = 16});
+        Framebuffer fb(k_size, k_size);
+        DrawState state;
+        state.clear = ClearValues{};
+        renderer.draw(fb, state, {static_cast<std::uint32_t>(pos.size()), quad}, shader);
+        state.clear.reset();
+        const std::uint32_t points[] = {first, first + 1}, lines[] = {first + 2, first + 3, first + 4, first + 5};
+        const DrawStats ps = renderer.draw(fb, state, {static_cast<std::uint32_t>(pos.size()), points, Topology::points, {.point_size = 5}}, shader);
+        const DrawStats ls = renderer.draw(fb, state, {static_cast<std::uint32_t>(pos.size()), lines, Topology::lines, {.line_width = 3}}, shader);
+        EXPECT_EQ(ps.points_in, 2u);
+        EXPECT_EQ(ls.segments_in, 2u);
+        EXPECT_EQ(fb.colour(16, 16).g, 255) << "the point in front wins";
+        EXPECT_EQ(fb.colour(16, 16).r, 0);
+        EXPECT_FLOAT_EQ(fb.depth(16, 16), 0.4f);
+        EXPECT_EQ(fb.colour(48, 48).r, 255) << "the point behind loses";
+        EXPECT_EQ(fb.colour(48, 48).g, 0);
+        EXPECT_FLOAT_EQ(fb.depth(48, 48), 0.5f);
+        EXPECT_EQ(fb.colour(32, 8).g, 255) << "the line in front wins";
+        EXPECT_EQ(fb.colour(32, 56).r, 255) << "the line behind loses";
+        EXPECT_EQ(fb.colour(32, 32).r, 255);
+    }
+}
+
+// Varyings reach a point's pixels unchanged, and along a line they are interpolated between its ends.
+TEST(PointsAndLines, CarryTheirVertexAttributes) {
+    const std::vector<Vec4> pos = {clip_at(20 * 256, 20 * 256), clip_at(8 * 256 + 128, 40 * 256 + 128),
+                                   clip_at(56 * 256 + 128, 40 * 256 + 128)};
+    const std::vector<Vec4> colour = {{0.2f, 0.4f, 0.6f, 1}, {1, 0, 0, 1}, {0, 0, 1, 1}};
+    const auto shader = make_shader<4>(
+        [&](std::uint32_t i, Varyings<4>& out) {
+            out.set(0, colour[i]);
+            return pos[i];
+        },
+        [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+    Renderer renderer({.threads = 1});
+    Framebuffer fb(k_size, k_size);
+    DrawState state;
+    state.clear = ClearValues{};
+    const std::uint32_t point[] = {0}, line[] = {1, 2};
+    renderer.draw(fb, state, {3, point, Topology::points, {.point_size = 6}}, shader);
+    state.clear.reset();
+    renderer.draw(fb, state, {3, line, Topology::lines, {.line_width = 1}}, shader);
+    for (int y = 17; y < 23; ++y)
+        for (int x = 17; x < 23; ++x)
+            if (fb.colour(x, y).a) {
+                EXPECT_EQ((std::array{fb.colour(x, y).r, fb.colour(x, y).g, fb.colour(x, y).b}),
+                          (std::array<std::uint8_t, 3>{51, 102, 153}));
+            }
+    EXPECT_GT(fb.colour(10, 40).r, 200);
+    EXPECT_LT(fb.colour(10, 40).b, 50);
+    EXPECT_GT(fb.colour(54, 40).b, 200);
+    EXPECT_NEAR(fb.colour(32, 40).r, 127, 2);
+}
+
+TEST(PointsAndLines, InvalidOnesAreDroppedAndCountedAndBadSizesRefused) {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<Vec4> pos = {clip_at(20 * 256, 20 * 256), {nan, 0, 0.5f, 1}, clip_at(40 * 256, 40 * 256),
+                                   {0, 0, 0.5f, -1} /* behind the eye */, {0, 0, 2, 1} /* past far */};
+    const std::vector<std::uint32_t> points = {0, 1, 2, 7, 3, 4};
+    Hits h = draw_counting(pos, points, Topology::points, {.point_size = 3});
+    EXPECT_EQ(h.stats.points_in, 6u);
+    EXPECT_EQ(h.stats.points_invalid, 2u);  // NaN and index 7
+    int drawn = 0;
+    for (int c : h.count) drawn += c;
+    EXPECT_EQ(drawn, 2 * 4);  // two points of size 3 on pixel corners: the 4 centres at 0.71 px
+    const std::vector<std::uint32_t> lines = {0, 1, 0, 2, 9, 2, 2, 3, 3, 4};
+    h = draw_counting(pos, lines, Topology::lines, {.line_width = 2});
+    EXPECT_EQ(h.stats.segments_in, 5u);
+    EXPECT_EQ(h.stats.segments_invalid, 2u);  // NaN end and index 9
+    EXPECT_GT(h.stats.triangles_clipped, 0u);  // 2-3 crosses the near plane and is cut
+    for (float bad : {0.0f, -1.0f, nan, 257.0f, 1e30f, std::numeric_limits<float>::infinity()}) {
+        EXPECT_THROW(draw_counting(pos, points, Topology::points, {.point_size = bad}), FacetError) << bad;
+        EXPECT_THROW(draw_counting(pos, lines, Topology::lines, {.line_width = bad}), FacetError) << bad;
+    }
+    EXPECT_THROW(draw_counting(pos, points, Topology::points, {.point_size = 1, .model_scale = nan}), FacetError);
+    EXPECT_THROW(draw_counting(pos, points, Topology::points, {.point_size = 1, .model_scale = -2}), FacetError);
+}
+
+// Sizes in model units shrink with distance: size * model_scale / w pixels.
+TEST(Points, ModelUnitSizesArePerspectiveScaled) {
+    std::vector<Vec4> pos = {{-0.5f, 0, 0.5f, 1}, {1.0f, 0, 1.0f, 2}};  // the second at w = 2, x = 0.5 after division
+    const std::uint32_t first[] = {0}, second[] = {1};
+    const Hits near = draw_counting(pos, {first[0]}, Topology::points, {.point_size = 0.25f, .model_scale = 64});
+    const Hits far = draw_counting(pos, {second[0]}, Topology::points, {.point_size = 0.25f, .model_scale = 64});
+    const Hits pixels16 = draw_counting(pos, {first[0]}, Topology::points, {.point_size = 16});
+    const Hits pixels8 = draw_counting(pos, {second[0]}, Topology::points, {.point_size = 8});
+    EXPECT_EQ(near.count, pixels16.count);
+    EXPECT_EQ(far.count, pixels8.count);
+}
+
+// The same bytes for any thread count, tile size and ISA: a few thousand points and segments of all
+// sizes, overlapping, through clipping and across tiles.
+TEST(PointsAndLines, SameBytesOverThreadsTilesAndIsas) {
+    std::mt19937 rng(30);
+    std::uniform_real_distribution<float> u(-1.3f, 1.3f), z(-0.1f, 1.1f), c(0, 1);
+    std::vector<Vec4> pos, colour;
+    for (int i = 0; i < 4000; ++i) {
+        const float w = 0.5f + c(rng) * 2;
+        pos.push_back({u(rng) * w, u(rng) * w, z(rng) * w, w});
+        colour.push_back({c(rng), c(rng), c(rng), 1});
+    }
+    std::vector<std::uint32_t> strip;
+    for (std::uint32_t i = 0; i + 1 < 600; ++i) strip.insert(strip.end(), {i, i + 1});
+    const auto shader = make_shader<4>(
+        [&](std::uint32_t i, Varyings<4>& out) {
+            out.set(0, colour[i]);
+            return pos[i];
+        },
+        [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+    const auto render = [&](int threads, int tile) {
+        Renderer renderer({.threads = threads, .tile_size = tile});
+        Framebuffer fb(301, 203);
+        DrawState state;
+        state.clear = ClearValues{};
+        const auto n = static_cast<std::uint32_t>(pos.size());
+        renderer.draw(fb, state, {n, {}, Topology::points, {.point_size = 7}}, shader);
+        state.clear.reset();
+        renderer.draw(fb, state, {n, {}, Topology::points, {.point_size = 3, .point_shape = PointShape::square}}, shader);
+        renderer.draw(fb, state, {n, {}, Topology::points, {.point_size = 0.05f, .model_scale = 100}}, shader);
+        renderer.draw(fb, state, {n, {}, Topology::lines, {.line_width = 1.5f}}, shader);
+        renderer.draw(fb, state, {n, strip, Topology::lines, {.line_width = 4}}, shader);
+        constexpr std::size_t pixels = 301 * 203;
+        std::vector<std::uint32_t> bytes(2 * pixels);  // colour, then the depth's bits
+        std::memcpy(bytes.data(), fb.colour_data(), pixels * sizeof(Rgba8));
+        std::memcpy(bytes.data() + pixels, fb.depth_data(), pixels * sizeof(float));
+        return bytes;
+    };
+    const auto reference = render(1, 64);
+    for (int threads : {2, 3})
+        for (int tile : {8, 16, 64}) EXPECT_EQ(render(threads, tile), reference) << threads << " threads, tiles " << tile;
+    for (const std::string& isa : available_isas()) {
+        ASSERT_TRUE(select_isa(isa));
+        EXPECT_EQ(render(2, 32), reference) << isa;
+    }
+    select_isa("best");
+}
+
+}  // namespace
