@@ -60,6 +60,28 @@ public:
         if (++batch_.count == SetupBatch::k_capacity) flush();
     }
 
+    // The pixels of `r` (inside the scissor, not empty) at point c's depth and 1/w, with vertex `ref`'s
+    // varyings: a point's square, or a run of a round point's rows. One record and no set-up: its
+    // edges are 0 everywhere (so it covers exactly its bounds) and its planes are flat, which gives
+    // every pixel the bytes the quad's two triangles gave it (their planes were flat too: the same
+    // depth, 1/w and varyings at every corner), at half the records. The pending batch goes first.
+    void add_rect(const PixelRect& r, const ScreenVertex& c, std::uint32_t ref, std::uint32_t primitive) {
+        flush();
+        const BinGrid grid = grid_of();
+        const int max_x = r.x1 - 1, max_y = r.y1 - 1;
+        ++set_up_;
+        if (grid.one_tile(r.x0, max_x, r.y0, max_y)) {
+            const std::size_t tile = grid.tile_of_pixel(r.x0, r.y0);
+            TriangleSetup& t = grid.bins[tile].emplace_back();
+            if constexpr (Primitives) grid.primitives[tile].push_back(primitive);
+            prefetch_for_write(&t + k_record_write_distance);
+            write_rect(r, c, ref, t);
+            return;
+        }
+        write_rect(r, c, ref, scratch_[0]);
+        bin_across_tiles(scratch_[0], grid.tiles_of(r.x0, max_x, r.y0, max_y), primitive);
+    }
+
     // A triangle made by clipping triangle `triangle`: the pending batch goes first, so records keep
     // submission order.
     void emit(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], std::uint32_t triangle) {
@@ -139,6 +161,17 @@ private:
     BinGrid grid_of() const {
         return {std::countr_zero(static_cast<unsigned>(p_.tile_size)), static_cast<std::size_t>(p_.tiles_x),
                 out_.bins.data(), out_.primitives.data()};
+    }
+
+    static void write_rect(const PixelRect& r, const ScreenVertex& c, std::uint32_t ref, TriangleSetup& t) {
+        for (int k = 0; k < 3; ++k) t.a[k] = 0, t.b[k] = 0, t.e0[k] = 0, t.vertex[k] = ref;
+        t.min_x = r.x0, t.min_y = r.y0, t.max_x = r.x1 - 1, t.max_y = r.y1 - 1;
+        t.x0 = static_cast<float>(c.x) * (1.0f / k_subpixel_one), t.y0 = static_cast<float>(c.y) * (1.0f / k_subpixel_one);
+        t.z0 = c.z, t.dzdx = 0, t.dzdy = 0;
+        t.q0 = c.q, t.dqdx = 0, t.dqdy = 0;
+        t.dl1dx = 0, t.dl1dy = 0, t.dl2dx = 0, t.dl2dy = 0;
+        t.front_facing = true;
+        t.small_edges = true;
     }
 
     // One triangle set up by the scalar code, and binned.

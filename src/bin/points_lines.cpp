@@ -45,13 +45,11 @@ void emit_quad(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex&
     emit_triangle(a, c, d, r1, primitive, emitter);
 }
 
-// Pixels [x0, x1) x [y0, y1) with point c's depth and varyings: pixel-aligned edges, so every pixel
-// centre is half a pixel from them and the rectangle covers exactly these pixels.
+// Pixels [x0, x1) x [y0, y1) (inside the scissor) with point c's depth and varyings.
 template <bool Primitives>
 void emit_pixels(int x0, int y0, int x1, int y1, const ScreenVertex& c, std::uint32_t ref, std::uint32_t primitive,
                  Emitter<Primitives>& emitter) {
-    const auto at = [&](int x, int y) { return ScreenVertex{x * k_subpixel_one, y * k_subpixel_one, c.z, c.q}; };
-    emit_quad(at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1), ref, ref, primitive, emitter);
+    emitter.add_rect(PixelRect{x0, y0, x1, y1}, c, ref, primitive);
 }
 
 // A round point: the pixels whose centre lies within r = size / 2 of c (distance <= r), decided
@@ -100,22 +98,19 @@ void emit_round_point(const ScreenVertex& c, float size, const PixelRect& scisso
 }
 
 // A square point: the pixel centres p with c - h <= p < c + h on both axes, h = size / 2 rounded to
-// 1/256 pixel (left and top edges included, as the top-left rule has it). Corners are kept within a
-// pixel of the scissor, which changes no pixel inside it.
+// 1/256 pixel (left and top edges included, as the top-left rule has it).
 template <bool Primitives>
 void emit_square_point(const ScreenVertex& c, float size, const PixelRect& scissor, std::uint32_t ref,
                        std::uint32_t primitive, Emitter<Primitives>& emitter) {
-    const auto h = static_cast<std::int32_t>(std::llround(static_cast<double>(size) * (k_subpixel_one / 2)));
-    const auto clamp_x = [&](std::int32_t x) {
-        return std::clamp(x, (scissor.x0 - 1) * k_subpixel_one, (scissor.x1 + 1) * k_subpixel_one);
-    };
-    const auto clamp_y = [&](std::int32_t y) {
-        return std::clamp(y, (scissor.y0 - 1) * k_subpixel_one, (scissor.y1 + 1) * k_subpixel_one);
-    };
-    const std::int32_t x0 = clamp_x(c.x - h), x1 = clamp_x(c.x + h), y0 = clamp_y(c.y - h), y1 = clamp_y(c.y + h);
-    if (x0 >= x1 || y0 >= y1) return;
-    const auto at = [&](std::int32_t x, std::int32_t y) { return ScreenVertex{x, y, c.z, c.q}; };
-    emit_quad(at(x0, y0), at(x1, y0), at(x1, y1), at(x0, y1), ref, ref, primitive, emitter);
+    const std::int64_t h = std::llround(static_cast<double>(size) * (k_subpixel_one / 2));
+    constexpr std::int64_t half = k_subpixel_one / 2;
+    // The first centre at or after lo, and the last one before hi (floor division by shifts).
+    const auto first = [](std::int64_t lo) { return static_cast<int>(-((half - lo) >> k_subpixel_bits)); };
+    const auto last = [](std::int64_t hi) { return static_cast<int>((hi - 1 - half) >> k_subpixel_bits); };
+    const int x0 = std::max(first(c.x - h), scissor.x0), x1 = std::min(last(c.x + h), scissor.x1 - 1);
+    const int y0 = std::max(first(c.y - h), scissor.y0), y1 = std::min(last(c.y + h), scissor.y1 - 1);
+    if (x0 > x1 || y0 > y1) return;
+    emit_pixels(x0, y0, x1 + 1, y1 + 1, c, ref, primitive, emitter);
 }
 
 struct Vec2d {

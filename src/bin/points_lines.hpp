@@ -1,7 +1,8 @@
 // facet bin: the front end of point and line draws. In: projected vertices and the draw's point or
-// segment indices. Each point becomes the pixel-aligned rectangles of the pixel centres it covers
-// (round) or one square; each segment a quad around it (lines clipped in clip space first), handed
-// to the Emitter as triangles, so that set-up, binning and the tiles are the triangles'.
+// segment indices. Each point becomes the rectangles of whole pixels it covers (round: runs of rows;
+// square: one), each one flat record binned by the Emitter; each segment a quad around it (lines
+// clipped in clip space first) handed to the Emitter as two triangles. Binning and the tiles are the
+// triangles'.
 // Does not shade, and knows nothing of the tiles.
 #pragma once
 
