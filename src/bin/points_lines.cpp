@@ -191,6 +191,24 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
         return i0 < vertex_count && i1 < vertex_count && (vertices.outcode[i0] | vertices.outcode[i1]) == 0 &&
                segment_normal(vertices.screen[i0], vertices.screen[i1], n);
     };
+    // Whether segment s's end is segment s + 1's start, both unclipped: a join of a strip.
+    const auto joins_next = [&](std::size_t s) {
+        if (s + 1 >= segment_count || index_of(2 * s + 1) != index_of(2 * s + 2)) return false;
+        std::uint32_t j0, j1;
+        Vec2d m;
+        return unclipped(s, j0, j1, m) && unclipped(s + 1, j0, j1, m);
+    };
+    // The last and the first segment of the run of joined segments through s. A run whose last
+    // segment ends where its first begins is a loop, closed by a join like the others. Each run is
+    // walked by its own ends only (its first segment, its last), so the work stays linear.
+    const auto run_last = [&](std::size_t s) {
+        while (joins_next(s)) ++s;
+        return s;
+    };
+    const auto run_first = [&](std::size_t s) {
+        while (s > 0 && joins_next(s - 1)) --s;
+        return s;
+    };
     for (std::size_t s = first; s < end; ++s) {
         std::uint32_t i0 = index_of(2 * s), i1 = index_of(2 * s + 1);
         if (i0 >= vertex_count || i1 >= vertex_count || vertices.outcode[i0] == k_outcode_invalid ||
@@ -213,9 +231,18 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
             };
             std::uint32_t j0, j1;
             Vec2d m;
-            if (!(s > 0 && unclipped(s - 1, j0, j1, m) && j1 == i0 && join_offset(m, n, h, e0.ox, e0.oy))) square(e0);
-            if (!(s + 1 < segment_count && unclipped(s + 1, j0, j1, m) && j0 == i1 && join_offset(n, m, h, e1.ox, e1.oy)))
-                square(e1);
+            // The join before: with the previous segment, or for the first segment of a run that
+            // closes (a loop) with the run's last one.
+            bool mitred = false;
+            if (s > 0 && joins_next(s - 1)) mitred = unclipped(s - 1, j0, j1, m) && join_offset(m, n, h, e0.ox, e0.oy);
+            else if (const std::size_t e = run_last(s); e != s && unclipped(e, j0, j1, m) && j1 == i0)
+                mitred = join_offset(m, n, h, e0.ox, e0.oy);
+            if (!mitred) square(e0);
+            mitred = false;
+            if (joins_next(s)) mitred = unclipped(s + 1, j0, j1, m) && join_offset(n, m, h, e1.ox, e1.oy);
+            else if (const std::size_t f = run_first(s); f != s && unclipped(f, j0, j1, m) && j0 == i1)
+                mitred = join_offset(n, m, h, e1.ox, e1.oy);
+            if (!mitred) square(e1);
         } else {
             ++out.stats.triangles_clipped;
             if (!clip_segment(ca, cb, codes, guard, vertices, out.extras, passes)) continue;

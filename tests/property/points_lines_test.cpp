@@ -220,6 +220,53 @@ TEST(Lines, StripsJoinWithoutGapsOrDoubleHits) {
     EXPECT_GT(covered, 10000);
 }
 
+// Closed polygons drawn as lists of segments whose last ends where the first begins (a loop), placed
+// between two unrelated segments: the closing join is mitred like the others, so every pixel of the
+// outline is drawn exactly once, with no gap or double hit at any corner.
+TEST(Lines, LoopsCloseWithAJoinWithoutGapsOrDoubleHits) {
+    std::mt19937 rng(31);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int corners = 0, covered = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+        const int n = 3 + trial % 6;
+        const double w = 1.0 + 6.0 * unit(rng), h = w / 2, radius = 12 + 12 * unit(rng), turn = 6.2832 * unit(rng);
+        std::vector<Vec4> pos = {clip_at(2 * 256, 2 * 256), clip_at(6 * 256, 3 * 256)};  // an unrelated segment
+        std::vector<std::pair<double, double>> snapped;
+        for (int k = 0; k < n; ++k) {
+            const double a = turn + 6.2832 * k / n;
+            const auto X = static_cast<std::int32_t>(std::lround((32 + radius * std::cos(a)) * 256));
+            const auto Y = static_cast<std::int32_t>(std::lround((32 + radius * std::sin(a)) * 256));
+            pos.push_back(clip_at(X, Y));
+            snapped.emplace_back(X / 256.0, Y / 256.0);
+        }
+        pos.push_back(clip_at(58 * 256, 60 * 256)), pos.push_back(clip_at(61 * 256, 57 * 256));
+        std::vector<std::uint32_t> indices = {0, 1};
+        for (std::uint32_t k = 0; k < static_cast<std::uint32_t>(n); ++k)
+            indices.insert(indices.end(), {2 + k, 2 + (k + 1) % static_cast<std::uint32_t>(n)});
+        const auto last = static_cast<std::uint32_t>(pos.size());
+        indices.insert(indices.end(), {last - 2, last - 1});
+        corners += n;
+        const Hits hits = draw_counting(pos, indices, Topology::lines, {.line_width = static_cast<float>(w)});
+        for (int py = 8; py < 56; ++py)  // the polygon's pixels, away from the two other segments
+            for (int px = 8; px < 56; ++px) {
+                double nearest = 1e30;
+                for (int k = 0; k < n; ++k) {
+                    const auto& [ax, ay] = snapped[static_cast<std::size_t>(k)];
+                    const auto& [bx, by] = snapped[static_cast<std::size_t>((k + 1) % n)];
+                    nearest = std::min(nearest, Band{ax, ay, bx, by, h}.signed_distance(px + 0.5, py + 0.5));
+                }
+                const int count = hits.count[py * k_size + px];
+                ASSERT_LE(count, 1) << "pixel " << px << "," << py << " drawn twice, trial " << trial << ", " << n << " sides";
+                if (nearest < -1.0 / 64) ASSERT_EQ(count, 1) << "gap at " << px << "," << py << ", trial " << trial;
+                if (count) EXPECT_LT(nearest, 2 * h) << "stray pixel " << px << "," << py << ", trial " << trial;
+                covered += count;
+            }
+        EXPECT_EQ(hits.stats.segments_in, static_cast<std::uint64_t>(n) + 2);
+    }
+    EXPECT_GT(corners, 150);
+    EXPECT_GT(covered, 5000);
+}
+
 // A point or a line on a surface's depth: in front of the surface it wins, behind it loses.
 TEST(PointsAndLines, AreDepthTestedAgainstTriangles) {
     std::vector<Vec4> pos = {{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1}, {-1, 1, 0, 1}};  // z set below
