@@ -6,9 +6,11 @@
 //                   own, embedded (as Objaverse's GLB files are)
 //   textured_png.glb the same with PNG textures
 //   texture_2048.jpg the first of the JPEG textures alone
+//   sphere_1m.glb   the geodesic sphere of sphere_1m.obj as GLB (positions, normals, 32-bit indices)
 // Usage: facet_bench_write_models OUT_DIR
 #include <turbojpeg.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -84,11 +86,10 @@ void pad4(std::string& s, char with) {
     while (s.size() % 4) s += with;
 }
 
-// Four uv spheres (positions, normals, uvs, 16-bit indices would not do: 32-bit) in one buffer,
-// each with its own material and embedded image.
-bool write_textured_glb(const fs::path& path, bool jpeg) {
-    const int k_count = 4, k_size = 2048;
-    const Mesh sphere = make_uv_sphere(1.0f, 96, 48);
+// `textures` copies of `sphere` (positions, normals and uvs when it has them, 32-bit indices) in one
+// buffer, each with its own material and embedded image; with no textures, one copy and no material.
+bool write_glb(const fs::path& path, const Mesh& sphere, int textures, bool jpeg) {
+    const int k_count = std::max(textures, 1), k_size = 2048;
     std::string bin, json_meshes, json_nodes, json_accessors, json_views, json_materials, json_textures, json_images;
     int view = 0, accessor = 0;
     auto add_view = [&](const void* data, std::size_t bytes) {
@@ -110,11 +111,20 @@ bool write_textured_glb(const fs::path& path, bool jpeg) {
                                std::to_string(box.max.y) + "," + std::to_string(box.max.z) + "]";
     const std::size_t n = sphere.positions.size();
     const int pos = add_accessor(add_view(sphere.positions.data(), n * sizeof(Vec3)), 5126, n, "VEC3", minmax);
-    const int nor = add_accessor(add_view(sphere.normals.data(), n * sizeof(Vec3)), 5126, n, "VEC3", "");
-    const int uv = add_accessor(add_view(sphere.uvs.data(), n * sizeof(Vec2)), 5126, n, "VEC2", "");
+    const int nor = sphere.normals.empty() ? -1 : add_accessor(add_view(sphere.normals.data(), n * sizeof(Vec3)), 5126, n, "VEC3", "");
+    const int uv = sphere.uvs.empty() ? -1 : add_accessor(add_view(sphere.uvs.data(), n * sizeof(Vec2)), 5126, n, "VEC2", "");
     const int idx = add_accessor(add_view(sphere.indices.data(), sphere.indices.size() * 4), 5125, sphere.indices.size(), "SCALAR", "");
     std::string scene_nodes;
     for (int i = 0; i < k_count; ++i) {
+        const std::string s = std::to_string(i), sep = i ? "," : "";
+        std::string attributes = "\"POSITION\":" + std::to_string(pos);
+        if (nor >= 0) attributes += ",\"NORMAL\":" + std::to_string(nor);
+        if (uv >= 0) attributes += ",\"TEXCOORD_0\":" + std::to_string(uv);
+        json_meshes += sep + "{\"primitives\":[{\"attributes\":{" + attributes + "},\"indices\":" + std::to_string(idx) +
+                       (textures ? ",\"material\":" + s : std::string()) + "}]}";
+        json_nodes += sep + "{\"mesh\":" + s + ",\"translation\":[" + std::to_string(2.5 * i) + ",0,0]}";
+        scene_nodes += sep + s;
+        if (!textures) continue;
         const Image image = texture_pattern(k_size, i);
         const std::string bytes = jpeg ? jpeg_bytes(image) : png_bytes(image, path.string() + ".tmp.png");
         if (bytes.empty()) return false;
@@ -123,20 +133,16 @@ bool write_textured_glb(const fs::path& path, bool jpeg) {
             alone << bytes;
         }
         const int image_view = add_view(bytes.data(), bytes.size());
-        const std::string s = std::to_string(i), sep = i ? "," : "";
         json_images += sep + "{\"bufferView\":" + std::to_string(image_view) + ",\"mimeType\":\"image/" + (jpeg ? "jpeg" : "png") + "\"}";
         json_textures += sep + "{\"source\":" + s + "}";
         json_materials += sep + "{\"pbrMetallicRoughness\":{\"baseColorTexture\":{\"index\":" + s + "}}}";
-        json_meshes += sep + "{\"primitives\":[{\"attributes\":{\"POSITION\":" + std::to_string(pos) + ",\"NORMAL\":" +
-                       std::to_string(nor) + ",\"TEXCOORD_0\":" + std::to_string(uv) + "},\"indices\":" + std::to_string(idx) +
-                       ",\"material\":" + s + "}]}";
-        json_nodes += sep + "{\"mesh\":" + s + ",\"translation\":[" + std::to_string(2.5 * i) + ",0,0]}";
-        scene_nodes += sep + s;
     }
     pad4(bin, '\0');
     std::string json = "{\"asset\":{\"version\":\"2.0\",\"generator\":\"facet_bench_write_models\"},\"scene\":0,\"scenes\":[{\"nodes\":[" +
-                       scene_nodes + "]}],\"nodes\":[" + json_nodes + "],\"meshes\":[" + json_meshes + "],\"materials\":[" +
-                       json_materials + "],\"textures\":[" + json_textures + "],\"images\":[" + json_images +
+                       scene_nodes + "]}],\"nodes\":[" + json_nodes + "],\"meshes\":[" + json_meshes +
+                       (textures ? "],\"materials\":[" + json_materials + "],\"textures\":[" + json_textures + "],\"images\":[" +
+                                       json_images
+                                 : std::string()) +
                        "],\"accessors\":[" + json_accessors + "],\"bufferViews\":[" + json_views +
                        "],\"buffers\":[{\"byteLength\":" + std::to_string(bin.size()) + "}]}";
     pad4(json, ' ');
@@ -154,15 +160,17 @@ int main(int argc, char** argv) {
     if (argc != 2 || std::string(argv[1]) == "--help") {
         std::cout << "usage: facet_bench_write_models OUT_DIR\n"
                      "Writes sphere_1m.obj (1,003,520 triangles, ~39 MB), textured.glb (four 2048x2048 JPEG textures)\n"
-                     "and textured_png.glb (the same with PNG) into OUT_DIR, for scripts/bench-loading.\n";
+                     "textured_png.glb (the same with PNG)\n"
+                     "and sphere_1m.glb (the sphere as GLB) into OUT_DIR, for scripts/bench-loading.\n";
         return argc == 2 ? 0 : 2;
     }
     const fs::path out = argv[1];
     std::error_code ec;
     fs::create_directories(out, ec);
     const Mesh sphere = bench::make_geodesic_sphere(1.0f, bench::k_million_sphere_frequency);
-    if (!write_obj(out / "sphere_1m.obj", sphere) || !write_textured_glb(out / "textured.glb", true) ||
-        !write_textured_glb(out / "textured_png.glb", false)) {
+    const Mesh uv_sphere = make_uv_sphere(1.0f, 96, 48);
+    if (!write_obj(out / "sphere_1m.obj", sphere) || !write_glb(out / "textured.glb", uv_sphere, 4, true) ||
+        !write_glb(out / "textured_png.glb", uv_sphere, 4, false) || !write_glb(out / "sphere_1m.glb", sphere, 0, false)) {
         std::cerr << "facet_bench_write_models: cannot write into " << out << "\n";
         return 1;
     }

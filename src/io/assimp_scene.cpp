@@ -556,6 +556,7 @@ SourceScene OwnScene::view() const {
         s.normals = m.normals.empty() ? nullptr : m.normals.data();
         s.colours = m.colours.empty() ? nullptr : m.colours.data();
         s.uvs = m.uvs.empty() ? nullptr : m.uvs.data();
+        if (!m.tangents.empty()) s.tangents = m.tangents.data(), s.bitangents = m.bitangents.data();
         s.material = m.material;
         s.triangles = m.triangles.data();
         s.triangle_count = m.triangles.size() / 3;

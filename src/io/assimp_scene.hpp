@@ -74,6 +74,7 @@ struct SourceScene {
 struct OwnMesh {
     std::vector<aiVector3D> positions, normals, uvs;  // normals and uvs empty, or one per position
     std::vector<aiColor4D> colours;                   // empty, or one per position
+    std::vector<aiVector3D> tangents, bitangents;     // both empty, or one each per position (glTF's TANGENT)
     std::vector<std::uint32_t> triangles;             // three per triangle, each < positions.size()
     unsigned material = 0;
 };

@@ -16,6 +16,7 @@
 #include "io/assimp_scene.hpp"
 #include "io/import_notes.hpp"
 #include "io/load_common.hpp"
+#include "io/gltf.hpp"
 #include "io/obj.hpp"
 #include "io/resources.hpp"
 
@@ -76,14 +77,18 @@ Material own_format_material(bool off) {
 
 std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const std::string& ext, std::uint64_t size,
                                                   const LoadOptions& options) {
-    if (ext != "obj") return std::nullopt;
+    const bool gltf = ext == "gltf" || ext == "glb";
+    if (ext != "obj" && !gltf) return std::nullopt;
     const ResourceRoots roots(path, options.resource_dirs);
     ImportNotes notes;
     std::optional<Result<OwnScene>> scene;
     {
         std::optional<FileText> bytes = FileText::open(path, size);
         if (!bytes) return std::nullopt;
-        scene = read_obj(path, bytes->text(), options, roots, notes);
+        if (!gltf)
+            scene = read_obj(path, bytes->text(), options, roots, notes);
+        else if (std::optional<OwnScene> s = read_gltf(path, bytes->text(), ext == "glb", options, roots, notes))
+            scene = Result<OwnScene>(std::move(*s));
     }  // the file's text is freed before the conversion allocates the Scene
     if (!scene) return std::nullopt;
     if (!*scene) return Result<LoadedModel>(scene->error());

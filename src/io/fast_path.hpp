@@ -18,8 +18,8 @@
 
 namespace facet::io_detail {
 
-// OBJ files (and their MTL files) read by facet's own reader (obj.hpp) into the scene assimp's
-// importer makes of them, converted as the assimp path converts it (assimp_scene.hpp); nullopt for
+// OBJ files (and their MTL files) and glTF 2.0 files (.gltf, .glb) read by facet's own readers
+// (obj.hpp, gltf.hpp) into the scene assimp's importers make of them, converted as the assimp path converts it (assimp_scene.hpp); nullopt for
 // the files the reader declines, which the assimp path then reads. `ext` is the extension in lower
 // case, `size` the file's.
 std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const std::string& ext, std::uint64_t size,
