@@ -73,6 +73,32 @@ int sweep_size(int n, int minimum) {
     return std::max(static_cast<int>(n / divisor), std::min(n, minimum));
 }
 
+namespace {
+
+// The directories test_temp_dir made for the running test. A test that passes has its directories
+// removed when it ends; a failing test's stay for inspection (each run clears them first anyway).
+std::vector<fs::path>& current_test_dirs() {
+    static std::vector<fs::path> dirs;
+    return dirs;
+}
+
+class RemoveDirsOfPassedTests : public ::testing::EmptyTestEventListener {
+    void OnTestEnd(const ::testing::TestInfo& info) override {
+        if (info.result() && info.result()->Passed()) {
+            std::error_code ec;
+            for (const fs::path& d : current_test_dirs()) fs::remove_all(d, ec);
+        }
+        current_test_dirs().clear();
+    }
+};
+
+[[maybe_unused]] const bool g_listener_added = [] {
+    ::testing::UnitTest::GetInstance()->listeners().Append(new RemoveDirsOfPassedTests);  // gtest owns it
+    return true;
+}();
+
+}  // namespace
+
 fs::path test_temp_dir(const std::string& prefix) {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     // The build folder's hash: several checkouts' test runs on one machine (one user, one /tmp)
@@ -85,6 +111,7 @@ fs::path test_temp_dir(const std::string& prefix) {
     const fs::path d = fs::temp_directory_path() / name;
     fs::remove_all(d);
     fs::create_directories(d);
+    if (info) current_test_dirs().push_back(d);
     return d;
 }
 

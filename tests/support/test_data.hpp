@@ -29,8 +29,9 @@ std::optional<std::filesystem::path> cgal_meshes();
 std::string assimp_models_missing();
 std::string cgal_meshes_missing();
 
-// An empty directory for the running test: <tmp>/<prefix>_<uid>_<suite>_<test>, cleared first.
-// Per user, because a directory left by another user's run could not be cleared.
+// An empty directory for the running test: <tmp>/<prefix>_<uid>_<build>_<suite>_<test>, cleared
+// first, removed when the test passes (a failed test's is left to look at). Per user, because a
+// directory left by another user's run could not be cleared.
 std::filesystem::path test_temp_dir(const std::string& prefix);
 
 // The size of a random sweep: `n`, divided by FACET_TEST_SWEEP_DIVISOR (a whole number >= 1) when
