@@ -12,6 +12,7 @@ ArrayLike = npt.ArrayLike
 Colour = Sequence[float]
 PassName = Literal["color", "alpha", "depth", "range", "normal", "instance", "material", "primitive", "uv"]
 NormalSpace = Literal["world", "camera"]
+PointShape = Literal["round", "square"]
 ShadingName = Literal["lit", "lambert", "flat", "normals", "mask", "vertex-color", "texture"]
 
 class _MeshLike(Protocol):
@@ -40,6 +41,8 @@ class Scene:
         *,
         color: Optional[Colour] = None,
         crease_angle: Optional[float] = ...,
+        points: Optional[ArrayLike] = None,
+        lines: Optional[ArrayLike] = None,
     ) -> Scene: ...
     def add_mesh(
         self,
@@ -53,6 +56,8 @@ class Scene:
         *,
         color: Optional[Colour] = None,
         crease_angle: Optional[float] = ...,
+        points: Optional[ArrayLike] = None,
+        lines: Optional[ArrayLike] = None,
     ) -> int: ...
     @staticmethod
     def default() -> Scene: ...
@@ -129,6 +134,10 @@ class Renderer:
         background: Union[Colour, Literal["transparent"], None] = None,
         normal_space: NormalSpace = "world",
         out: Optional[dict[str, np.ndarray]] = None,
+        point_size: float = ...,
+        point_shape: PointShape = "round",
+        point_world_size: Optional[float] = None,
+        line_width: float = ...,
     ) -> dict[str, np.ndarray]: ...
     @property
     def threads(self) -> int: ...
@@ -167,5 +176,9 @@ def render(
     background: Union[Colour, Literal["transparent"], None] = None,
     normal_space: NormalSpace = "world",
     threads: Optional[int] = None,
+    point_size: float = ...,
+    point_shape: PointShape = "round",
+    point_world_size: Optional[float] = None,
+    line_width: float = ...,
 ) -> dict[str, np.ndarray]: ...
 def write_png(path: Union[str, os.PathLike[str]], image: npt.NDArray[np.uint8]) -> None: ...

@@ -50,6 +50,30 @@ RenderSettings parse_settings(const std::string& shading, py::handle background)
     return s;
 }
 
+// render()'s point and line arguments, as `facet render`'s options: sizes in pixels of the output image.
+struct PrimitiveArgs {
+    double point_size = defaults::k_point_size;
+    std::string point_shape = "round";
+    std::optional<double> point_world_size;
+    double line_width = defaults::k_line_width;
+};
+
+// The style of points and lines: the supersampled target draws them ssaa times larger.
+void set_primitives(RenderSettings& s, const PrimitiveArgs& a, int ssaa) {
+    const double most = PrimitiveStyle::k_max_point_size / ssaa;
+    const std::string range = " must be more than 0 and at most 256 / ssaa pixels, got ";
+    if (!(a.point_size > 0 && a.point_size <= most)) value_error("point_size" + range + py::str(py::float_(a.point_size)).cast<std::string>());
+    if (!(a.line_width > 0 && a.line_width <= most)) value_error("line_width" + range + py::str(py::float_(a.line_width)).cast<std::string>());
+    if (a.point_world_size && !(*a.point_world_size > 0 && *a.point_world_size < 1e30))
+        value_error("point_world_size must be a positive number of model units, or None");
+    if (a.point_shape != "round" && a.point_shape != "square") value_error("point_shape must be 'round' or 'square'");
+    PrimitiveStyle& style = s.primitives;
+    style.point_size = a.point_world_size ? static_cast<float>(*a.point_world_size) : static_cast<float>(a.point_size) * static_cast<float>(ssaa);
+    style.point_shape = a.point_shape == "square" ? PointShape::square : PointShape::round;
+    style.line_width = static_cast<float>(a.line_width) * static_cast<float>(ssaa);
+    s.point_size_in_model_units = a.point_world_size.has_value();
+}
+
 // An uninitialized C-contiguous array of `shape`, its memory 64-byte aligned (the renderer writes
 // whole aligned rows fastest) and owned by the array.
 template <class T>
@@ -135,7 +159,7 @@ T* pass_output(Pass p, std::vector<py::ssize_t> shape, int channels, const py::d
 
 py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, Integer width_arg, Integer height_arg,
                 py::object passes_obj, const std::string& shading, Integer ssaa_arg, py::object background,
-                const std::string& normal_space, py::object out) {
+                const std::string& normal_space, py::object out, const PrimitiveArgs& primitives) {
     PyScene& scene = scene_of(scene_obj);
     Job job;
     const bool batch = !py::isinstance<PyCamera>(cameras);
@@ -155,6 +179,7 @@ py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, Integer
     ViewRequest& request = job.request;
     request.width = width, request.height = height, request.ssaa = ssaa;
     request.settings = parse_settings(shading, background);
+    set_primitives(request.settings, primitives, ssaa);
     request.passes = parse_passes(passes_obj);
     if (normal_space != "world" && normal_space != "camera") value_error("normal_space must be 'world' or 'camera'");
     request.normal_space = normal_space == "camera" ? NormalSpace::camera : NormalSpace::world;
@@ -246,6 +271,15 @@ background : sequence of 3 or 4 floats in 0..1, or 'transparent', optional
     Default: `facet render`'s dark grey.
 normal_space : str
     'world' (default) or 'camera' (x right, y up, z toward the viewer) for the normal pass.
+point_size : float
+    Diameter of the scene's points in pixels of the image (0 < size <= 256 / ssaa), as
+    `facet render --point-size`.
+point_shape : str
+    'round' (default: the pixel centres within point_size / 2) or 'square'.
+point_world_size : float, optional
+    The points' diameter in model units instead, perspective-scaled.
+line_width : float
+    Width of the scene's line segments in pixels of the image (0 < width <= 256 / ssaa).
 %s
 Returns
 -------
@@ -277,6 +311,11 @@ PyScene& scene_of(py::handle obj) {
 }
 
 void bind_render(py::module_& m) {
+    // The point and line arguments of Renderer.render and render, keyword-only, last.
+    const py::arg_v point_size = py::arg("point_size") = double{defaults::k_point_size};
+    const py::arg_v point_shape = py::arg("point_shape") = "round";
+    const py::arg_v point_world_size = py::arg("point_world_size") = py::none();
+    const py::arg_v line_width = py::arg("line_width") = double{defaults::k_line_width};
     py::class_<PyRenderer>(m, "Renderer", R"doc(A renderer that keeps its threads and memory between calls.
 
 Renderer(threads=None) starts `threads` workers (None: one per core); render() then draws
@@ -290,14 +329,16 @@ parallel.
             "render",
             [](PyRenderer& r, py::object scene, py::object camera, Integer width, Integer height, py::object passes,
                const std::string& shading, Integer ssaa, py::object background, const std::string& normal_space,
-               py::object out) {
-                return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, out);
+               py::object out, double point_size, const std::string& point_shape, std::optional<double> point_world_size,
+               double line_width) {
+                return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, out,
+                              {point_size, point_shape, point_world_size, line_width});
             },
             py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
             py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
             py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
             py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("out") = py::none(),
-            doc("Render `scene` seen by `camera` into arrays.",
+            point_size, point_shape, point_world_size, line_width, doc("Render `scene` seen by `camera` into arrays.",
                 "out : dict of str to numpy.ndarray, optional\n    Arrays to render into (C-contiguous, of each pass's "
                 "shape and dtype),\n    returned in the dict: no allocation.\n")
                 .c_str())
@@ -315,23 +356,30 @@ parallel.
                 d["triangles_culled"] = s.triangles_culled;
                 d["triangles_clipped"] = s.triangles_clipped;
                 d["triangles_rasterized"] = s.triangles_rasterized;
+                d["points_in"] = s.points_in;
+                d["points_invalid"] = s.points_invalid;
+                d["segments_in"] = s.segments_in;
+                d["segments_invalid"] = s.segments_invalid;
                 return d;
             },
             "What the last render drew: triangles_in, triangles_invalid (dropped: a non-finite vertex), "
-            "triangles_culled, triangles_clipped, triangles_rasterized.");
+            "triangles_culled, triangles_clipped, triangles_rasterized; points_in, segments_in and the "
+            "points_invalid, segments_invalid dropped (a non-finite position).");
 
     m.def(
         "render",
         [](py::object scene, py::object camera, Integer width, Integer height, py::object passes, const std::string& shading,
-           Integer ssaa, py::object background, const std::string& normal_space, std::optional<Integer> threads) {
+           Integer ssaa, py::object background, const std::string& normal_space, std::optional<Integer> threads,
+           double point_size, const std::string& point_shape, std::optional<double> point_world_size, double line_width) {
             PyRenderer r(checked_threads(threads));
-            return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, py::none());
+            return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, py::none(),
+                          {point_size, point_shape, point_world_size, line_width});
         },
         py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
         py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
         py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
         py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("threads") = py::none(),
-        doc("Render `scene` seen by `camera` into arrays (with a Renderer made for the call; keep a\nfacet.Renderer "
+        point_size, point_shape, point_world_size, line_width, doc("Render `scene` seen by `camera` into arrays (with a Renderer made for the call; keep a\nfacet.Renderer "
             "for many renders).",
             "threads : int, optional\n    Threads drawing; None: one per core. The image is the same.\n")
             .c_str());

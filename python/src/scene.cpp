@@ -124,20 +124,40 @@ std::shared_ptr<const Texture> checked_texture(py::handle obj) {
 struct MeshArgs {
     py::array_t<float> vertices;
     std::optional<py::array_t<float>> normals, colours, uvs;  // (a default array_t is not "none" but empty)
-    py::array_t<std::uint32_t> faces;
+    py::array_t<std::uint32_t> faces, points, lines;  // points and lines: empty when not given
     std::uint32_t vertex_count = 0;
     Material material;
     Mat4 model = Mat4::identity();
 };
 
+// Vertex indices of shape (rows, one of `columns`), integers each in 0..n-1, as uint32; `name` for errors.
+py::array_t<std::uint32_t> checked_indices(py::handle obj, const char* name, std::initializer_list<py::ssize_t> columns,
+                                           const char* shape_doc, py::ssize_t n) {
+    const py::array f = checked_array(obj, name, -1, columns, shape_doc);
+    if (f.dtype().kind() == 'f') value_error(std::string(name) + " must hold integers, got dtype " + std::string(py::str(f.dtype())));
+    if (f.shape(0) > 0) {
+        // The range in the array's own dtype, before any conversion could wrap a negative index.
+        const py::module_ np = py::module_::import("numpy");
+        const long long lo = np.attr("min")(f).cast<long long>();
+        if (lo < 0) value_error(std::string(name) + ": negative index " + std::to_string(lo));
+        const auto hi = np.attr("max")(f).cast<unsigned long long>();
+        if (hi >= static_cast<unsigned long long>(n))
+            value_error(std::string(name) + ": index " + std::to_string(hi) + " is out of range for " + std::to_string(n) +
+                        " vertices");
+    }
+    return contiguous<std::uint32_t>(f);
+}
+
 MeshArgs checked_mesh(py::object vertices, py::object faces, py::object normals, py::object colors, py::object uvs,
-                      py::object texture, py::object transform, py::object color) {
+                      py::object texture, py::object transform, py::object color, py::object points, py::object lines) {
     // Duck typing: a mesh object (trimesh's, say) in place of the vertices.
     if (faces.is_none() && py::hasattr(vertices, "vertices") && py::hasattr(vertices, "faces")) {
         faces = vertices.attr("faces");
         vertices = vertices.attr("vertices");
     }
-    if (faces.is_none()) value_error("faces are missing: pass vertices and faces, or an object with .vertices and .faces");
+    const bool primitives = !points.is_none() || !lines.is_none();
+    if (faces.is_none() && !primitives)
+        value_error("faces are missing: pass vertices and faces (or points or lines), or an object with .vertices and .faces");
     MeshArgs out;
     const py::array v = checked_array(vertices, "vertices", -1, {3}, "(N, 3)");
     if (v.shape(0) > static_cast<py::ssize_t>(std::numeric_limits<std::uint32_t>::max()))
@@ -146,18 +166,18 @@ MeshArgs checked_mesh(py::object vertices, py::object faces, py::object normals,
     out.vertex_count = static_cast<std::uint32_t>(v.shape(0));
     const py::ssize_t n = v.shape(0);
 
-    const py::array f = checked_array(faces, "faces", -1, {3}, "(M, 3)");
-    if (f.dtype().kind() == 'f') value_error("faces must hold integers, got dtype " + std::string(py::str(f.dtype())));
-    if (f.shape(0) > 0) {
-        // The range in the array's own dtype, before any conversion could wrap a negative index.
-        const py::module_ np = py::module_::import("numpy");
-        const long long lo = np.attr("min")(f).cast<long long>();
-        const auto hi = np.attr("max")(f).cast<unsigned long long>();
-        if (lo < 0) value_error("faces: negative index " + std::to_string(lo));
-        if (hi >= static_cast<unsigned long long>(n))
-            value_error("faces: index " + std::to_string(hi) + " is out of range for " + std::to_string(n) + " vertices");
+    out.faces = faces.is_none() ? py::array_t<std::uint32_t>(0) : checked_indices(faces, "faces", {3}, "(M, 3)", n);
+    if (!points.is_none()) {
+        // A flat list of point indices is the common form: taken as one column.
+        py::array a;
+        try {
+            a = py::array::ensure(points);
+        } catch (const py::error_already_set&) {
+        }
+        if (a && a.ndim() == 1) points = a.attr("reshape")(-1, 1);
+        out.points = checked_indices(points, "points", {1}, "(P,)", n);
     }
-    out.faces = contiguous<std::uint32_t>(f);
+    if (!lines.is_none()) out.lines = checked_indices(lines, "lines", {2}, "(L, 2)", n);
 
     const std::string rows = "(" + std::to_string(n) + ", ";  // like the vertices
     if (!normals.is_none()) {
@@ -209,12 +229,14 @@ const T* data_or_null(const std::optional<py::array_t<float>>& a) {
 // Adds the mesh: over the caller's arrays, or, when normals are to be computed (which may split
 // vertices), as a copy with them. Returns the object's index.
 std::size_t add_mesh(PyScene& scene, MeshArgs&& a, std::optional<float> crease_angle) {
-    if (!a.normals && crease_angle) {
+    if (!a.normals && crease_angle && a.faces.size() > 0) {
         if (!(*crease_angle >= 0 && *crease_angle <= 180)) value_error("crease_angle must be 0..180 degrees, or None");
         SceneObject o;
         const std::size_t n = a.vertex_count;
         o.mesh.positions.assign(data_of<Vec3>(a.vertices), data_of<Vec3>(a.vertices) + n);
         o.mesh.indices.assign(a.faces.data(), a.faces.data() + a.faces.size());
+        o.mesh.points.assign(a.points.data(), a.points.data() + a.points.size());
+        o.mesh.lines.assign(a.lines.data(), a.lines.data() + a.lines.size());
         if (a.colours) o.mesh.colours.assign(data_or_null<Vec4>(a.colours), data_or_null<Vec4>(a.colours) + n);
         if (a.uvs) o.mesh.uvs.assign(data_or_null<Vec2>(a.uvs), data_or_null<Vec2>(a.uvs) + n);
         o.model = a.model;
@@ -232,9 +254,11 @@ std::size_t add_mesh(PyScene& scene, MeshArgs&& a, std::optional<float> crease_a
     b->view.uvs = data_or_null<Vec2>(a.uvs);
     b->view.vertex_count = a.vertex_count;
     b->view.indices = {a.faces.data(), static_cast<std::size_t>(a.faces.size())};
+    b->view.points = {a.points.data(), static_cast<std::size_t>(a.points.size())};
+    b->view.lines = {a.lines.data(), static_cast<std::size_t>(a.lines.size())};
     b->view.model = a.model;
     b->material = std::move(a.material);
-    b->keep_alive = {a.vertices, a.faces};
+    b->keep_alive = {a.vertices, a.faces, a.points, a.lines};
     for (const auto* o : {&a.normals, &a.colours, &a.uvs})
         if (*o) b->keep_alive.push_back(**o);
     return scene.add_borrowed(std::move(b));
@@ -248,7 +272,7 @@ vertices : array_like, shape (N, 3), or a mesh object
     Positions, float32 or float64 (any real dtype is converted to float32). Any object with
     `.vertices` and `.faces` (a trimesh.Trimesh, say) may be passed instead, without `faces`.
     Triangles with a NaN or infinite vertex are dropped when drawn (Renderer.stats counts them).
-faces : array_like, shape (M, 3), integers
+faces : array_like, shape (M, 3), integers, optional with points or lines
     Three vertex indices per triangle, counter-clockwise seen from the front; each in 0..N-1.
 normals : array_like, shape (N, 3), optional
     Per-vertex normals (need not be unit length). Without them, facet computes them as
@@ -263,6 +287,13 @@ transform : array_like, shape (4, 4), optional
     Object-to-world matrix for column vectors (world = transform @ [x, y, z, 1]), affine.
 color : sequence of 3 or 4 floats in 0..1, optional
     The material's base colour (default white).
+points : array_like, shape (P,), integers, optional
+    Vertices drawn as points (e.g. numpy.arange(N) for a point cloud): round or square splats
+    of render()'s point_size, lit by their normal when there are normals, else coloured by
+    colors and color; see README.md "Points and lines" for the exact pixels.
+lines : array_like, shape (L, 2), integers, optional
+    Line segments, two vertex indices each, drawn line_width pixels wide; consecutive segments
+    that share a vertex (a strip, a loop) are joined with mitres.
 crease_angle : float or None
     Degrees, used when normals are not given: normals are split where faces meet at more than
     this (`facet render --crease-angle`), which copies the mesh; None: no normals (faceted
@@ -336,14 +367,15 @@ keeps its own transform, material colour and texture. len(scene) is its number o
         define(py::arg("vertices"), py::arg("faces") = py::none(), py::arg("normals") = py::none(),
                py::arg("colors") = py::none(), py::arg("uvs") = py::none(), py::arg("texture") = py::none(),
                py::arg("transform") = py::none(), py::kw_only(), py::arg("color") = py::none(),
-               py::arg("crease_angle") = default_crease);
+               py::arg("crease_angle") = default_crease, py::arg("points") = py::none(), py::arg("lines") = py::none());
     };
     using Add = std::size_t (*)(PyScene&, py::object, py::object, py::object, py::object, py::object, py::object,
-                                py::object, py::object, std::optional<float>);
+                                py::object, py::object, std::optional<float>, py::object, py::object);
     static constexpr Add add = [](PyScene& s, py::object vertices, py::object faces, py::object normals, py::object colors,
                                   py::object uvs, py::object texture, py::object transform, py::object color,
-                                  std::optional<float> crease_angle) {
-        return add_mesh(s, checked_mesh(vertices, faces, normals, colors, uvs, texture, transform, color), crease_angle);
+                                  std::optional<float> crease_angle, py::object points, py::object lines) {
+        return add_mesh(s, checked_mesh(vertices, faces, normals, colors, uvs, texture, transform, color, points, lines),
+                        crease_angle);
     };
     static const std::string from_arrays_doc = std::string("A scene of one mesh given as arrays.") + k_mesh_doc;
     static const std::string add_mesh_doc = std::string("Add a mesh; returns its index in the scene (0 for the first).") + k_mesh_doc;
@@ -351,9 +383,10 @@ keeps its own transform, material colour and texture. len(scene) is its number o
         scene.def_static(
             "from_arrays",
             [](py::object vertices, py::object faces, py::object normals, py::object colors, py::object uvs,
-               py::object texture, py::object transform, py::object color, std::optional<float> crease_angle) {
+               py::object texture, py::object transform, py::object color, std::optional<float> crease_angle,
+               py::object points, py::object lines) {
                 auto s = std::make_shared<PyScene>();
-                add(*s, vertices, faces, normals, colors, uvs, texture, transform, color, crease_angle);
+                add(*s, vertices, faces, normals, colors, uvs, texture, transform, color, crease_angle, points, lines);
                 return s;
             },
             args..., from_arrays_doc.c_str());

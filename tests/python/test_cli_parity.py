@@ -98,3 +98,52 @@ def test_arrays_get_the_normals_the_command_line_computes(meshes, facet_exe, tmp
                             (facet.Camera.orbit(200, -30, fov_y=30), ["--azimuth", 200, "--elevation", -30, "--fov", 30])):
         rgba = facet.render(scene, camera, 180, 140)["color"]
         same_image(cli_render(facet_exe, tmp_path, elephant, "--size", "180x140", *options), rgba)
+
+
+def sphere_points(n, seed):
+    """n points on the unit sphere (their own normals) and a colour each."""
+    rng = np.random.default_rng(seed)
+    v = rng.normal(size=(n, 3)).astype(np.float32)
+    v /= np.linalg.norm(v, axis=1)[:, None]
+    return v, rng.integers(0, 256, size=(n, 3), dtype=np.uint8)
+
+
+def test_points_from_arrays_and_files_render_the_command_lines_bytes(facet_exe, tmp_path):
+    # A coloured cloud with normals as a PLY file (written here) and as arrays with points=: both
+    # give `facet render`'s bytes for each point style.
+    v, c = sphere_points(2000, 26)
+    ply = tmp_path / "cloud.ply"
+    header = (f"ply\nformat ascii 1.0\nelement vertex {len(v)}\n" + "".join(f"property float {a}\n" for a in
+              ("x", "y", "z", "nx", "ny", "nz")) + "".join(f"property uchar {a}\n" for a in ("red", "green", "blue")))
+    rows = "".join("%r %r %r %r %r %r %d %d %d\n" % (*map(float, p), *map(float, p), *map(int, q)) for p, q in zip(v, c))
+    ply.write_text(header + "end_header\n" + rows)
+    arrays = facet.Scene.from_arrays(v, normals=v, colors=c, points=np.arange(len(v)))
+    for args, options in ((dict(point_size=5, point_shape="square", ssaa=2), ["--point-size", 5, "--point-shape", "square",
+                                                                              "--ssaa", 2]),
+                          (dict(point_world_size=0.05, shading="lambert"), ["--point-world-size", 0.05, "--shading", "lambert"])):
+        png = cli_render(facet_exe, tmp_path, ply, "--size", "160x120", "--azimuth", 30, "--elevation", 20, *options)
+        for scene in (facet.load(ply), arrays):
+            rgba = facet.render(scene, facet.Camera.orbit(30, 20), 160, 120, **args)["color"]
+            assert np.count_nonzero((rgba[..., :3] != rgba[0, 0, :3]).any(axis=2)) > 1000  # the cloud is there
+            same_image(png, rgba)
+
+
+def test_lines_render_the_command_lines_bytes_and_are_counted(facet_exe, tmp_path):
+    # A closed polyline as an OBJ `l` line, drawn 3 pixels wide.
+    v, _ = sphere_points(40, 27)
+    obj = tmp_path / "loop.obj"
+    obj.write_text("".join("v %r %r %r\n" % tuple(map(float, p)) for p in v) +
+                   "l " + " ".join(str(i + 1) for i in range(len(v))) + " 1\n")
+    renderer = facet.Renderer(threads=2)
+    rgba = renderer.render(facet.load(obj), facet.Camera.orbit(30, 20), 160, 120, line_width=3, shading="flat")["color"]
+    assert renderer.stats["segments_in"] == len(v) and renderer.stats["triangles_in"] == 0
+    same_image(cli_render(facet_exe, tmp_path, obj, "--size", "160x120", "--azimuth", 30, "--elevation", 20,
+                          "--line-width", 3, "--shading", "flat"), rgba)
+    # The same segments as arrays: wider lines cover more pixels.
+    segments = np.array([[i, (i + 1) % len(v)] for i in range(len(v))])
+    scene = facet.Scene.from_arrays(v, lines=segments)
+    thin, wide = (np.count_nonzero(facet.render(scene, facet.Camera.orbit(30, 20), 160, 120, line_width=w,
+                                                 background="transparent")["color"][..., 3] > 0)
+                  for w in (1, 4))
+    assert renderer.stats["segments_invalid"] == 0
+    assert 0 < thin < wide

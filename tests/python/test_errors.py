@@ -123,6 +123,12 @@ BAD_ARRAYS = [
     (dict(color=(1, 0)), "color must be 3 or 4 numbers"),
     (dict(color="red"), "color must be 3 or 4 numbers"),
     (dict(crease_angle=-1), "crease_angle"),
+    (dict(points=np.array([0, 3])), "points: index 3 is out of range for 3 vertices"),
+    (dict(points=np.array([-1])), "points: negative index -1"),
+    (dict(points=np.array([0.0, 1.0])), "points must hold integers"),
+    (dict(points=np.zeros((2, 2), np.uint32)), r"points must have shape \(P,\)"),
+    (dict(lines=np.array([[0, 1, 2]])), r"lines must have shape \(L, 2\), got \(1, 3\)"),
+    (dict(lines=np.array([[0, 7]])), "lines: index 7 is out of range for 3 vertices"),
 ]
 
 
@@ -148,6 +154,17 @@ def test_non_finite_vertices_are_dropped_and_counted():
         assert out["color"].shape == (32, 32, 4)
         assert renderer.stats["triangles_in"] == 4
         assert renderer.stats["triangles_invalid"] == 2
+
+
+def test_non_finite_points_and_segments_are_dropped_and_counted():
+    v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [np.nan, 0, 0]], np.float32)
+    scene = facet.Scene.from_arrays(v, points=[0, 1, 3, 2, 3], lines=[[0, 1], [1, 3], [3, 2]])
+    renderer = facet.Renderer(threads=1)
+    out = renderer.render(scene, facet.Camera.look_at((0.5, 0.5, 2), (0.5, 0.5, 0), near=0.5, far=5), 32, 32,
+                          background="transparent")
+    assert np.count_nonzero(out["color"][..., 3]) > 0
+    s = renderer.stats
+    assert (s["points_in"], s["points_invalid"], s["segments_in"], s["segments_invalid"]) == (5, 2, 3, 2)
 
 
 # ---- render options -------------------------------------------------------------------------
@@ -184,6 +201,14 @@ BAD_RENDERS = [
     (dict(scene=V), TypeError, "scene must be a facet.Scene"),
     (dict(threads=0), ValueError, "threads must be 1..4096, got 0"),
     (dict(threads=10 ** 30), ValueError, "threads must be 1..4096, got more"),
+    (dict(point_size=0), ValueError, "point_size must be more than 0 and at most 256 / ssaa pixels, got 0"),
+    (dict(point_size=float("nan")), ValueError, "point_size must be more than 0"),
+    (dict(point_size=200, ssaa=2), ValueError, "point_size must be more than 0 and at most 256 / ssaa"),
+    (dict(line_width=-1), ValueError, "line_width must be more than 0"),
+    (dict(line_width=1e9), ValueError, "line_width must be more than 0"),
+    (dict(point_shape="hexagon"), ValueError, "point_shape must be 'round' or 'square'"),
+    (dict(point_world_size=0), ValueError, "point_world_size must be a positive number"),
+    (dict(point_world_size=float("inf")), ValueError, "point_world_size must be a positive number"),
 ]
 
 
