@@ -16,7 +16,6 @@
 #include <system_error>
 #include <tuple>
 
-#include "facet/contact_shadow.hpp"
 #include "facet/isa.hpp"
 #include "views_output.hpp"
 
@@ -242,10 +241,6 @@ Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
             return usage("--float-format, --normal-space and --depth-scale go with --passes or --views");
         return Ok{};
     }
-    // The views are drawn by ViewRenderer, which has neither the jittered frames nor the ground quad.
-    if (p.aa != 1 || p.contact_shadow > 0)
-        return usage("--aa and --contact-shadow do not apply to --views or --passes (yet): leave them out; --ssaa "
-                     "anti-aliases the colour of the views");
     ViewsPlan v;
     if (!o.passes.empty()) {
         Result<PassSet> passes = parse_passes(o.passes);
@@ -384,57 +379,25 @@ Camera plan_camera(const Scene& scene, const RenderPlan& plan) {
     return plan.use_default_scene_camera ? default_scene_camera(aspect) : make_camera(scene, plan.view, aspect);
 }
 
-DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
-                      Framebuffer& target, Image& colour, std::vector<float>* depth) {
-    // The contact shadow, seen only from above the ground, is drawn after the scene's objects.
-    std::vector<ObjectView> views;
-    std::optional<ContactShadow> shadow;
-    if (plan.contact_shadow > 0) {
-        for (const SceneObject& o : scene.objects) views.push_back(view_of(o));
-        shadow = make_contact_shadow(renderer, views, plan.contact_shadow);
-        if (shadow && camera.position.y > shadow->mesh.positions[0].y) views.push_back(shadow->view());
-        else shadow.reset();
-    }
-    auto draw = [&](const RenderSettings& s) {
-        return shadow ? render_scene(renderer, target, std::span<const ObjectView>(views), camera, s)
-                      : render_scene(renderer, target, scene, camera, s);
-    };
-    if (plan.aa == 1) {
-        const DrawStats stats = draw(plan.settings);
-        resolve_supersampled(target, plan.ssaa, colour, depth);
-        return stats;
-    }
-    RenderSettings settings = plan.settings;
-    Image frame;
-    std::vector<float> frame_depth;
-    std::vector<std::uint16_t> sum;  // per channel; 8 frames of 255 fit
-    DrawStats stats;
-    const std::span<const Vec2> offsets = antialias_offsets(plan.aa);
-    for (std::size_t i = 0; i < offsets.size(); ++i) {
-        // In the target's pixels: with --ssaa a pixel of the image is ssaa of them across.
-        settings.pixel_offset = {offsets[i].x * static_cast<float>(plan.ssaa), offsets[i].y * static_cast<float>(plan.ssaa)};
-        const DrawStats s = draw(settings);
-        if (i == 0) stats = s;
-        resolve_supersampled(target, plan.ssaa, frame, depth ? &frame_depth : nullptr);
-        if (i == 0) {
-            sum.assign(frame.pixels.size() * 4, 0);
-            if (depth) *depth = frame_depth;
-        }
-        for (std::size_t p = 0; p < frame.pixels.size(); ++p) {
-            const Rgba8 c = frame.pixels[p];
-            sum[p * 4] = static_cast<std::uint16_t>(sum[p * 4] + c.r);
-            sum[p * 4 + 1] = static_cast<std::uint16_t>(sum[p * 4 + 1] + c.g);
-            sum[p * 4 + 2] = static_cast<std::uint16_t>(sum[p * 4 + 2] + c.b);
-            sum[p * 4 + 3] = static_cast<std::uint16_t>(sum[p * 4 + 3] + c.a);
-            if (depth && i > 0) (*depth)[p] = std::min((*depth)[p], frame_depth[p]);
-        }
-    }
-    const int n = plan.aa;
-    auto average = [&](std::size_t k) { return static_cast<std::uint8_t>((sum[k] + n / 2) / n); };
-    colour = std::move(frame);
-    for (std::size_t p = 0; p < colour.pixels.size(); ++p)
-        colour.pixels[p] = {average(p * 4), average(p * 4 + 1), average(p * 4 + 2), average(p * 4 + 3)};
-    return stats;
+ViewRequest view_request(const RenderPlan& plan) {
+    ViewRequest r;
+    r.width = plan.width, r.height = plan.height;
+    r.ssaa = plan.ssaa, r.aa = plan.aa;
+    r.contact_shadow = plan.contact_shadow;
+    r.settings = plan.settings;
+    return r;
+}
+
+DrawStats render_plan(ViewRenderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
+                      Image& colour, std::vector<float>* depth) {
+    colour.width = plan.width, colour.height = plan.height;
+    const std::size_t n = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height);
+    colour.pixels.resize(n);
+    if (depth) depth->resize(n);
+    PassImages out;
+    out.colour = colour.pixels.data();
+    out.window_depth = depth ? depth->data() : nullptr;
+    return renderer.render(scene, {&camera, 1}, view_request(plan), {&out, 1});
 }
 
 Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command) {

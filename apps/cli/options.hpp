@@ -143,12 +143,17 @@ Result<RenderPlan> make_plan(const RenderOptions& options, bool camera_options_g
 // The plan's camera for the scene: its automatic framing (which reads every vertex) or the explicit one.
 Camera plan_camera(const Scene& scene, const RenderPlan& plan);
 
+// The plan's request to the library's ViewRenderer: size, --ssaa, --aa, the contact shadow and the
+// settings, colour alone (views_output.cpp adds the passes).
+ViewRequest view_request(const RenderPlan& plan);
+
 // Renders a scene seen by `camera` (plan_camera) into `colour` (and `depth`, window depth per pixel,
-// if given) by the plan: with --aa N, N frames jittered by antialias_offsets(N), each resolved
-// (--ssaa), averaged per channel (rounded to nearest), depth the nearest; the stats of the first.
-// With a contact shadow (lit mode, the camera above the ground) its quad is drawn too.
-DrawStats render_plan(Renderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
-                      Framebuffer& target, Image& colour, std::vector<float>* depth);
+// if given) by the plan, through ViewRenderer (view_request): with --aa N, N frames jittered by
+// antialias_offsets(N), each resolved (--ssaa), averaged per channel (rounded to nearest), depth the
+// nearest; the stats of the first. With a contact shadow (lit mode, the camera above the ground)
+// its quad is drawn too. `facet render` and `facet thumbs` draw their images with it.
+DrawStats render_plan(ViewRenderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
+                      Image& colour, std::vector<float>* depth);
 
 // --print-config (print_config.cpp): the settings a run resolves to, one `key = value` line each in
 // a fixed order, after a `#` comment line; README, "Printing the settings", lists the keys. Values

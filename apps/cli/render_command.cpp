@@ -127,20 +127,19 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
     const double load_ms = ms_since(load_start);
 
     report.phase(WorkerPhase::rendering);
-    Renderer renderer({.threads = r.threads});
+    ViewRenderer renderer({.threads = r.threads});
     if (r.print_config) {
-        print_config(r, *scene, renderer);
+        print_config(r, *scene, renderer.renderer());
         return k_exit_ok;
     }
     if (plan.views) return views_job(r, *scene, load_ms);
-    Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
     Image colour;
     std::vector<float> depth;
     std::vector<float>* depth_ptr = r.depth_out.empty() ? nullptr : &depth;
 
     const Clock::time_point render_start = Clock::now();
     const Camera camera = plan_camera(*scene, plan);
-    DrawStats stats = render_plan(renderer, *scene, plan, camera, target, colour, depth_ptr);
+    DrawStats stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
     double render_ms = ms_since(render_start);
     if (r.benchmark_frames > 0) {
         // The first frame above was the warm-up; time the next ones, each a draw and the copy of the
@@ -148,10 +147,10 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
         std::vector<double> frames;
         for (int i = 0; i < r.benchmark_frames; ++i) {
             const Clock::time_point start = Clock::now();
-            stats = render_plan(renderer, *scene, plan, camera, target, colour, depth_ptr);
+            stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
             frames.push_back(ms_since(start));
         }
-        print_benchmark(frames, load_ms, scene->triangle_count(), renderer.threads(), plan.width, plan.height);
+        print_benchmark(frames, load_ms, scene->triangle_count(), renderer.renderer().threads(), plan.width, plan.height);
     }
 
     if (stats.triangles_in > 0 && stats.triangles_invalid == stats.triangles_in) {
@@ -173,7 +172,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
     }
     std::fprintf(stderr, "facet render: %s (%dx%d, %zu triangles, load %.1f ms, render %.1f ms, %d threads)\n",
                  r.output.c_str(), plan.width, plan.height, scene->triangle_count(), load_ms, render_ms,
-                 renderer.threads());
+                 renderer.renderer().threads());
     return k_exit_ok;
 }
 

@@ -64,8 +64,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
     ThumbnailFigures f;
     std::string error;
     try {
-        Renderer renderer({.threads = k_thumbnail_threads});
-        Framebuffer target(plan.width * plan.ssaa, plan.height * plan.ssaa);
+        ViewRenderer renderer({.threads = k_thumbnail_threads});
         Image colour;
         report.phase(WorkerPhase::loading);
         Clock::time_point start = Clock::now();
@@ -79,7 +78,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
             report.phase(WorkerPhase::rendering);
             start = Clock::now();
             try {
-                render_plan(renderer, *scene, plan, plan_camera(*scene, plan), target, colour, nullptr);
+                render_plan(renderer, *scene, plan, plan_camera(*scene, plan), colour, nullptr);
                 const auto& px = colour.pixels;
                 if (job.refuse_empty && std::all_of(px.begin(), px.end(), [&](Rgba8 p) { return p == px.front(); })) {
                     error = job.model + ": nothing to draw (" + std::to_string(scene->triangle_count()) +

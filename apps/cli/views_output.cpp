@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "facet/io.hpp"
@@ -378,11 +379,9 @@ Result<ViewsReport> render_views_into(const Scene& scene, const RenderPlan& plan
     }
     const std::vector<Camera> cameras = make_cameras(objects, exact_views, aspect);
 
-    ViewRequest request;
-    request.width = plan.width, request.height = plan.height, request.ssaa = plan.ssaa;
+    ViewRequest request = view_request(plan);
     request.passes = vp.passes;
     request.normal_space = vp.normal_space;
-    request.settings = plan.settings;
     PassFileOptions files;
     files.format = vp.float_format;
     files.folder = folder;
@@ -402,18 +401,25 @@ Result<ViewsReport> render_views_into(const Scene& scene, const RenderPlan& plan
     const PassImages out[] = {images.images()};
     ViewsReport report;
     std::vector<WrittenView> written;
-    for (std::size_t i = 0; i < cameras.size(); ++i) {
-        Clock::time_point start = Clock::now();
-        report.stats += renderer.render(objects, std::span(&cameras[i], 1), request, out);
+    std::optional<Error> failed;
+    Clock::time_point start = Clock::now();
+    // Each view written as soon as it is rendered, into the one set of images.
+    report.stats = renderer.render_each(objects, cameras, request, out[0], [&](std::size_t i) {
         report.render_ms += ms_since(start);
         start = Clock::now();
         Result<PassFiles> f = write_pass_files(images, request.passes, view_name(i), files);
-        if (!f) return f.error();
+        if (!f) {
+            failed = f.error();
+            return false;
+        }
         report.write_ms += ms_since(start);
         report.files.insert(report.files.end(), f->files.begin(), f->files.end());
         written.push_back({*to_opencv(cameras[i], plan.width, plan.height), cameras[i].near, cameras[i].far, std::move(*f)});
         if (progress) progress(i + 1, cameras.size());
-    }
+        start = Clock::now();
+        return true;
+    });
+    if (failed) return *failed;
     const std::string cameras_text = cameras_json(written, plan.width, plan.height);
     const double depth_unit = vp.float_format == FloatFormat::png ? files.depth_scale : 1.0;
     const std::string transforms_text = transforms_json(written, depth_unit);

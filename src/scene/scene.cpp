@@ -53,25 +53,6 @@ ShadingUniforms uniforms_for(const ObjectView& object, const Camera& camera, con
     return u;
 }
 
-// The shaders read normals, colours and uvs at every index they read positions at: an object whose
-// non-empty attribute arrays are shorter than its positions would have them read past the end.
-// That is a caller's mistake, reported as such (out-of-range indices, by contrast, are bad geometry
-// and are only dropped by the draw).
-void require_aligned_arrays(const Scene& scene) {
-    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
-        const Mesh& m = scene.objects[i].mesh;
-        const std::size_t n = m.positions.size();
-        const char* bad = !m.normals.empty() && m.normals.size() != n   ? "normals"
-                          : !m.colours.empty() && m.colours.size() != n ? "colours"
-                          : !m.uvs.empty() && m.uvs.size() != n         ? "uvs"
-                          : !m.tangents.empty() && m.tangents.size() != n ? "tangents"
-                                                                        : nullptr;
-        if (bad)
-            throw FacetError(Error{ErrorCode::invalid_argument, "render_scene: object " + std::to_string(i) + " has " +
-                                                                    std::string(bad) + " and positions of different counts"});
-    }
-}
-
 template <class S>
 DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o, const S& shader,
                     const DrawPasses* passes) {
@@ -149,6 +130,29 @@ DrawStats draw_object(Renderer& r, Framebuffer& target, const DrawState& state, 
 }
 
 }  // namespace
+
+namespace detail {
+
+// The shaders read normals, colours and uvs at every index they read positions at: an object whose
+// non-empty attribute arrays are shorter than its positions would have them read past the end.
+// That is a caller's mistake, reported as such (out-of-range indices, by contrast, are bad geometry
+// and are only dropped by the draw).
+void require_aligned_arrays(const Scene& scene) {
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+        const Mesh& m = scene.objects[i].mesh;
+        const std::size_t n = m.positions.size();
+        const char* bad = !m.normals.empty() && m.normals.size() != n   ? "normals"
+                          : !m.colours.empty() && m.colours.size() != n ? "colours"
+                          : !m.uvs.empty() && m.uvs.size() != n         ? "uvs"
+                          : !m.tangents.empty() && m.tangents.size() != n ? "tangents"
+                                                                        : nullptr;
+        if (bad)
+            throw FacetError(Error{ErrorCode::invalid_argument, "render_scene: object " + std::to_string(i) + " has " +
+                                                                    std::string(bad) + " and positions of different counts"});
+    }
+}
+
+}  // namespace detail
 
 Vec3 world_light_direction(const CameraLight& light, const CameraBasis& basis) {
     const Vec3 d = light.direction;
@@ -412,7 +416,7 @@ Aabb bounds(std::span<const ObjectView> objects) { return bounds_of(objects); }
 
 DrawStats render_scene(Renderer& renderer, Framebuffer& target, const Scene& scene, const Camera& camera,
                        const RenderSettings& settings) {
-    require_aligned_arrays(scene);
+    detail::require_aligned_arrays(scene);
     return render_objects(renderer, target, scene, camera, settings);
 }
 

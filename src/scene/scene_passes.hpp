@@ -21,6 +21,10 @@ struct ScenePasses {
 DrawStats render_scene_passes(Renderer& renderer, Framebuffer& target, std::span<const ObjectView> objects,
                               const Camera& camera, const RenderSettings& settings, const ScenePasses& passes);
 
+// Throws FacetError when an object's non-empty normals, colours, uvs or tangents are not as many as
+// its positions (the shaders would read past their end): a caller's mistake, not bad geometry.
+void require_aligned_arrays(const Scene& scene);
+
 // What DrawPasses needs of the camera for a target of width x height: the depth mapping, the
 // pixels' rays (range) and the normal pass's space.
 void set_camera_passes(DrawPasses& out, const Camera& camera, int width, int height, NormalSpace space);

@@ -1,6 +1,7 @@
 // facet scene: views of a scene with render passes (facet/views.hpp): the pass names, the request's
-// checks, each view rendered (colour at the supersampled size, the surface passes at 1x), alpha
-// from the samples' depth, the material ids, the cameras of many views and the camera rigs.
+// checks, each view rendered (colour by supersampled and jittered frames with the contact shadow,
+// the surface passes at 1x), alpha from the samples' depth, the material ids, the cameras of many
+// views and the camera rigs. Not the files: the command line writes them.
 #include "facet/views.hpp"
 
 #include <algorithm>
@@ -25,6 +26,7 @@ void check(const ViewRequest& r, std::size_t cameras, std::span<const PassImages
         bad_request("the size must be 1.." + std::to_string(k_max_target_size) + " per side, got " +
                     std::to_string(r.width) + "x" + std::to_string(r.height));
     if (r.ssaa < 1 || r.ssaa > 8) bad_request("ssaa must be 1..8, got " + std::to_string(r.ssaa));
+    if (antialias_offsets(r.aa).empty()) bad_request("aa must be 1, 2, 4 or 8, got " + std::to_string(r.aa));
     if (static_cast<long>(r.width) * r.ssaa > k_max_target_size || static_cast<long>(r.height) * r.ssaa > k_max_target_size)
         bad_request("the size times ssaa must stay within " + std::to_string(k_max_target_size));
     if (r.passes.empty()) bad_request("no pass asked for");
@@ -40,17 +42,17 @@ void check(const ViewRequest& r, std::size_t cameras, std::span<const PassImages
     }
 }
 
-// The share of each pixel's samples a surface covers: where the draw wrote depth (the clear value
-// is 1, which the depth test never lets a surface write; blended surfaces write none).
-void resolve_alpha(const Framebuffer& samples, int factor, float* out) {
+// Adds to each pixel's count the samples a surface covers: where the draw wrote depth (the clear
+// value is 1, which the depth test never lets a surface write; blended surfaces write none).
+void count_covered(const Framebuffer& samples, int factor, std::uint16_t* covered) {
     const int w = samples.width() / factor, h = samples.height() / factor;
-    const float per_sample = 1.0f / static_cast<float>(factor * factor);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
-            int covered = 0;
+            int n = 0;
             for (int sy = 0; sy < factor; ++sy)
-                for (int sx = 0; sx < factor; ++sx) covered += samples.depth(x * factor + sx, y * factor + sy) < 1.0f;
-            out[static_cast<std::size_t>(y) * w + x] = static_cast<float>(covered) * per_sample;
+                for (int sx = 0; sx < factor; ++sx) n += samples.depth(x * factor + sx, y * factor + sy) < 1.0f;
+            std::uint16_t& c = covered[static_cast<std::size_t>(y) * w + x];
+            c = static_cast<std::uint16_t>(c + n);
         }
 }
 
@@ -150,13 +152,78 @@ ViewRenderer::ViewRenderer(RendererConfig config) : renderer_(config) {}
 
 ViewRenderer::~ViewRenderer() = default;
 
-void ViewRenderer::render_view(std::span<const ObjectView> objects, const Camera& camera, const ViewRequest& r,
-                               const PassImages& out, DrawStats& stats) {
+namespace {
+
+Framebuffer& sized(std::optional<Framebuffer>& fb, int w, int h) {
+    if (!fb || fb->width() != w || fb->height() != h) fb.emplace(w, h);
+    return *fb;
+}
+
+}  // namespace
+
+void ViewRenderer::prepare(std::span<const ObjectView> objects, const ViewRequest& r) {
+    if (r.passes.has(Pass::material)) material_ids(objects, material_ids_, materials_);
+    shadow_.reset();
+    if (r.contact_shadow > 0 && r.settings.shading == Shading::lit)
+        shadow_ = make_contact_shadow(renderer_, objects, r.contact_shadow);
+    if (!shadow_) return;
+    shadowed_.assign(objects.begin(), objects.end());
+    shadowed_.push_back(shadow_->view());
+    if (r.passes.has(Pass::material)) material_ids_.push_back(0);  // read, never written: blended surfaces write no pass
+}
+
+DrawStats ViewRenderer::render_frames(std::span<const ObjectView> objects, const Camera& camera, const ViewRequest& r,
+                                      Rgba8* colour, float* alpha, float* window_depth) {
+    const int f = r.ssaa, n = r.aa;
+    Framebuffer& samples = sized(samples_, r.width * f, r.height * f);
+    const std::size_t pixels = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
+    if (n > 1 && colour) {
+        frame_.resize(pixels);
+        colour_sum_.assign(pixels * 4, 0);  // 8 frames of 255 fit
+    }
+    if (n > 1 && window_depth) frame_depth_.resize(pixels);
+    if (alpha) covered_.assign(pixels, 0);
+    RenderSettings settings = r.settings;
+    const std::span<const Vec2> offsets = antialias_offsets(n);
+    DrawStats first;
+    for (int i = 0; i < n; ++i) {
+        // In the target's pixels: a pixel of the image is f of them across.
+        if (n > 1)
+            settings.pixel_offset = {r.settings.pixel_offset.x + offsets[i].x * static_cast<float>(f),
+                                     r.settings.pixel_offset.y + offsets[i].y * static_cast<float>(f)};
+        const DrawStats s = render_scene(renderer_, samples, objects, camera, settings);
+        if (i == 0) first = s;
+        float* depth = window_depth && i > 0 ? frame_depth_.data() : window_depth;
+        resolve_supersampled(samples, f, n > 1 ? (colour ? frame_.data() : nullptr) : colour, depth);
+        if (n > 1 && colour)
+            for (std::size_t p = 0; p < pixels; ++p) {
+                const Rgba8 c = frame_[p];
+                std::uint16_t* sum = &colour_sum_[p * 4];
+                sum[0] = static_cast<std::uint16_t>(sum[0] + c.r), sum[1] = static_cast<std::uint16_t>(sum[1] + c.g);
+                sum[2] = static_cast<std::uint16_t>(sum[2] + c.b), sum[3] = static_cast<std::uint16_t>(sum[3] + c.a);
+            }
+        if (depth && i > 0)
+            for (std::size_t p = 0; p < pixels; ++p) window_depth[p] = std::min(window_depth[p], depth[p]);
+        if (alpha) count_covered(samples, f, covered_.data());
+    }
+    if (n > 1 && colour) {
+        auto average = [&](std::size_t k) { return static_cast<std::uint8_t>((colour_sum_[k] + n / 2) / n); };
+        for (std::size_t p = 0; p < pixels; ++p)
+            colour[p] = {average(p * 4), average(p * 4 + 1), average(p * 4 + 2), average(p * 4 + 3)};
+    }
+    if (alpha) {
+        const float per_sample = 1.0f / static_cast<float>(f * f * n);
+        for (std::size_t p = 0; p < pixels; ++p) alpha[p] = static_cast<float>(covered_[p]) * per_sample;
+    }
+    return first;
+}
+
+DrawStats ViewRenderer::render_view(std::span<const ObjectView> objects, const Camera& camera, const ViewRequest& r,
+                                    const PassImages& out) {
     const PassSet passes = r.passes;
-    auto sized = [](std::optional<Framebuffer>& fb, int w, int h) -> Framebuffer& {
-        if (!fb || fb->width() != w || fb->height() != h) fb.emplace(w, h);
-        return *fb;
-    };
+    // The contact shadow is seen only from above its ground.
+    const bool shadow_seen = shadow_ && camera.position.y > shadow_->mesh.positions[0].y;
+    const std::span<const ObjectView> drawn = shadow_seen ? std::span<const ObjectView>(shadowed_) : objects;
     // Only what was asked for: a pass left out costs nothing.
     detail::ScenePasses surface{.targets = {},
                                 .material_ids = passes.has(Pass::material) ? material_ids_.data() : nullptr,
@@ -172,38 +239,55 @@ void ViewRenderer::render_view(std::span<const ObjectView> objects, const Camera
     Rgba8* colour = passes.has(Pass::colour) ? out.colour : nullptr;
     float* alpha = passes.has(Pass::alpha) ? out.passes.alpha : nullptr;
 
-    if (r.ssaa == 1) {
+    if (r.ssaa == 1 && r.aa == 1) {
         // One draw per object for everything, colour straight into the caller's image. (direct_ keeps
         // pointing there afterwards: going back to memory of its own would allocate at every view.)
         Framebuffer& fb = colour ? sized(direct_, r.width, r.height) : sized(target_, r.width, r.height);
         if (colour) fb.use_colour_memory(colour);
         t.alpha = alpha;
-        stats += passes.needs_surface() || alpha ? detail::render_scene_passes(renderer_, fb, objects, camera, r.settings, surface)
-                                                 : render_scene(renderer_, fb, objects, camera, r.settings);
-        return;
+        const DrawStats stats = passes.needs_surface() || alpha
+                                    ? detail::render_scene_passes(renderer_, fb, drawn, camera, r.settings, surface)
+                                    : render_scene(renderer_, fb, drawn, camera, r.settings);
+        if (out.window_depth) resolve_supersampled(fb, 1, nullptr, out.window_depth);
+        return stats;
     }
-    Framebuffer& samples = sized(samples_, r.width * r.ssaa, r.height * r.ssaa);
-    stats += render_scene(renderer_, samples, objects, camera, r.settings);
-    if (colour) resolve_supersampled(samples, r.ssaa, colour, nullptr);
-    if (alpha) resolve_alpha(samples, r.ssaa, alpha);
+    DrawStats stats;
+    if (colour || alpha || out.window_depth) stats = render_frames(drawn, camera, r, colour, alpha, out.window_depth);
     if (passes.needs_surface()) {
-        // The surface at each pixel's centre: a draw at 1x (its colour is not used).
+        // The surface at each pixel's centre: a draw at 1x, unjittered (its colour is not used, nor
+        // the shadow, which writes no pass).
         Framebuffer& fb = sized(target_, r.width, r.height);
-        detail::render_scene_passes(renderer_, fb, objects, camera, r.settings, surface);
+        const DrawStats s = detail::render_scene_passes(renderer_, fb, objects, camera, r.settings, surface);
+        if (!(colour || alpha || out.window_depth)) stats = s;
     }
+    return stats;
 }
 
 DrawStats ViewRenderer::render(std::span<const ObjectView> objects, std::span<const Camera> cameras,
                                const ViewRequest& request, std::span<const PassImages> out) {
     check(request, cameras.size(), out);
-    if (request.passes.has(Pass::material)) material_ids(objects, material_ids_, materials_);
+    prepare(objects, request);
     DrawStats stats;
-    for (std::size_t i = 0; i < cameras.size(); ++i) render_view(objects, cameras[i], request, out[i], stats);
+    for (std::size_t i = 0; i < cameras.size(); ++i) stats += render_view(objects, cameras[i], request, out[i]);
+    return stats;
+}
+
+DrawStats ViewRenderer::render_each(std::span<const ObjectView> objects, std::span<const Camera> cameras,
+                                    const ViewRequest& request, const PassImages& out,
+                                    const std::function<bool(std::size_t)>& view_done) {
+    check(request, 1, {&out, 1});
+    prepare(objects, request);
+    DrawStats stats;
+    for (std::size_t i = 0; i < cameras.size(); ++i) {
+        stats += render_view(objects, cameras[i], request, out);
+        if (!view_done(i)) break;
+    }
     return stats;
 }
 
 DrawStats ViewRenderer::render(const Scene& scene, std::span<const Camera> cameras, const ViewRequest& request,
                                std::span<const PassImages> out) {
+    detail::require_aligned_arrays(scene);
     scene_views_.clear();
     for (const SceneObject& o : scene.objects) scene_views_.push_back(view_of(o));
     return render(scene_views_, cameras, request, out);
@@ -238,6 +322,7 @@ std::vector<ViewImages> ViewRenderer::render(std::span<const ObjectView> objects
 
 std::vector<ViewImages> ViewRenderer::render(const Scene& scene, std::span<const Camera> cameras,
                                              const ViewRequest& request) {
+    detail::require_aligned_arrays(scene);
     scene_views_.clear();
     for (const SceneObject& o : scene.objects) scene_views_.push_back(view_of(o));
     return render(std::span<const ObjectView>(scene_views_), cameras, request);

@@ -140,7 +140,7 @@ TEST_P(SteadyStateDraws, PointsAndLinesAllocateNothingOnceWarm) {
 }
 
 // Render passes: a warm ViewRenderer rendering every pass of views into the caller's memory, with
-// and without supersampling, allocates nothing either.
+// and without supersampling or jittered frames, allocates nothing either.
 TEST_P(SteadyStateDraws, RenderingViewsWithEveryPassAllocatesNothingOnceWarm) {
     Scene scene = test_scene();
     scene.objects[1].mesh.normals.clear();  // face normals
@@ -156,13 +156,13 @@ TEST_P(SteadyStateDraws, RenderingViewsWithEveryPassAllocatesNothingOnceWarm) {
         v->instance.resize(n), v->material.resize(n), v->primitive.resize(n), v->uv.resize(n);
     }
     const PassImages out[] = {a.images(), b.images()};
-    for (int ssaa : {1, 2}) {
-        request.ssaa = ssaa;
+    for (const auto& [ssaa, aa] : {std::pair{1, 1}, {2, 1}, {1, 2}}) {
+        request.ssaa = ssaa, request.aa = aa;
         for (int warm = 0; warm < 3; ++warm) renderer.render(scene, cameras, request, out);
         const long during = allocations_during([&] {
             for (int frame = 0; frame < 3; ++frame) renderer.render(scene, cameras, request, out);
         });
-        EXPECT_EQ(during, 0) << "ssaa " << ssaa << ", threads " << GetParam();
+        EXPECT_EQ(during, 0) << "ssaa " << ssaa << ", aa " << aa << ", threads " << GetParam();
     }
 }
 

@@ -499,6 +499,86 @@ TEST(Passes, SupersamplingLeavesTheSurfacePassesAsTheyAre) {
     }
 }
 
+// With jittered frames (and supersampling), colour is the frames' colours averaged per channel
+// (rounded to nearest), each frame a plain render moved by its antialias_offsets offset; alpha is
+// the share of covered samples of every frame; every other pass is the surface at the pixel
+// centre, the same bytes as with neither.
+TEST(Passes, JitteredFramesAverageColourAndAlphaAndLeaveTheSurfacePasses) {
+    const Scene scene = every_kind_of_draw();
+    const ViewRequest plain = all_passes(64, 48);
+    const std::vector<Camera> cameras = test_cameras(plain.width, plain.height);
+    ViewRenderer renderer({.threads = 2});
+    const std::vector<ViewImages> one = renderer.render(scene, cameras, plain);
+    for (const auto& [aa, ssaa] : {std::pair{4, 1}, {2, 2}}) {
+        ViewRequest request = plain;
+        request.aa = aa, request.ssaa = ssaa;
+        std::vector<ViewImages> many = renderer.render(scene, cameras, request);
+        ViewRequest frame = plain;
+        frame.ssaa = ssaa;
+        frame.passes = PassSet{}.add(Pass::colour);
+        std::vector<std::vector<int>> sums(cameras.size(), std::vector<int>(pixels(plain) * 4, 0));
+        for (Vec2 offset : antialias_offsets(aa)) {
+            frame.settings.pixel_offset = {offset.x * static_cast<float>(ssaa), offset.y * static_cast<float>(ssaa)};
+            const std::vector<ViewImages> f = renderer.render(scene, cameras, frame);
+            for (std::size_t v = 0; v < cameras.size(); ++v)
+                for (std::size_t at = 0; at < pixels(plain); ++at) {
+                    const Rgba8 c = f[v].colour[at];
+                    sums[v][at * 4] += c.r, sums[v][at * 4 + 1] += c.g, sums[v][at * 4 + 2] += c.b, sums[v][at * 4 + 3] += c.a;
+                }
+        }
+        bool partial = false;
+        for (std::size_t v = 0; v < cameras.size(); ++v) {
+            ViewImages& a = many[v];
+            for (std::size_t at = 0; at < pixels(plain); ++at) {
+                const Rgba8 c = a.colour[at];
+                const int* sum = &sums[v][at * 4];
+                auto average = [&](int k) { return (sum[k] + aa / 2) / aa; };
+                ASSERT_TRUE(c.r == average(0) && c.g == average(1) && c.b == average(2) && c.a == average(3))
+                    << "aa " << aa << ", ssaa " << ssaa << ", view " << v << ", pixel " << at;
+                const float covered = a.alpha[at] * static_cast<float>(ssaa * ssaa * aa);
+                ASSERT_EQ(covered, std::round(covered));
+                partial |= a.alpha[at] > 0 && a.alpha[at] < 1;
+            }
+            a.colour = one[v].colour, a.alpha = one[v].alpha;
+        }
+        EXPECT_TRUE(partial) << "edges have partly covered pixels";
+        EXPECT_TRUE(AllPasses{many} == AllPasses{one}) << "aa " << aa << ", ssaa " << ssaa;
+    }
+}
+
+// The contact shadow darkens the ground around the objects seen from above and is in the colour
+// only: every other pass is the objects' alone; seen from below it is not drawn.
+TEST(Passes, TheContactShadowIsInTheColourOnly) {
+    Scene scene;
+    scene.objects.push_back(sphere_object(48, 24));
+    ViewRequest request = all_passes(64, 48);
+    Camera above = Camera::orbit(k_sphere_centre, 0.5f, 0.7f, 5.0f), below = Camera::orbit(k_sphere_centre, 0.5f, -0.7f, 5.0f);
+    above.near = below.near = 0.5f, above.far = below.far = 20;
+    const Camera cameras[] = {above, below};
+    ViewRenderer renderer({.threads = 2});
+    for (const auto& [aa, ssaa] : {std::pair{1, 1}, {2, 2}}) {
+        request.aa = aa, request.ssaa = ssaa, request.contact_shadow = 0;
+        const std::vector<ViewImages> bare = renderer.render(scene, cameras, request);
+        request.contact_shadow = 0.8f;
+        std::vector<ViewImages> shadowed = renderer.render(scene, cameras, request);
+        int darker = 0;
+        for (std::size_t at = 0; at < pixels(request); ++at) {
+            const Rgba8 a = shadowed[0].colour[at], b = bare[0].colour[at];
+            if (a == b) continue;
+            EXPECT_LT(bare[0].alpha[at], 1.0f) << "only where the sphere leaves room";
+            darker += a.r < b.r && a.g < b.g && a.b < b.b;
+        }
+        EXPECT_GT(darker, 50) << "aa " << aa;
+        EXPECT_TRUE(shadowed[1].colour == bare[1].colour) << "from below";
+        shadowed[0].colour = bare[0].colour;
+        EXPECT_TRUE(AllPasses{shadowed} == AllPasses{bare}) << "aa " << aa;
+    }
+    request.settings.shading = Shading::normals;  // the lit mode's alone
+    const std::vector<ViewImages> unlit = renderer.render(scene, cameras, request);
+    request.contact_shadow = 0;
+    EXPECT_TRUE(AllPasses{renderer.render(scene, cameras, request)} == AllPasses{unlit});
+}
+
 // The one-pass order (a shader that may discard, here never) lists its pixels' owners as the
 // visible-only order does: the same passes.
 TEST(Passes, TheOnePassOrderGivesTheSamePassesAsTheVisibleOnlyOrder) {
