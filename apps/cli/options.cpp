@@ -235,15 +235,15 @@ namespace {
 // --passes, --views and the options that go with them into plan.views (after the camera options,
 // which each view of a rig starts from).
 Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
-    const bool wanted = !o.passes.empty() || !o.views.empty();
+    const bool wanted = o.passes || o.views;
     if (!wanted) {
         if (o.float_format != "npy" || o.normal_space != "world" || o.depth_scale)
             return usage("--float-format, --normal-space and --depth-scale go with --passes or --views");
         return Ok{};
     }
     ViewsPlan v;
-    if (!o.passes.empty()) {
-        Result<PassSet> passes = parse_passes(o.passes);
+    if (o.passes) {
+        Result<PassSet> passes = parse_passes(*o.passes);
         if (!passes) return usage("--passes: " + passes.error().message);
         v.passes = *passes;
     }
@@ -256,11 +256,11 @@ Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
     if (o.ortho)
         return usage("--views and --passes need a perspective camera (their cameras are written in OpenCV's pinhole "
                      "model): leave out --ortho");
-    if (!o.views.empty()) {
-        Result<RigViews> rig = parse_views(o.views, p.view);
+    if (o.views) {
+        Result<RigViews> rig = parse_views(*o.views, p.view);
         if (!rig) return usage("--views: " + rig.error().message);
         v.views = std::move(rig->views);
-        v.rig = o.views;
+        v.rig = *o.views;
         if (rig->width > 0 && !size_given) {
             Result<std::pair<int, int>> size = parse_image_size("the cameras file's size",
                                                                  size_text(rig->width, rig->height), o.ssaa, false);

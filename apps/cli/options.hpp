@@ -67,8 +67,8 @@ struct RenderOptions {
     bool no_isolation = false;  // render: load and render in this process (debugging)
     bool print_config = false;  // print the resolved settings and exit (print_config.cpp)
     // Views and render passes (add_views_options; views_output.hpp): with either, -o is a folder.
-    std::string passes;          // "color,depth,...": empty: colour alone
-    std::string views;           // a camera rig (parse_views); empty: the one camera above
+    std::optional<std::string> passes;  // "color,depth,...": not given: colour alone
+    std::optional<std::string> views;   // a camera rig (parse_views); not given: the one camera above
     std::string float_format = "npy";
     std::string normal_space = "world";
     std::optional<float> depth_scale;  // --float-format png: model units per step of depth and range

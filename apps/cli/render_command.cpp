@@ -106,9 +106,10 @@ int views_job(const RenderRequest& r, const Scene& scene, double load_ms) {
         return k_exit_failed;
     }
     std::fprintf(stderr,
-                 "facet render: %s: %zu views of %s (%dx%d, %zu files, %zu triangles, load %.1f ms, render %.1f ms, "
+                 "facet render: %s: %zu %s of %s (%dx%d, %zu files, %zu triangles, load %.1f ms, render %.1f ms, "
                  "write %.1f ms)\n",
-                 r.output.c_str(), done->views, to_string(r.plan.views->passes).c_str(), r.plan.width, r.plan.height,
+                 r.output.c_str(), done->views, done->views == 1 ? "view" : "views", to_string(r.plan.views->passes).c_str(),
+                 r.plan.width, r.plan.height,
                  done->files.size(), scene.triangle_count(), load_ms, done->render_ms, done->write_ms);
     return k_exit_ok;
 }

@@ -3,6 +3,8 @@
 // images' file formats are pass_files.cpp's.
 #include "views_output.hpp"
 
+#include <fcntl.h>
+#include <stdio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -325,17 +327,63 @@ Result<ViewsStaging> stage_views(const std::string& output, const ViewsPlan& pla
     return s;
 }
 
+namespace {
+
+// Links into `to` what `from` holds that `to` does not (hard links for files, the same symbolic
+// links, folders made alike and filled the same way), so that `to` can replace `from` whole: the
+// files of `to` win over their namesakes. False when something cannot be carried (a special file,
+// a file on another device, links refused): `carried` then lists what was.
+bool carry_over(const fs::path& from, const fs::path& to, std::vector<fs::path>& carried) {
+    std::error_code ec;
+    for (fs::directory_iterator it(from, ec), end; !ec && it != end; it.increment(ec)) {
+        const fs::path target = to / it->path().filename();
+        const fs::file_status own = it->symlink_status(ec);
+        if (ec) return false;
+        const fs::file_status there = fs::symlink_status(target, ec);
+        if (fs::exists(there)) {
+            if (fs::is_directory(there) && fs::is_directory(own) && !carry_over(it->path(), target, carried)) return false;
+            continue;  // the new file replaces it
+        }
+        if (fs::is_symlink(own)) fs::copy_symlink(it->path(), target, ec);
+        else if (fs::is_directory(own)) {
+            fs::create_directory(target, it->path(), ec);
+            if (!ec) carried.push_back(target);
+            if (!ec && !carry_over(it->path(), target, carried)) return false;
+            continue;
+        } else if (fs::is_regular_file(own)) fs::create_hard_link(it->path(), target, ec);
+        else return false;
+        if (ec) return false;
+        carried.push_back(target);
+    }
+    return !ec;
+}
+
+}  // namespace
+
 Status commit_views(const ViewsStaging& s) {
     std::error_code ec;
-    const bool empty = !fs::exists(s.output, ec) || (fs::is_directory(s.output, ec) && fs::is_empty(s.output, ec));
-    if (empty) {
+    const fs::file_status out = fs::symlink_status(s.output, ec);
+    if (!fs::exists(out) || (fs::is_directory(out) && fs::is_empty(s.output, ec))) {
         fs::rename(s.folder, s.output, ec);  // replaces an empty folder
         if (!ec) return Ok{};
     }
-    // Into an existing folder: each file replaces its namesake (other files stay).
+    // Into an existing folder: the staging folder takes in the folder's other files (links, no
+    // copies), then the two are swapped in one step (renameat2's RENAME_EXCHANGE), so that the
+    // folder is at every moment either the old one or the new one whole; the old one is removed.
+    std::vector<fs::path> carried;
+    if (fs::is_directory(out) && carry_over(s.output, s.folder, carried)) {
+        fs::permissions(s.folder, fs::status(s.output, ec).permissions(), ec);
+        if (::renameat2(AT_FDCWD, s.folder.c_str(), AT_FDCWD, s.output.c_str(), RENAME_EXCHANGE) == 0) {
+            discard_views(s);  // the old folder, now under the staging name
+            return Ok{};
+        }
+    }
+    // Where the swap cannot be made (a symbolic link to a folder, a file system without it, a file
+    // that cannot be linked): each new file replaces its namesake, one rename each.
+    std::sort(carried.begin(), carried.end());
     std::vector<fs::path> files;
     for (fs::recursive_directory_iterator it(s.folder, ec), end; !ec && it != end; it.increment(ec))
-        if (it->is_regular_file()) files.push_back(it->path());
+        if (it->is_regular_file() && !std::binary_search(carried.begin(), carried.end(), it->path())) files.push_back(it->path());
     for (const fs::path& f : files) {
         const fs::path to = s.output / f.lexically_relative(s.folder);
         fs::create_directories(to.parent_path(), ec);

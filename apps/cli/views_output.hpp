@@ -53,8 +53,12 @@ struct ViewsStaging {
 // In the process that starts the job: a fresh staging folder beside `output` with the folders the
 // plan's files go into. The error (a folder that cannot be made) names it.
 Result<ViewsStaging> stage_views(const std::string& output, const ViewsPlan& plan);
-// Moves the staging folder into place: it becomes `output` when that does not exist or is empty;
-// otherwise its files replace their namesakes in `output` (other files there are left alone).
+// Moves the staging folder into place: it becomes `output` when that does not exist or is empty.
+// Otherwise its files replace their namesakes in `output` and the other files there stay: the
+// staging folder takes in hard links to them and is swapped with `output` in one rename
+// (RENAME_EXCHANGE), so a killed run leaves `output` old or new, whole, and at worst the staging
+// folder beside it. Where that cannot be done (`output` a symbolic link, a file system without the
+// swap, a file that cannot be linked) each file is renamed into place, one at a time.
 Status commit_views(const ViewsStaging& staging);
 // Removes the staging folder and everything in it.
 void discard_views(const ViewsStaging& staging);

@@ -194,7 +194,7 @@ DrawStats ViewRenderer::render_frames(std::span<const ObjectView> objects, const
         const DrawStats s = render_scene(renderer_, samples, objects, camera, settings);
         if (i == 0) first = s;
         float* depth = window_depth && i > 0 ? frame_depth_.data() : window_depth;
-        resolve_supersampled(samples, f, n > 1 ? (colour ? frame_.data() : nullptr) : colour, depth);
+        if (colour || depth) resolve_supersampled(samples, f, n > 1 && colour ? frame_.data() : colour, depth);
         if (n > 1 && colour)
             for (std::size_t p = 0; p < pixels; ++p) {
                 const Rgba8 c = frame_[p];

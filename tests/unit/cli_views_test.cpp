@@ -4,6 +4,7 @@
 // geometry of the files (reprojection, the cameras read back by an independent script) is tested
 // in Python: tests/python/test_views_cli.py.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -202,6 +203,8 @@ TEST(CliViews, BadRigSpecsAndOptionsAreUsageErrors) {
         {{"--views", "file:" + (dir / "mirror.json").string()}, "reflection"},
         {{"--passes", "color,depth,color"}, "color"},
         {{"--passes", "colour"}, "colour"},
+        {{"--passes", ""}, "--passes"},
+        {{"--views", ""}, "--views"},
         {{"--passes", "depth", "--float-format", "tiff"}, "--float-format"},
         {{"--passes", "depth", "--depth-scale", "0.1"}, "--depth-scale"},
         {{"--passes", "depth", "--ortho"}, "--ortho"},
@@ -242,19 +245,46 @@ TEST(CliViews, UnwritableOutputsFailWithNothingLeft) {
     EXPECT_EQ(entries_besides(dir, {"boxes.obj", "file"}), std::vector<std::string>{});
 }
 
+// The folder is replaced whole, in one swap: a new folder (another inode) holding the new files and,
+// as links to the same files (the same inodes), the ones the run did not write. The summary counts
+// views in the singular for one.
 TEST(CliViews, ASecondRunIntoTheFolderReplacesItsFilesAndKeepsOthers) {
     const fs::path dir = temp_dir();
     const std::string model = two_boxes(dir);
     const fs::path out = dir / "out";
     write_text(out / "notes.txt", "mine");
+    write_text(out / "sub" / "deeper.txt", "mine too");
     ASSERT_EQ(render({model, "--views", "orbit:2", "--size", "16x16", "-o", out.string()}).exit_code, 0);
-    ASSERT_EQ(render({model, "--views", "orbit:2", "--passes", "depth", "--size", "16x16", "-o", out.string()}).exit_code, 0);
+    struct stat before_folder{}, before_notes{}, before_colour{}, after_folder{}, after_notes{}, after_colour{};
+    ASSERT_EQ(::stat(out.c_str(), &before_folder), 0);
+    ASSERT_EQ(::stat((out / "notes.txt").c_str(), &before_notes), 0);
+    ASSERT_EQ(::stat((out / "color" / "0001.png").c_str(), &before_colour), 0);
+    const CliRun second = render({model, "--views", "orbit:1", "--passes", "color,depth", "--size", "16x16", "-o", out.string()});
+    ASSERT_EQ(second.exit_code, 0) << second.all();
+    EXPECT_NE(second.err.find(": 1 view of color,depth ("), std::string::npos) << second.err;
     const auto files = files_of(out);
     EXPECT_EQ(files.at("notes.txt"), "mine");
+    EXPECT_EQ(files.at("sub/deeper.txt"), "mine too");
     EXPECT_TRUE(files.count("color/0001.png"));  // the first run's
-    EXPECT_TRUE(files.count("depth/0001.npy"));  // the second's
+    EXPECT_TRUE(files.count("depth/0000.npy"));  // the second's
     EXPECT_NE(files.at("transforms.json").find("depth_file_path"), std::string::npos);
     EXPECT_EQ(entries_besides(dir, {"boxes.obj", "out"}), std::vector<std::string>{});
+    ASSERT_EQ(::stat(out.c_str(), &after_folder), 0);
+    ASSERT_EQ(::stat((out / "notes.txt").c_str(), &after_notes), 0);
+    ASSERT_EQ(::stat((out / "color" / "0001.png").c_str(), &after_colour), 0);
+    EXPECT_NE(after_folder.st_ino, before_folder.st_ino) << "swapped for a new folder";
+    EXPECT_EQ(after_notes.st_ino, before_notes.st_ino) << "linked, not copied";
+    EXPECT_EQ(after_colour.st_ino, before_colour.st_ino);
+    EXPECT_EQ(after_folder.st_mode, before_folder.st_mode);
+
+    // Through a symbolic link to the folder: the link stays, the files go into its folder.
+    const fs::path link = dir / "link";
+    fs::create_directory_symlink(out, link);
+    ASSERT_EQ(render({model, "--views", "orbit:1", "--passes", "instance", "--size", "16x16", "-o", link.string()}).exit_code, 0);
+    EXPECT_TRUE(fs::is_symlink(link));
+    EXPECT_TRUE(fs::exists(out / "instance" / "0000.png"));
+    EXPECT_EQ(facet_test::read_file(out / "notes.txt"), "mine");
+    EXPECT_EQ(entries_besides(dir, {"boxes.obj", "out", "link"}), std::vector<std::string>{});
 }
 
 }  // namespace
