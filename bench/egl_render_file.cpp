@@ -3,15 +3,18 @@
 // renders it once with Mesa llvmpipe through EGL surfaceless in facet's lambert mode, and writes a PNG.
 // The whole process (start, driver load, file load, shader compile, draw, read back, PNG) is what
 // scripts/bench times against `facet render MODEL --shading lambert`. With --views N, the dataset
-// comparison (`facet render --views orbit:N --passes ...`): N views on the orbit at elevation 0
-// from one load and one upload, each read back and written as OUT_DIR/color/K.png and
-// OUT_DIR/depth/K.npy (window depth, float32). llvmpipe gives no normal or instance pass here.
+// comparison (`facet render --views orbit:N --passes color,depth,normal,instance`): N views on the
+// orbit at elevation 0 from one load and one upload, each drawn once into four attachments, read
+// back and written as facet writes those passes: OUT_DIR/color/K.png, OUT_DIR/depth/K.npy (distance
+// along the viewing axis, float32, +inf on the background), OUT_DIR/normal/K.npy (world space,
+// float32 (H, W, 3)) and OUT_DIR/instance/K.png (object + 1, 16-bit).
 //
 //   facet_egl_render_file MODEL [-o OUT.png] [--size WxH] [--threads N] [--views N -o OUT_DIR]
 //   (--threads N: as facet's; LP_NUM_THREADS = 0 for 1, N otherwise; default: llvmpipe's own)
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <string>
 
 #include <filesystem>
@@ -32,26 +35,42 @@ int render_views(facet::bench::GlOracle& oracle, const facet::Scene& scene, int 
                  const std::string& folder) {
     using namespace facet;
     std::error_code ec;
-    std::filesystem::create_directories(std::filesystem::path(folder) / "color", ec);
-    std::filesystem::create_directories(std::filesystem::path(folder) / "depth", ec);
+    for (const char* pass : {"color", "depth", "normal", "instance"})
+        std::filesystem::create_directories(std::filesystem::path(folder) / pass, ec);
     if (Status s = oracle.load(scene); !s) {
         std::cerr << "facet_egl_render_file: " << s.error().message << "\n";
         return 1;
     }
-    if (Status s = oracle.resize(width, height); !s) {
+    if (Status s = oracle.resize(width, height, true); !s) {
         std::cerr << "facet_egl_render_file: " << s.error().message << "\n";
         return 1;
     }
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    std::vector<float> depth;
+    std::vector<std::uint16_t> ids;
     for (int k = 0; k < views; ++k) {
         const float azimuth = radians(360.0f * static_cast<float>(k) / static_cast<float>(views));
-        const Camera camera = frame_scene(scene, azimuth, 0, radians(45.0f), static_cast<float>(width) / static_cast<float>(height));
+        const Camera camera = frame_scene(scene, azimuth, 0, radians(45.0f), aspect);
         oracle.draw(camera, RenderSettings{}.background);
         bench::GlFrame frame = oracle.read();
+        // Window depth z to the distance along the viewing axis d: z = P22 h + P23 / d (h = -1 for a
+        // right-handed camera, which looks down -z), as facet's depth pass gives it.
+        const Mat4 p = camera.projection(aspect);
+        const float h = camera.handedness == Handedness::right ? -1.0f : 1.0f;
+        depth.resize(frame.depth.size());
+        ids.resize(frame.instance.size());
+        for (std::size_t i = 0; i < depth.size(); ++i) {
+            const float z = frame.depth[i];
+            depth[i] = z < 1 ? p(2, 3) / (z - p(2, 2) * h) : std::numeric_limits<float>::infinity();
+            ids[i] = static_cast<std::uint16_t>(frame.instance[i]);
+        }
         char name[32];
         std::snprintf(name, sizeof(name), "%04d", k);
         const std::string base = folder + "/";
         Status s = write_png(base + "color/" + name + ".png", Image{width, height, std::move(frame.colour)});
-        if (s) s = cli::write_npy(base + "depth/" + name + ".npy", frame.depth.data(), "<f4", {height, width});
+        if (s) s = cli::write_npy(base + "depth/" + name + ".npy", depth.data(), "<f4", {height, width});
+        if (s) s = cli::write_npy(base + "normal/" + name + ".npy", frame.normal.data(), "<f4", {height, width, 3});
+        if (s) s = write_png_gray16(base + "instance/" + name + ".png", width, height, ids);
         if (!s) {
             std::cerr << "facet_egl_render_file: " << s.error().message << "\n";
             return 1;

@@ -74,14 +74,22 @@ void main() {
 )";
 
 // facet's lambert mode: albedo 0.8, ambient 0.15, diffuse 0.85, one white light toward the eye.
+// The normal and instance outputs go to attachments only with passes (resize); otherwise there is
+// one draw buffer and GL discards them.
 const char* k_fragment_shader = R"(#version 330 core
 in vec3 v_normal;
 uniform vec3 u_light;
-out vec4 o_colour;
+uniform uint u_instance;
+layout(location = 0) out vec4 o_colour;
+layout(location = 1) out vec4 o_normal;
+layout(location = 2) out uint o_instance;
 void main() {
-    float k = max(dot(normalize(v_normal), u_light), 0.0);
+    vec3 n = normalize(v_normal);
+    float k = max(dot(n, u_light), 0.0);
     float c = 0.8 * (0.15 + 0.85 * k);
     o_colour = vec4(c, c, c, 1.0);
+    o_normal = vec4(n, 0.0);
+    o_instance = u_instance;
 }
 )";
 
@@ -91,14 +99,16 @@ struct GlOracle::Impl {
     EGLDisplay display = EGL_NO_DISPLAY;
     EGLContext context = EGL_NO_CONTEXT;
     GLuint program = 0;
-    GLint u_clip_from_object = -1, u_normal_to_world = -1, u_light = -1;
-    GLuint fbo = 0, colour_rb = 0, depth_rb = 0;
+    GLint u_clip_from_object = -1, u_normal_to_world = -1, u_light = -1, u_instance = -1;
+    GLuint fbo = 0, colour_rb = 0, depth_rb = 0, normal_rb = 0, instance_rb = 0;
     int width = 0, height = 0;
+    bool passes = false;
     float point_size = 1, line_width = 1;
     struct Object {
         GLuint vao = 0, vbo = 0, ibo = 0;
         GLsizei index_count = 0, point_count = 0, line_count = 0;  // in the index buffer in this order
         Mat4 model;
+        std::uint32_t instance = 0;  // the scene object's index + 1
     };
     std::vector<Object> objects;
 
@@ -114,8 +124,11 @@ struct GlOracle::Impl {
         if (fbo) glDeleteFramebuffers(1, &fbo);
         if (colour_rb) glDeleteRenderbuffers(1, &colour_rb);
         if (depth_rb) glDeleteRenderbuffers(1, &depth_rb);
-        fbo = colour_rb = depth_rb = 0;
+        if (normal_rb) glDeleteRenderbuffers(1, &normal_rb);
+        if (instance_rb) glDeleteRenderbuffers(1, &instance_rb);
+        fbo = colour_rb = depth_rb = normal_rb = instance_rb = 0;
         width = height = 0;
+        passes = false;
     }
 };
 
@@ -226,6 +239,7 @@ Result<std::unique_ptr<GlOracle>> GlOracle::create(const GlOracleOptions& option
     g.u_clip_from_object = glGetUniformLocation(g.program, "u_clip_from_object");
     g.u_normal_to_world = glGetUniformLocation(g.program, "u_normal_to_world");
     g.u_light = glGetUniformLocation(g.program, "u_light");
+    g.u_instance = glGetUniformLocation(g.program, "u_instance");
 
     // facet's lambert state: no culling, depth test less with writes, no blending.
     glDisable(GL_CULL_FACE);
@@ -284,7 +298,8 @@ std::string GlOracle::gl_error() {
 Status GlOracle::load(const Scene& scene) {
     Impl& g = *impl_;
     g.release_objects();
-    for (const SceneObject& so : scene.objects) {
+    for (std::size_t index = 0; index < scene.objects.size(); ++index) {
+        const SceneObject& so = scene.objects[index];
         const Mesh& m = so.mesh;
         if (m.indices.empty() && m.points.empty() && m.lines.empty()) continue;
         if (m.normals.size() != m.positions.size())
@@ -297,6 +312,7 @@ Status GlOracle::load(const Scene& scene) {
         }
         Impl::Object o;
         o.model = so.model;
+        o.instance = static_cast<std::uint32_t>(index + 1);
         o.index_count = static_cast<GLsizei>(m.indices.size() / 3 * 3);
         o.point_count = static_cast<GLsizei>(m.points.size());
         o.line_count = static_cast<GLsizei>(m.lines.size() / 2 * 2);
@@ -325,21 +341,26 @@ Status GlOracle::load(const Scene& scene) {
     return Ok{};
 }
 
-Status GlOracle::resize(int width, int height) {
+Status GlOracle::resize(int width, int height, bool passes) {
     Impl& g = *impl_;
     if (width < 1 || height < 1) return Error{ErrorCode::invalid_argument, "llvmpipe oracle: empty target size"};
-    if (g.fbo && g.width == width && g.height == height) return Ok{};
+    if (g.fbo && g.width == width && g.height == height && g.passes == passes) return Ok{};
     g.release_framebuffer();
-    glGenRenderbuffers(1, &g.colour_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.colour_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-    glGenRenderbuffers(1, &g.depth_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, g.depth_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
     glGenFramebuffers(1, &g.fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, g.fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, g.colour_rb);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g.depth_rb);
+    // A renderbuffer of `format` at the size, attached at `attachment`.
+    auto attach = [&](GLuint& rb, GLenum format, GLenum attachment) {
+        glGenRenderbuffers(1, &rb);
+        glBindRenderbuffer(GL_RENDERBUFFER, rb);
+        glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, rb);
+    };
+    attach(g.colour_rb, GL_RGBA8, GL_COLOR_ATTACHMENT0);
+    attach(g.depth_rb, GL_DEPTH_COMPONENT32F, GL_DEPTH_ATTACHMENT);
+    if (passes) {
+        attach(g.normal_rb, GL_RGBA32F, GL_COLOR_ATTACHMENT1);
+        attach(g.instance_rb, GL_R32UI, GL_COLOR_ATTACHMENT2);
+    }
     const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         char buf[16];
@@ -347,12 +368,13 @@ Status GlOracle::resize(int width, int height) {
         g.release_framebuffer();
         return Error{ErrorCode::unsupported, std::string("llvmpipe oracle: framebuffer incomplete: ") + buf};
     }
-    const GLenum draw_buffer = GL_COLOR_ATTACHMENT0;
-    glDrawBuffers(1, &draw_buffer);
+    const GLenum draw_buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(passes ? 3 : 1, draw_buffers);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glViewport(0, 0, width, height);
     g.width = width;
     g.height = height;
+    g.passes = passes;
     if (const std::string e = gl_error(); !e.empty())
         return Error{ErrorCode::unsupported, "llvmpipe oracle: GL error while making the framebuffer: " + e};
     return Ok{};
@@ -375,9 +397,19 @@ void GlOracle::draw(const Camera& camera, Vec4 background) {
     const Vec3 light = -camera_basis(camera.target - camera.position, camera.up, camera.handedness).forward;
 
     glBindFramebuffer(GL_FRAMEBUFFER, g.fbo);
-    glClearColor(background.x, background.y, background.z, background.w);
-    glClearDepth(1.0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (g.passes) {
+        // glClear leaves integer attachments undefined: each buffer is cleared by its kind.
+        const GLfloat colour[] = {background.x, background.y, background.z, background.w}, none[] = {0, 0, 0, 0}, far = 1;
+        const GLuint no_instance[] = {0, 0, 0, 0};
+        glClearBufferfv(GL_COLOR, 0, colour);
+        glClearBufferfv(GL_COLOR, 1, none);
+        glClearBufferuiv(GL_COLOR, 2, no_instance);
+        glClearBufferfv(GL_DEPTH, 0, &far);
+    } else {
+        glClearColor(background.x, background.y, background.z, background.w);
+        glClearDepth(1.0);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
     glUseProgram(g.program);
     glUniform3f(g.u_light, light.x, light.y, light.z);
     for (const Impl::Object& o : g.objects) {
@@ -390,6 +422,7 @@ void GlOracle::draw(const Camera& camera, Vec4 background) {
             for (int r = 0; r < 3; ++r) m3[c * 3 + r] = normal_to_world(r, c);
         glUniformMatrix4fv(g.u_clip_from_object, 1, GL_FALSE, m4);  // column-major, as facet stores it
         glUniformMatrix3fv(g.u_normal_to_world, 1, GL_FALSE, m3);
+        glUniform1ui(g.u_instance, o.instance);
         glBindVertexArray(o.vao);
         if (o.index_count) glDrawElements(GL_TRIANGLES, o.index_count, GL_UNSIGNED_INT, nullptr);
         const auto offset = [](GLsizei n) { return reinterpret_cast<const void*>(static_cast<std::uintptr_t>(n) * sizeof(std::uint32_t)); };
@@ -426,10 +459,29 @@ GlFrame GlOracle::read() {
     // GL's row 0 is the bottom of the picture; facet's is the top.
     f.colour.resize(n);
     f.depth.resize(n);
+    std::vector<float> normal;
+    std::vector<std::uint32_t> instance;
+    if (g.passes) {
+        normal.resize(n * 4);
+        instance.resize(n);
+        glReadBuffer(GL_COLOR_ATTACHMENT1);
+        glReadPixels(0, 0, g.width, g.height, GL_RGBA, GL_FLOAT, normal.data());
+        glReadBuffer(GL_COLOR_ATTACHMENT2);
+        glReadPixels(0, 0, g.width, g.height, GL_RED_INTEGER, GL_UNSIGNED_INT, instance.data());
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        f.normal.resize(n);
+        f.instance.resize(n);
+    }
     for (int y = 0; y < g.height; ++y) {
         const std::size_t src = static_cast<std::size_t>(g.height - 1 - y) * g.width, dst = static_cast<std::size_t>(y) * g.width;
         std::copy_n(colour.begin() + static_cast<std::ptrdiff_t>(src), g.width, f.colour.begin() + static_cast<std::ptrdiff_t>(dst));
         std::copy_n(depth.begin() + static_cast<std::ptrdiff_t>(src), g.width, f.depth.begin() + static_cast<std::ptrdiff_t>(dst));
+        if (!g.passes) continue;
+        std::copy_n(instance.begin() + static_cast<std::ptrdiff_t>(src), g.width, f.instance.begin() + static_cast<std::ptrdiff_t>(dst));
+        for (int x = 0; x < g.width; ++x) {
+            const float* v = &normal[(src + static_cast<std::size_t>(x)) * 4];
+            f.normal[dst + static_cast<std::size_t>(x)] = {v[0], v[1], v[2]};
+        }
     }
     return f;
 }

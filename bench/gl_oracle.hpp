@@ -8,7 +8,10 @@
 //     GL_ZERO_TO_ONE), so clip space and window depth are facet's _zo convention;
 //   - per-pixel Lambert exactly as facet: 0.8 * (0.15 + 0.85 * max(dot(normalize(n), l), 0)), l the
 //     unit vector from the target to the eye; no culling, depth test LESS, no blending, no dither;
-//   - read back as float depth and RGBA8 colour, rows flipped so row 0 is the top, like facet.
+//   - read back as float depth and RGBA8 colour, rows flipped so row 0 is the top, like facet;
+//   - on request (resize's `passes`), facet's normal and instance passes from the same draw: two
+//     more colour attachments, RGBA32F (the normalized world-space normal) and R32UI (the scene
+//     object's index + 1, 0 for the background), read back with the others.
 //
 // Threads: llvmpipe reads LP_NUM_THREADS once, when the driver loads at EGL initialisation, so a
 // process can have one thread count only; run other counts in child processes. facet --threads 1
@@ -44,6 +47,9 @@ struct GlFrame {
     int width = 0, height = 0;
     std::vector<Rgba8> colour;
     std::vector<float> depth;  // window depth in [0, 1], 1 where nothing was drawn (the clear value)
+    // With passes (resize): world-space unit normals (0 on the background) and instance ids.
+    std::vector<Vec3> normal;
+    std::vector<std::uint32_t> instance;
 };
 
 // Errors of GlOracle::create that mean "no llvmpipe through EGL surfaceless here" (no EGL, no Mesa
@@ -74,8 +80,9 @@ public:
     // per object).
     // Objects without normals are an error: facet would fall back to flat shading for them.
     Status load(const Scene& scene);
-    // (Re)creates the framebuffer object at this size.
-    Status resize(int width, int height);
+    // (Re)creates the framebuffer object at this size; with `passes`, with the normal and instance
+    // attachments too, which draw then clears and writes and read reads back.
+    Status resize(int width, int height, bool passes = false);
     // The size of GL_POINTS (glPointSize: square points) and the width of GL_LINES (glLineWidth), in
     // pixels, for the objects' points and lines.
     void set_primitive_style(float point_size, float line_width);
