@@ -135,7 +135,6 @@ const char* reason_code(FailReason r) {
     case FailReason::write_failed: return "write_failed";
     case FailReason::bad_entry: return "bad_entry";
     case FailReason::duplicate_id: return "duplicate_id";
-    case FailReason::not_supported_yet: return "not_supported_yet";
     case FailReason::failed: return "failed";
     }
     return "failed";
@@ -156,7 +155,6 @@ const char* reason_label(FailReason r) {
     case FailReason::write_failed: return "write failed";
     case FailReason::bad_entry: return "bad manifest entry";
     case FailReason::duplicate_id: return "duplicate id";
-    case FailReason::not_supported_yet: return "not supported yet";
     case FailReason::failed: return "failed";
     }
     return "failed";
@@ -279,6 +277,9 @@ public:
         // The shard of a line without an id is its text's, so that exactly one shard reports it.
         if (shard_of(e.id.empty() ? line : std::string_view(e.id), shard_.count) != shard_.index) return;
         if (!e.path.empty() && fs::path(e.path).is_relative() && !base_.empty()) e.path = (base_ / e.path).string();
+        if (const std::string rig = e.options.views.value_or(""); rig.size() > 5 && rig.compare(0, 5, "file:") == 0)
+            if (const fs::path cameras(rig.substr(5)); cameras.is_relative() && !base_.empty())
+                e.options.views = "file:" + (base_ / cameras).string();
         if (problem.empty()) {
             if (Result<std::string> stem = output_stem_for_id(e.id)) e.stem = *stem;
             else problem = stem.error().message;
@@ -365,43 +366,6 @@ Result<std::vector<ObjectEntry>> read_manifest(const std::string& manifest, cons
         pos = end + 1;
     }
     return reader.take();
-}
-
-Status check_view_rig(const std::string& spec) {
-    const std::string form = "views must be orbit:N[:ELEVATION], sphere:N, random:N:SEED or file:CAMERAS.json, got '" + spec + "'";
-    std::vector<std::string> parts;
-    std::stringstream in(spec);
-    for (std::string part; std::getline(in, part, ':');) parts.push_back(part);
-    if (parts.empty()) return usage(form);
-    std::uint64_t n = 0, seed = 0;
-    const auto count_ok = [&] { return parts.size() >= 2 && parse_count(parts[1], 1, 10000, n); };
-    if (parts[0] == "file") {
-        if (spec.size() <= 5) return usage(form);
-        return Ok{};
-    }
-    if (!count_ok()) return usage(form + " (N: 1 to 10000 views)");
-    if (parts[0] == "sphere" && parts.size() == 2) return Ok{};
-    if (parts[0] == "random" && parts.size() == 3 && parse_count(parts[2], 0, UINT64_MAX / 10, seed)) return Ok{};
-    if (parts[0] == "orbit" && parts.size() == 2) return Ok{};
-    if (parts[0] == "orbit" && parts.size() == 3) {
-        char* end = nullptr;
-        const double elevation = std::strtod(parts[2].c_str(), &end);
-        if (!parts[2].empty() && *end == '\0' && elevation >= -90 && elevation <= 90) return Ok{};
-        return usage(form + " (ELEVATION: -90 to 90 degrees)");
-    }
-    return usage(form);
-}
-
-Status check_passes(const std::vector<std::string>& passes) {
-    static const char* const k_passes[] = {"color", "alpha", "depth", "range", "normal", "instance", "material", "primitive", "uv"};
-    if (passes.empty()) return usage("passes must name at least one pass");
-    for (std::size_t i = 0; i < passes.size(); ++i) {
-        if (std::find(std::begin(k_passes), std::end(k_passes), passes[i]) == std::end(k_passes))
-            return usage("unknown pass '" + passes[i] + "' (passes: color, alpha, depth, range, normal, instance, material, primitive, uv)");
-        if (std::find(passes.begin(), passes.begin() + static_cast<long>(i), passes[i]) != passes.begin() + static_cast<long>(i))
-            return usage("the pass '" + passes[i] + "' is named twice");
-    }
-    return Ok{};
 }
 
 }  // namespace facet::cli

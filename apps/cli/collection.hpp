@@ -30,7 +30,6 @@ enum class FailReason {
     write_failed,       // the output could not be written
     bad_entry,          // the manifest line: bad JSON, a bad key, a bad per-object option
     duplicate_id,       // an id seen on an earlier line
-    not_supported_yet,  // views or passes (multi-view rendering is not in this version)
     failed,             // anything else
 };
 // "missing", "timed_out", ...: the log's spelling. And the summary's: "missing file", "timed out".
@@ -42,8 +41,8 @@ const char* reason_label(FailReason reason);
 struct ObjectOptions {
     std::optional<std::string> size;     // "N" or "WxH"
     std::optional<std::string> up_axis;  // "y" or "z"
-    std::optional<std::string> views;    // a camera rig: check_view_rig
-    std::vector<std::string> passes;     // render passes: check_passes; empty: colour only
+    std::optional<std::string> views;    // a camera rig (facet render --views; a relative file: is the manifest's)
+    std::vector<std::string> passes;     // render passes (facet render --passes); empty: colour only
 };
 
 struct ObjectEntry {
@@ -107,12 +106,5 @@ Result<std::vector<ManifestLine>> parse_manifest_lines(const std::string& spec);
 // run goes and cannot change a byte: threads, isa, tile-size, batch-triangles, load-threads,
 // isolation, sandbox, timeout, max-memory.
 std::string options_hash(std::string_view config, const ObjectOptions& options);
-
-// The camera rigs of multi-view rendering (`views`): orbit:N[:ELEVATION], sphere:N, random:N:SEED,
-// file:CAMERAS.json, with 1 <= N <= 10000, ELEVATION in [-90, 90] degrees, SEED a whole number.
-Status check_view_rig(const std::string& spec);
-// Render passes (`passes`): color, alpha, depth, range, normal, instance, material, primitive, uv,
-// each at most once, at least one.
-Status check_passes(const std::vector<std::string>& passes);
 
 }  // namespace facet::cli

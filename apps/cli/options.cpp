@@ -230,10 +230,6 @@ Result<std::pair<int, int>> parse_image_size(const std::string& name, const std:
     return std::pair{w, h};
 }
 
-namespace {
-
-// --passes, --views and the options that go with them into plan.views (after the camera options,
-// which each view of a rig starts from).
 Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
     const bool wanted = o.passes || o.views;
     if (!wanted) {
@@ -271,6 +267,8 @@ Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p) {
     p.views = std::move(v);
     return Ok{};
 }
+
+namespace {
 
 std::string general_number(float v) {
     char text[32];

@@ -135,6 +135,11 @@ bool has_camera_options(const CLI::App& command);
 // the process is done (--help and friends: 0, printed; a usage error: k_exit_usage, printed to stderr).
 std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv);
 
+// --passes, --views and the options that go with them into plan.views, after the camera options,
+// which each view of a rig starts from (make_plan; `facet thumbs` for a manifest's "views" and
+// "passes"). A cameras file's image size becomes the plan's unless `size_given`.
+Status make_views_plan(const RenderOptions& o, bool size_given, RenderPlan& p);
+
 // Checks and converts the options; the error message names the offending option. `size_given`:
 // whether --size was given (a cameras file's views otherwise set the size). A cameras file
 // (--views file:...) is read here.

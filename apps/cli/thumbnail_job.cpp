@@ -1,5 +1,5 @@
 // facet command line: one thumbnail in a worker process (thumbnail_job.hpp): confine, load,
-// render, write the PNG atomically. Shared by `facet thumbs` and `facet thumbnail`.
+// render, write the PNG atomically (or the views and passes into a staged folder). Shared by `facet thumbs` and `facet thumbnail`.
 #include "thumbnail_job.hpp"
 
 #include <algorithm>
@@ -59,7 +59,12 @@ ThumbnailFigures ThumbnailFigures::parse(const std::string& text) {
 int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
     test_hook_sleep(job.model);
     const RenderPlan& plan = job.plan;
-    confine_worker(job.model, {job.output.string()}, plan.load.resource_dirs);
+    std::vector<std::string> outputs{job.output.string()};
+    if (job.staging) {  // confine_worker allows the folders of its outputs
+        outputs.clear();
+        for (const std::string& folder : job.staging->write_folders) outputs.push_back(folder + "/file");
+    }
+    confine_worker(job.model, outputs, plan.load.resource_dirs);
     sandbox_test_probe();
     ThumbnailFigures f;
     std::string error;
@@ -78,9 +83,22 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
             report.phase(WorkerPhase::rendering);
             start = Clock::now();
             try {
-                render_plan(renderer, *scene, plan, plan_camera(*scene, plan), colour, nullptr);
+                if (job.staging) {  // the views and passes, written as they are rendered
+                    Result<ViewsReport> views =
+                        render_views_into(*scene, plan, job.staging->folder.string(), k_thumbnail_threads);
+                    if (views) {
+                        f.render_ms = views->render_ms;
+                        f.write_ms = views->write_ms;
+                    } else {
+                        error = views.error().message;
+                        f.reason = views.error().code == ErrorCode::io ? FailReason::write_failed : FailReason::render_failed;
+                    }
+                } else {
+                    render_plan(renderer, *scene, plan, plan_camera(*scene, plan), colour, nullptr);
+                }
                 const auto& px = colour.pixels;
-                if (job.refuse_empty && std::all_of(px.begin(), px.end(), [&](Rgba8 p) { return p == px.front(); })) {
+                if (!job.staging && job.refuse_empty &&
+                    std::all_of(px.begin(), px.end(), [&](Rgba8 p) { return p == px.front(); })) {
                     error = job.model + ": nothing to draw (" + std::to_string(scene->triangle_count()) +
                             " triangles, none visible)";
                     f.reason = FailReason::bad_file;
@@ -91,9 +109,9 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
                 error = job.model + ": " + e.what();
                 f.reason = FailReason::render_failed;
             }
-            f.render_ms = ms_since(start);
+            if (!f.render_ms) f.render_ms = ms_since(start);
         }
-        if (error.empty()) {
+        if (error.empty() && !job.staging) {
             report.phase(WorkerPhase::writing);
             start = Clock::now();
             if (Status s = write_png(job.output.string(), colour); !s) {

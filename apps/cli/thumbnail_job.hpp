@@ -1,7 +1,8 @@
 // facet command line: one thumbnail, the per-object job of `facet thumbs` and `facet thumbnail`.
 // In: a model path, a plan and an output path, inside a worker process (worker.hpp); out: the PNG,
-// written atomically, and the job's figures and error through the worker's report. It confines the
-// worker first (thumbs' sandbox); scheduling, naming, logs and progress stay with the commands.
+// written atomically, or with views the files of a staged folder (views_output.hpp), and the job's
+// figures and error through the worker's report. It confines the worker first (thumbs' sandbox);
+// scheduling, naming, staging, logs and progress stay with the commands.
 #pragma once
 
 #include <chrono>
@@ -11,6 +12,7 @@
 
 #include "collection.hpp"
 #include "options.hpp"
+#include "views_output.hpp"
 #include "worker.hpp"
 
 namespace facet::cli {
@@ -35,7 +37,10 @@ struct ThumbnailFigures {
 struct ThumbnailJob {
     std::string model;
     RenderPlan plan;
-    std::filesystem::path output;
+    std::filesystem::path output;  // the PNG; unused with views
+    // With plan.views: the staged folder the views and passes go into (made by the parent: the
+    // sandbox creates no folders).
+    const ViewsStaging* staging = nullptr;
     const char* command = "facet thumbs";  // prefixes the model's warnings on stderr
     // Fail a model that leaves the image blank (every pixel the same: no triangle, or none valid
     // and with an area) instead of writing it: a file manager shows its own icon then.
@@ -43,7 +48,7 @@ struct ThumbnailJob {
 };
 
 // The worker's side: confine, load, render, write, timing each; returns the worker's exit status
-// (k_exit_ok only when the PNG is in place).
+// (k_exit_ok only when the PNG, or every file of the views, is in place).
 int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report);
 
 }  // namespace facet::cli

@@ -1,7 +1,8 @@
 // `facet thumbs`: many models to one PNG each, all cores busy, progress on stderr, a summary, and
 // an exit code that says whether everything rendered. One broken file never stops the batch.
 // Collections (README, "Collections"): the objects may come from a manifest (collection.hpp), be
-// cut into shards, be logged as they finish (results_log.hpp) and be resumed from that log.
+// cut into shards, be logged as they finish (results_log.hpp) and be resumed from that log; a
+// manifest entry with views or passes gets a folder of files instead (views_output.hpp).
 //
 // Each file is loaded, rendered and written by a worker process of its own (worker.hpp), up to
 // --threads at a time, while this process only schedules them, shows progress, logs and collects
@@ -26,6 +27,7 @@
 #include "options.hpp"
 #include "results_log.hpp"
 #include "thumbnail_job.hpp"
+#include "views_output.hpp"
 #include "worker.hpp"
 
 namespace facet::cli {
@@ -39,6 +41,7 @@ struct Job {
     ObjectEntry entry;  // entry.reason set: failed before rendering (a bad entry, a missing input)
     std::optional<std::pair<int, int>> size;  // the entry's own options, checked
     std::optional<UpAxis> up_axis;
+    std::optional<ViewsPlan> views;  // the entry's views or passes: a folder of files
     std::string options_hash;
     bool done_before = false;  // --resume: the log has it with these options and its outputs exist
     // The outcome.
@@ -47,9 +50,14 @@ struct Job {
     ThumbnailFigures figures;
     double total_ms = 0;
 
-    // Outputs, relative to the output directory. Several per object (views, passes) will be the
-    // files of the folder <stem>/; until then the one thumbnail.
-    std::vector<std::string> outputs() const { return {entry.stem + ".png"}; }
+    std::vector<std::string> written;  // with views: the folder's files, once it is in place
+
+    // What the object writes into the output directory: the thumbnail <stem>.png, or with views
+    // the folder <stem>.
+    std::string output_name() const { return views ? entry.stem : entry.stem + ".png"; }
+    // Its files, relative to the output directory: the thumbnail, or the folder's files (known once
+    // written: the rig and the passes decide them).
+    std::vector<std::string> outputs() const { return views ? written : std::vector<std::string>{output_name()}; }
 };
 
 // A name for the thumbnail that keeps the model's relative path and extension, so "a/b.obj" and
@@ -110,11 +118,13 @@ RenderPlan object_plan(const RenderPlan& plan, const Job& job) {
     RenderPlan p = plan;
     if (job.size) std::tie(p.width, p.height) = *job.size;
     if (job.up_axis) p.load.up_axis = *job.up_axis;
+    p.views = job.views;
     return p;
 }
 
-// Checks an entry's own options into the job; a bad one fails the job as a bad entry.
-void check_object_options(Job& job, const RenderPlan& plan) {
+// Checks an entry's own options into the job; a bad one fails the job as a bad entry. `options`
+// are the command line's, which a rig's views start from.
+void check_object_options(Job& job, const RenderPlan& plan, const RenderOptions& options) {
     const ObjectOptions& o = job.entry.options;
     std::string problem;
     if (o.size) {
@@ -125,16 +135,24 @@ void check_object_options(Job& job, const RenderPlan& plan) {
         if (*o.up_axis == "y" || *o.up_axis == "z") job.up_axis = *o.up_axis == "z" ? UpAxis::z : UpAxis::y;
         else problem = "up_axis must be \"y\" or \"z\", got '" + *o.up_axis + "'";
     }
-    if (problem.empty() && o.views)
-        if (Status s = check_view_rig(*o.views); !s) problem = s.error().message;
-    if (problem.empty() && !o.passes.empty())
-        if (Status s = check_passes(o.passes); !s) problem = s.error().message;
+    if (problem.empty() && (o.views || !o.passes.empty())) {
+        // As facet render --views ... --passes ... would read them.
+        RenderOptions with_views = options;
+        with_views.views = o.views;
+        with_views.passes.reset();
+        for (const std::string& pass : o.passes) with_views.passes = with_views.passes ? *with_views.passes + "," + pass : pass;
+        RenderPlan p = object_plan(plan, job);
+        if (Status s = make_views_plan(with_views, job.size.has_value(), p); !s) {
+            problem = s.error().message;
+            if (problem.rfind("--views: ", 0) == 0 || problem.rfind("--passes: ", 0) == 0) problem.erase(0, 2);  // the keys' names
+        } else {
+            job.views = std::move(p.views);
+            if (!job.size && (p.width != plan.width || p.height != plan.height)) job.size = {p.width, p.height};
+        }
+    }
     if (!problem.empty()) {
         job.entry.reason = FailReason::bad_entry;
         job.entry.error = job.entry.origin + ": " + problem;
-    } else if (o.views || !o.passes.empty()) {
-        job.entry.reason = FailReason::not_supported_yet;
-        job.entry.error = job.entry.origin + ": views and passes are not rendered by this version of facet yet";
     }
 }
 
@@ -217,10 +235,28 @@ void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
               ResultsLog& log) {
     std::vector<Worker> running;
     std::vector<Clock::time_point> started(jobs.size());
+    std::vector<std::optional<ViewsStaging>> staged(jobs.size());  // of the jobs with views
     std::size_t next = 0;
-    auto output_of = [&](std::size_t i) { return out_dir / jobs[i].outputs().front(); };
-    auto finish = [&](std::size_t i, FailReason reason, const std::string& error) {
+    auto output_of = [&](std::size_t i) { return out_dir / jobs[i].output_name(); };
+    auto finish = [&](std::size_t i, FailReason reason, std::string error) {
         Job& job = jobs[i];
+        if (staged[i] && reason == FailReason::none) {
+            // The folder's files, then the folder in place of any earlier one (whose files a
+            // smaller rig would leave standing).
+            for (const auto& e : fs::recursive_directory_iterator(staged[i]->folder))
+                if (e.is_regular_file())
+                    job.written.push_back(job.entry.stem + "/" + e.path().lexically_relative(staged[i]->folder).string());
+            std::sort(job.written.begin(), job.written.end());
+            std::error_code ec;
+            fs::remove_all(output_of(i), ec);
+            if (Status s = commit_views(*staged[i]); !s) {
+                job.written.clear();
+                reason = FailReason::write_failed;
+                error = s.error().message;
+            }
+        } else if (staged[i]) {
+            discard_views(*staged[i]);
+        }
         job.reason = reason;
         job.error = error;
         job.total_ms = ms_since(started[i]);
@@ -231,13 +267,22 @@ void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
         while (running.size() < workers && next < order.size()) {
             const std::size_t i = order[next++];
             started[i] = Clock::now();
+            if (jobs[i].views) {
+                Result<ViewsStaging> s = stage_views(output_of(i).string(), *jobs[i].views);
+                if (!s) {
+                    finish(i, FailReason::write_failed, s.error().message);
+                    continue;
+                }
+                staged[i] = std::move(*s);
+            }
             WorkerOutcome failed;
             const fs::path output = output_of(i);
+            const ViewsStaging* staging = staged[i] ? &*staged[i] : nullptr;
             std::optional<Worker> w = start_worker(
-                [&, i, output](const WorkerReport& report) {
-                    return run_thumbnail_job({jobs[i].entry.path, object_plan(plan, jobs[i]), output}, report);
-                }, limits,
-                running, failed);
+                [&, i, output, staging](const WorkerReport& report) {
+                    return run_thumbnail_job({jobs[i].entry.path, object_plan(plan, jobs[i]), output, staging}, report);
+                },
+                limits, running, failed);
             if (!w) {
                 finish(i, FailReason::failed, describe_abnormal_end(failed, jobs[i].entry.path, limits));
                 continue;
@@ -254,7 +299,7 @@ void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
                 const FailReason reason = job.figures.reason == FailReason::none ? FailReason::failed : job.figures.reason;
                 finish(w.tag, reason, outcome.message);
             } else {
-                remove_temporaries(output_of(w.tag));  // of a worker killed while writing
+                if (!staged[w.tag]) remove_temporaries(output_of(w.tag));  // of a worker killed while writing
                 finish(w.tag, reason_for_abnormal_end(outcome), describe_abnormal_end(outcome, job.entry.path, limits));
             }
         }
@@ -283,31 +328,39 @@ void print_summary(const std::vector<Job>& jobs, std::size_t attempted, std::siz
     }
 }
 
-// Removes the temporaries of our outputs that a killed run left (one pass over the folder).
+// Removes the temporaries of our outputs that a killed run left (one pass over the folder): files
+// NAME.png.tmpN, and the staging folders NAME.tmpN of objects with views.
 void remove_stale_temporaries(const fs::path& out_dir, const std::vector<Job>& jobs) {
     std::unordered_set<std::string> outputs;
     for (const Job& j : jobs)
-        if (j.entry.reason == FailReason::none)
-            for (const std::string& o : j.outputs()) outputs.insert(o);
+        if (j.entry.reason == FailReason::none) outputs.insert(j.output_name());
     remove_temporaries(out_dir, outputs);
 }
 
 // --resume: marks the jobs whose latest "ok" line has the same options hash and the same outputs,
-// all of them present; a job logged before with anything else loses its old outputs first, so that
-// a run killed before its new line cannot leave them standing for the old one.
+// all of them present (with views, the files that line lists, all in the object's folder: the rig
+// and the passes, which the hash covers, decide them); a job logged before with anything else loses
+// its old outputs first, so that a run killed before its new line cannot leave them standing for
+// the old one.
 void mark_done_before(std::vector<Job>& jobs, const LogContents& log, const fs::path& out_dir) {
     for (Job& job : jobs) {
         if (job.entry.reason != FailReason::none) continue;
         const auto it = log.finished.find(job.entry.id);
         if (it == log.finished.end()) continue;
-        const std::vector<std::string> outputs = job.outputs();
+        const std::vector<std::string>& logged = it->second.outputs;
+        const std::vector<std::string> outputs = job.views ? logged : job.outputs();
+        const std::string folder = job.entry.stem + "/";
+        const bool named = job.views ? !logged.empty() && std::all_of(logged.begin(), logged.end(), [&](const std::string& o) {
+            return o.size() > folder.size() && o.compare(0, folder.size(), folder) == 0;
+        })
+                                     : logged == outputs;
         std::error_code ec;
         const bool present = std::all_of(outputs.begin(), outputs.end(), [&](const std::string& o) {
             return fs::is_regular_file(out_dir / o, ec) && fs::file_size(out_dir / o, ec) > 0;
         });
-        job.done_before = present && it->second.options_hash == job.options_hash && it->second.outputs == outputs;
-        if (!job.done_before)
-            for (const std::string& o : outputs) fs::remove(out_dir / o, ec);
+        job.done_before = named && present && it->second.options_hash == job.options_hash;
+        if (!job.done_before && job.views) fs::remove_all(out_dir / job.output_name(), ec);
+        else if (!job.done_before) fs::remove(out_dir / job.output_name(), ec);
     }
 }
 
@@ -386,7 +439,7 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         Job& job = jobs.emplace_back();
         job.entry = std::move(e);
         if (job.entry.reason != FailReason::none) continue;
-        check_object_options(job, *plan);
+        check_object_options(job, *plan, o);
         if (job.entry.reason != FailReason::none) continue;
         const ObjectOptions& oo = job.entry.options;
         std::string key = oo.size.value_or("") + "|" + oo.up_axis.value_or("") + "|" + oo.views.value_or("") + "|";

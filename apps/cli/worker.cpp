@@ -329,7 +329,7 @@ void remove_temporaries(const std::filesystem::path& dir, const std::unordered_s
         const std::size_t tmp = name.rfind(".tmp");
         if (tmp != std::string::npos && tmp + 4 < name.size() &&
             name.find_first_not_of("0123456789", tmp + 4) == std::string::npos && names.count(name.substr(0, tmp)))
-            fs::remove(it->path(), ec);
+            fs::remove_all(it->path(), ec);  // a file, or a staging folder (views_output.hpp)
     }
 }
 

@@ -129,8 +129,8 @@ std::string describe_sandbox(bool isolated);
 // Removes the temporaries write_file_atomic makes for `output` ("<name>.tmp<digits>"): a worker
 // killed while writing leaves one behind.
 void remove_temporaries(const std::filesystem::path& output);
-// The same for every output named in `names` (file names in `dir`), in one pass over the folder:
-// what a killed run left.
+// The same for every output named in `names` (file or folder names in `dir`), in one pass over the
+// folder: what a killed run left, with the staging folders ("<name>.tmp<digits>") of views_output.hpp.
 void remove_temporaries(const std::filesystem::path& dir, const std::unordered_set<std::string>& names);
 
 // Lets glibc's malloc serve large buffers (the model, the framebuffers) from its heap and keep what

@@ -214,8 +214,9 @@ _TEMPORARY = re.compile(r"^(.*)\.tmp[0-9]+$")
 
 
 def _remove_temporaries(out_dir: Path, names: set) -> None:
-    """Removes the temporaries (NAME.tmpDIGITS) of outputs in ``names`` that killed workers left;
-    one pass over the folder, which the tasks leave to this process."""
+    """Removes the temporaries (NAME.tmpDIGITS) of outputs in ``names`` that killed workers left:
+    files, and the staging folders of objects with views or passes; one pass over the folder, which
+    the tasks leave to this process."""
     try:
         entries = list(os.scandir(out_dir))
     except FileNotFoundError:
@@ -224,7 +225,10 @@ def _remove_temporaries(out_dir: Path, names: set) -> None:
         m = _TEMPORARY.match(entry.name)
         if m and m.group(1) in names:
             try:
-                os.unlink(entry.path)
+                if entry.is_dir(follow_symlinks=False):
+                    shutil.rmtree(entry.path, ignore_errors=True)
+                else:
+                    os.unlink(entry.path)
             except FileNotFoundError:
                 pass
 
@@ -315,7 +319,8 @@ def render_collection(client: Any, manifest: os.PathLike | str, out_dir: os.Path
     log_path = Path(log).resolve() if log is not None else None
     previous = _finished_lines(log_path) if (resume and log_path) else {}
     key_of = {(offset, number): key for offset, number, key in lines}
-    outputs = {output_stem(key) + ".png" for _, _, key in lines}
+    # The thumbnails NAME.png, and the folders NAME of objects with views or passes.
+    outputs = {name for _, _, key in lines for name in (output_stem(key), output_stem(key) + ".png")}
     _remove_temporaries(out_path, outputs)
     appender = _LogAppender(log_path) if log_path else None
 

@@ -29,7 +29,7 @@ def model_obj(n: int) -> str:
 
 def make_collection(root: Path, count: int) -> Path:
     """`count` models under root/models and a JSON Lines manifest of them, with per-object sizes,
-    ids that need encoding, a missing file and a duplicate id."""
+    views and passes (a folder of files each), ids that need encoding, a missing file and a duplicate id."""
     lines = []
     for i in range(count):
         (root / "models").mkdir(parents=True, exist_ok=True)
@@ -37,6 +37,8 @@ def make_collection(root: Path, count: int) -> Path:
         entry = {"id": f"set/obj-{i}", "path": f"models/m{i}.obj"}
         if i % 4 == 0:
             entry["size"] = 20
+        if i % 8 == 5:
+            entry.update(views="orbit:2", passes=["color", "depth"])
         lines.append(json.dumps(entry))
     lines.insert(3, json.dumps({"id": "missing", "path": "models/none.obj"}))
     lines.insert(7, json.dumps({"id": "set/obj-1", "path": "models/m2.obj"}))
@@ -52,7 +54,8 @@ def read_log(path: Path):
 
 
 def files(folder: Path):
-    return {p.name: p.read_bytes() for p in folder.iterdir()}
+    """Every file and folder under `folder` (relative), a file with its bytes."""
+    return {str(p.relative_to(folder)): p.read_bytes() if p.is_file() else None for p in folder.rglob("*")}
 
 
 def test_output_stem_and_shard_are_facets(facet_exe, tmp_path):

@@ -219,7 +219,8 @@ TEST(CliCollection, BadEntriesAreReportedOneByOneAndTheBatchGoesOn) {
                "{\"id\": \"axis\", \"path\": \"good.obj\", \"up_axis\": \"x\"}\n"
                "{\"id\": \"key\", \"path\": \"good.obj\", \"azimuth\": 3}\n"
                "{\"id\": \"json\", \"path\": \"good.obj\"\n"
-               "{\"id\": \"views\", \"path\": \"good.obj\", \"views\": \"orbit:4\"}\n"
+               "{\"id\": \"views\", \"path\": \"good.obj\", \"views\": \"orbit:0\"}\n"
+               "{\"id\": \"passes\", \"path\": \"good.obj\", \"passes\": [\"color\", \"colour\"]}\n"
                "{\"id\": \"good2\", \"path\": \"good.obj\", \"size\": 20}\n");
     const fs::path log = dir / "log.jsonl";
     const CliRun r = run_facet({"thumbs", "--manifest", (dir / "m.jsonl").string(), "-o", (dir / "out").string(), "--size",
@@ -238,16 +239,105 @@ TEST(CliCollection, BadEntriesAreReportedOneByOneAndTheBatchGoesOn) {
                                                           {m + ":7", "bad_entry"},
                                                           {m + ":8", "bad_entry"},
                                                           {m + ":9", "bad_entry"},
-                                                          {m + ":10", "not_supported_yet"},
+                                                          {m + ":10", "bad_entry"},
+                                                          {m + ":11", "bad_entry"},
                                                           {"good2", ""}}))
         << facet_test::read_file(log);
     // The summary groups them by reason, each with its line.
-    EXPECT_TRUE(contains(r.err, "2 rendered, 9 failed")) << r.err;
+    EXPECT_TRUE(contains(r.err, "2 rendered, 10 failed")) << r.err;
     for (const char* group : {"\n  missing file: 1\n", "\n  unreadable file: 1\n", "\n  not a valid model: 1\n",
-                              "\n  duplicate id: 1\n", "\n  bad manifest entry: 4\n", "\n  not supported yet: 1\n"})
+                              "\n  duplicate id: 1\n", "\n  bad manifest entry: 6\n"})
         EXPECT_TRUE(contains(r.err, group)) << group << "\n" << r.err;
     EXPECT_TRUE(contains(r.err, "    failed: " + m + ":8: unknown key \"azimuth\"")) << r.err;
     EXPECT_TRUE(contains(r.err, "    failed: " + m + ":6: size must be N or WxH, got '0x4'")) << r.err;
+    EXPECT_TRUE(contains(r.err, "    failed: " + m + ":10: views: ")) << r.err;
+    EXPECT_TRUE(contains(r.err, "    failed: " + m + ":11: passes: unknown pass 'colour'")) << r.err;
+}
+
+// Entries with views or passes: a folder per object with what `facet render --views --passes`
+// writes, the same bytes, every file in the log line; resumed, redone and replaced as a whole.
+TEST(CliCollection, ViewsAndPassesWriteAFolderPerObject) {
+    const fs::path dir = temp_dir();
+    write_text(dir / "a.obj", model_obj(4));
+    const std::vector<std::string> thumb_defaults{"--azimuth", "35", "--elevation", "25", "--aa", "2", "--contact-shadow", "0.6"};
+    auto render = [&](const fs::path& out, std::vector<std::string> args) {
+        args.insert(args.begin(), {"render", (dir / "a.obj").string(), "-o", out.string()});
+        args.insert(args.end(), thumb_defaults.begin(), thumb_defaults.end());
+        const CliRun r = run_facet(args);
+        EXPECT_EQ(r.exit_code, 0) << r.all();
+    };
+    render(dir / "cams", {"--views", "orbit:2:40", "--size", "28x20"});  // a cameras file for "file:"
+    const auto write_manifest = [&](const std::string& vp_views) {
+        write_text(dir / "m.jsonl",
+                   "{\"id\": \"plain\", \"path\": \"a.obj\"}\n"
+                   "{\"id\": \"p\", \"path\": \"a.obj\", \"passes\": [\"color\", \"depth\"]}\n"
+                   "{\"id\": \"v\", \"path\": \"a.obj\", \"views\": \"orbit:3\", \"size\": 20}\n"
+                   "{\"id\": \"v/p\", \"path\": \"a.obj\", \"views\": \"" + vp_views +
+                       "\", \"passes\": \"color,normal,instance\"}\n"
+                   "{\"id\": \"cams\", \"path\": \"a.obj\", \"views\": \"file:cams/cameras.json\"}\n");
+    };
+    write_manifest("orbit:2");
+    const fs::path out = dir / "out", log = dir / "log.jsonl";
+    auto thumbs = [&] {
+        return run_facet({"thumbs", "--manifest", (dir / "m.jsonl").string(), "-o", out.string(), "--size", "24", "--log",
+                          log.string(), "--resume"});
+    };
+    const CliRun first = thumbs();
+    ASSERT_EQ(first.exit_code, 0) << first.all();
+    const std::set<std::string> folders{"p", "p/color", "p/depth", "v", "v/color", "v%2Fp", "v%2Fp/color", "v%2Fp/normal",
+                                        "v%2Fp/instance", "cams", "cams/color"};
+    std::set<std::string> files{"plain.png",
+                                "p/cameras.json", "p/transforms.json", "p/color/0000.png", "p/depth/0000.npy",
+                                "v/cameras.json", "v/transforms.json", "v/color/0000.png", "v/color/0001.png", "v/color/0002.png",
+                                "v%2Fp/cameras.json", "v%2Fp/transforms.json", "v%2Fp/color/0000.png", "v%2Fp/color/0001.png",
+                                "v%2Fp/normal/0000.npy", "v%2Fp/normal/0001.npy", "v%2Fp/instance/0000.png",
+                                "v%2Fp/instance/0001.png",
+                                "cams/cameras.json", "cams/transforms.json", "cams/color/0000.png", "cams/color/0001.png"};
+    std::set<std::string> all = files;
+    all.insert(folders.begin(), folders.end());
+    EXPECT_EQ(files_in(out), all);
+    // Each line lists its object's files, sorted.
+    std::set<std::string> logged;
+    for (const LogLine& l : read_log(log)) {
+        EXPECT_EQ(l.status, "ok") << l.id << ": " << l.error;
+        EXPECT_TRUE(std::is_sorted(l.outputs.begin(), l.outputs.end())) << l.id;
+        logged.insert(l.outputs.begin(), l.outputs.end());
+    }
+    EXPECT_EQ(logged, files);
+
+    // The same bytes as facet render with thumbs' defaults (--aa 2, the contact shadow): the rig with the
+    // entry's size, and the cameras file at its own size.
+    render(dir / "ref_v", {"--views", "orbit:3", "--size", "20x20"});
+    render(dir / "ref_vp", {"--views", "orbit:2", "--passes", "color,normal,instance", "--size", "24x24"});
+    for (const auto& [folder, ref] : {std::pair{"v", "ref_v"}, {"v%2Fp", "ref_vp"}, {"cams", "cams"}}) {
+        for (const std::string& f : files_in(dir / ref)) {
+            if (fs::is_regular_file(dir / ref / f)) {
+                EXPECT_EQ(facet_test::read_file(out / folder / f), facet_test::read_file(dir / ref / f)) << folder << "/" << f;
+            }
+        }
+    }
+    EXPECT_EQ(decode_png(out / "cams" / "color" / "0001.png").width, 28u);
+
+    // Resumed: nothing to do; a file gone or a staging folder a killed run left: that object alone.
+    const CliRun again = thumbs();
+    EXPECT_TRUE(contains(again.err, "0 rendered, 0 failed, 5 skipped")) << again.err;
+    fs::remove(out / "v%2Fp" / "normal" / "0001.npy");
+    write_text(out / "v.tmp4242" / "color" / "0000.png", "partial");
+    const CliRun redo = thumbs();
+    EXPECT_TRUE(contains(redo.err, "1 rendered, 0 failed, 4 skipped")) << redo.err;
+    EXPECT_EQ(files_in(out), all);
+    EXPECT_EQ(read_log(log).back().id, "v/p");
+
+    // Another rig: the object's folder is replaced, not merged (no view 0001 left of the old one).
+    write_manifest("orbit:1");
+    const CliRun one = thumbs();
+    EXPECT_TRUE(contains(one.err, "1 rendered, 0 failed, 4 skipped")) << one.err;
+    for (const char* gone : {"v%2Fp/color/0001.png", "v%2Fp/normal/0001.npy", "v%2Fp/instance/0001.png"}) {
+        files.erase(gone);
+        all.erase(gone);
+    }
+    EXPECT_EQ(files_in(out), all);
+    EXPECT_EQ(read_log(log).back().outputs.size(), 5u);
 }
 
 TEST(CliCollection, ResumeSkipsWhatIsDoneWithTheSameOptionsAndRedoesTheRest) {
