@@ -445,7 +445,8 @@ def main():
             if args.node_modules and shutil.which("node") and Path("/usr/bin/chromium").exists():
                 runs.append(("model-viewer", "gltf"))
             else:
-                notes.append("<model-viewer>: not measured (give --node-modules; needs node and Debian's chromium)")
+                notes.append("<model-viewer>: not measured (give --node-modules; needs node and Debian's chromium, "
+                             "which scripts/setup leaves out: docs/BENCHMARKS.md)")
         if "dask" not in skip:
             try:
                 import distributed  # noqa: F401
