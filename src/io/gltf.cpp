@@ -257,6 +257,7 @@ public:
 
 private:
     struct Primitive {
+        int mode = 4;  // TRIANGLES, TRIANGLE_STRIP (5) or TRIANGLE_FAN (6)
         Accessor positions;
         std::optional<Accessor> indices, normals, tangents, uvs, colours;
         std::optional<std::uint32_t> material;
@@ -390,9 +391,12 @@ private:
             GLTF_REQUIRE(list->IsArray());
             for (const Value& p : list->GetArray()) {
                 GLTF_REQUIRE(p.IsObject());
-                if (const Value* mode = find(p, "mode")) GLTF_REQUIRE(mode->IsInt() && mode->GetInt() == 4);
-                GLTF_REQUIRE(!find(p, "targets"));
                 Primitive prim;
+                if (const Value* mode = find(p, "mode")) {
+                    GLTF_REQUIRE(mode->IsInt() && mode->GetInt() >= 4 && mode->GetInt() <= 6);
+                    prim.mode = mode->GetInt();
+                }
+                GLTF_REQUIRE(!find(p, "targets"));
                 if (const auto i = uint_member(p, "indices")) {
                     prim.indices = accessor(*i);
                     GLTF_REQUIRE(prim.indices->components == 1 &&
@@ -680,18 +684,29 @@ private:
             for (aiVector3D& t : uvs) t.y = 1 - t.y;     // the importer's flip
             for (aiVector3D& t : uvs) t.y = 1.0f - t.y;  // FlipUVs
         }
+        // The primitive's vertex numbers (its indices, or 0, 1, 2, ...), then its triangles as
+        // ImportMeshes makes them: a list, a strip (every second triangle's first two corners
+        // swapped) or a fan.
+        const std::size_t count = p.indices ? p.indices->count : n;
+        std::vector<std::uint32_t> number(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            std::uint32_t v = static_cast<std::uint32_t>(i);
+            if (p.indices) std::memcpy(&v, p.indices->data + i * p.indices->stride, p.indices->elem);
+            GLTF_REQUIRE(v < n);
+            number[i] = v;
+        }
         std::vector<std::uint32_t> corners;
-        if (p.indices) {
-            corners.resize(p.indices->count / 3 * 3);
-            for (std::size_t i = 0; i < corners.size(); ++i) {
-                std::uint32_t v = 0;
-                std::memcpy(&v, p.indices->data + i * p.indices->stride, p.indices->elem);
-                GLTF_REQUIRE(v < n);
-                corners[i] = v;
-            }
+        if (p.mode == 4) {
+            corners.assign(number.begin(), number.begin() + static_cast<std::ptrdiff_t>(count / 3 * 3));
         } else {
-            corners.resize(n / 3 * 3);
-            for (std::size_t i = 0; i < corners.size(); ++i) corners[i] = static_cast<std::uint32_t>(i);
+            GLTF_REQUIRE(count >= 3);
+            corners.reserve(3 * (count - 2));
+            for (std::size_t i = 0; i + 2 < count; ++i) {
+                const bool strip = p.mode == 5, swap = strip && (i + 1) % 2 == 0;
+                const std::uint32_t a = strip ? number[swap ? i + 1 : i] : number[0];
+                const std::uint32_t b = strip ? number[swap ? i : i + 1] : number[i + 1];
+                corners.insert(corners.end(), {a, b, number[i + 2]});
+            }
         }
         GLTF_REQUIRE(!corners.empty());
 

@@ -3,7 +3,7 @@
 // assimp path's bit for bit (assimp_scene.hpp converts both). In: the file's bytes and path; the
 // buffers it names are read where the resource rules allow (images are found by the conversion).
 // Out: an OwnScene, or nullopt for a file this reader does not read exactly as assimp does, which
-// then goes through assimp and its errors: primitives other than triangle lists, sparse accessors,
+// then goes through assimp and its errors: points and lines, sparse accessors,
 // morph targets, skins, animations, cameras, extensions other than KHR_texture_transform and
 // KHR_materials_unlit, attributes other than POSITION, NORMAL, TANGENT, TEXCOORD_0 and COLOR_0, a
 // value of an unexpected type, a reference, index or range out of bounds.

@@ -59,12 +59,17 @@ TEST(Gltf, AssimpTestModelsMatchAssimp) {
     }
     // The files meant for the reader: textured boxes (external, embedded, binary), texture transforms,
     // a camera among many nodes and meshes (2CylinderEngine), bad normals, infinite positions, and the
-    // asset generator's triangle lists.
+    // asset generator's triangle lists, strips and fans (indexed or not).
     for (const char* name : {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Embedded/BoxTextured.gltf",
                              "BoxTextured-glTF-Binary/BoxTextured.glb", "textureTransform/TextureTransformTest.gltf",
                              "2CylinderEngine-glTF-Binary/2CylinderEngine.glb", "BoxBadNormals-glTF-Binary/BoxBadNormals.glb",
                              "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "cameras/Cameras.gltf",
-                             "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_06.gltf"})
+                             "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_04.gltf",
+                             "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_05.gltf",
+                             "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_06.gltf",
+                             "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_11.gltf",
+                             "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_12.gltf",
+                             "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_13.gltf"})
         EXPECT_EQ(std::count(declined.begin(), declined.end(), name), 0) << name << " was left to assimp";
     std::string list;
     for (const std::string& d : declined) list += " " + d;
@@ -195,6 +200,12 @@ TEST(Gltf, GeneratedFilesMatchAssimp) {
         "accessors":[{"bufferView":0,"componentType":5126,"count":5,"type":"VEC3"},{"bufferView":1,"componentType":5126,"count":5,"type":"VEC3"}],
         "buffers":[{"byteLength":120}]})";
     expect_taken_and_same(write_file(dir / "plain.glb", glb(plain, q.bin.substr(0, 120))));
+    // The quad's indices as a triangle strip and as a fan.
+    for (const char* mode : {"5", "6"}) {
+        std::string json = quad_json(q, buffers, R"([{"mesh":0}])", "[{}]");
+        json.replace(json.find("\"indices\""), 0, std::string("\"mode\":") + mode + ",");
+        expect_taken_and_same(write_file(dir / (std::string("mode") + mode + ".glb"), glb(json, q.bin)));
+    }
 }
 
 TEST(Gltf, DeclinedFormsGoThroughAssimp) {
