@@ -66,13 +66,25 @@ inline std::uint64_t hash(const aiVector3D& p) {
 template <class Value>
 Join exact_join(std::size_t count, Value&& value) {
     constexpr std::uint64_t none = ~std::uint64_t{0};
+    // The table is far larger than the caches and each item probes a random slot: the slots are
+    // fetched this many items ahead (the hashes in a ring), so that the misses overlap.
+    constexpr std::size_t ahead = 16;
     Join out;
     out.unique.resize(count);
     std::vector<std::uint64_t> table(std::bit_ceil(std::max<std::size_t>(16, 2 * count)), none);  // tag << 32 | unique
     const std::size_t mask = table.size() - 1;
+    std::uint64_t ring[ahead];
+    for (std::size_t i = 0; i < std::min(count, ahead); ++i) {
+        ring[i] = join_detail::hash(value(i).position);
+        __builtin_prefetch(&table[ring[i] & mask]);
+    }
     for (std::size_t i = 0; i < count; ++i) {
         const JoinVertex v = value(i);
-        const std::uint64_t h = join_detail::hash(v.position);
+        const std::uint64_t h = ring[i % ahead];
+        if (i + ahead < count) {
+            ring[i % ahead] = join_detail::hash(value(i + ahead).position);
+            __builtin_prefetch(&table[ring[i % ahead] & mask]);
+        }
         const std::uint64_t tag = h >> 32 << 32;
         std::size_t slot = h & mask;
         for (; table[slot] != none; slot = (slot + 1) & mask)
@@ -109,9 +121,13 @@ bool exact_join_is_assimps(const Join& join, Value&& value, std::size_t vertex_c
         if (shared[bucket_of[u] / 64] & (std::uint64_t{1} << (bucket_of[u] % 64)))
             crowded.emplace_back(bucket_of[u], static_cast<std::uint32_t>(u));
     std::sort(crowded.begin(), crowded.end());
+    // Each crowded vertex's values fetched once, in bucket order (the pairs then read them in order).
+    std::vector<JoinVertex> values;
+    values.reserve(crowded.size());
+    for (const auto& c : crowded) values.push_back(value(join.first[c.second]));
     for (std::size_t a = 0; a < crowded.size(); ++a)
         for (std::size_t b = a + 1; b < crowded.size() && crowded[b].first == crowded[a].first; ++b)
-            if (assimp_equal(value(join.first[crowded[a].second]), value(join.first[crowded[b].second]), 2e-10f)) return false;
+            if (assimp_equal(values[a], values[b], 2e-10f)) return false;
     return true;
 }
 
