@@ -53,20 +53,37 @@ struct Weld {
 };
 
 Weld weld_by_position(const std::vector<Vec3>& positions) {
-    constexpr std::uint32_t empty = ~0u;
+    constexpr std::uint64_t empty = ~std::uint64_t{0};
+    // The table is far larger than the caches and each vertex probes a random slot: slots are
+    // fetched this many vertices ahead (the hashes in a ring), so that the misses overlap, and each
+    // holds 32 bits of its key's hash beside the id, so that a probe past another position rarely
+    // reads that position's key.
+    constexpr std::size_t ahead = 16;
     Weld w;
     w.id.resize(positions.size());
     const std::size_t capacity = std::bit_ceil(2 * positions.size() + 2);
-    std::vector<std::uint32_t> table(capacity, empty);  // open addressing: ids, linear probing
+    std::vector<std::uint64_t> table(capacity, empty);  // open addressing: tag << 32 | id, linear probing
+    std::uint64_t ring[ahead];
+    for (std::size_t v = 0; v < std::min(positions.size(), ahead); ++v) {
+        ring[v] = hash_of(key_of(positions[v]));
+        __builtin_prefetch(&table[ring[v] & (capacity - 1)]);
+    }
     for (std::size_t v = 0; v < positions.size(); ++v) {
         const PositionKey k = key_of(positions[v]);
-        for (std::size_t slot = hash_of(k) & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
+        const std::uint64_t h = ring[v % ahead];
+        if (v + ahead < positions.size()) {
+            ring[v % ahead] = hash_of(key_of(positions[v + ahead]));
+            __builtin_prefetch(&table[ring[v % ahead] & (capacity - 1)]);
+        }
+        const std::uint64_t tag = h >> 32 << 32;
+        for (std::size_t slot = h & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
             if (table[slot] == empty) {
-                table[slot] = static_cast<std::uint32_t>(w.key.size());
+                table[slot] = tag | w.key.size();
                 w.key.push_back(k);
             }
-            if (w.key[table[slot]] == k) {
-                w.id[v] = table[slot];
+            const auto id = static_cast<std::uint32_t>(table[slot]);
+            if ((table[slot] & ~std::uint64_t{0xFFFFFFFF}) == tag && w.key[id] == k) {
+                w.id[v] = id;
                 break;
             }
         }
