@@ -14,6 +14,7 @@
 #include <string>
 
 #include "facet/io.hpp"
+#include "facet/primitive_counts.hpp"
 #include "facet/sandbox.hpp"
 #include "options.hpp"
 #include "views_output.hpp"
@@ -106,11 +107,11 @@ int views_job(const RenderRequest& r, const Scene& scene, double load_ms) {
         return k_exit_failed;
     }
     std::fprintf(stderr,
-                 "facet render: %s: %zu %s of %s (%dx%d, %zu files, %zu triangles, load %.1f ms, render %.1f ms, "
+                 "facet render: %s: %zu %s of %s (%dx%d, %zu files, %s, load %.1f ms, render %.1f ms, "
                  "write %.1f ms)\n",
                  r.output.c_str(), done->views, done->views == 1 ? "view" : "views", to_string(r.plan.views->passes).c_str(),
                  r.plan.width, r.plan.height,
-                 done->files.size(), scene.triangle_count(), load_ms, done->render_ms, done->write_ms);
+                 done->files.size(), describe_primitives(scene).c_str(), load_ms, done->render_ms, done->write_ms);
     return k_exit_ok;
 }
 
@@ -171,8 +172,8 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
             return k_exit_failed;
         }
     }
-    std::fprintf(stderr, "facet render: %s (%dx%d, %zu triangles, load %.1f ms, render %.1f ms, %d threads)\n",
-                 r.output.c_str(), plan.width, plan.height, scene->triangle_count(), load_ms, render_ms,
+    std::fprintf(stderr, "facet render: %s (%dx%d, %s, load %.1f ms, render %.1f ms, %d threads)\n",
+                 r.output.c_str(), plan.width, plan.height, describe_primitives(*scene).c_str(), load_ms, render_ms,
                  renderer.renderer().threads());
     return k_exit_ok;
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "facet/primitive_counts.hpp"
 #include "font.hpp"
 
 namespace facet::viewer {
@@ -39,7 +40,7 @@ std::vector<OverlayLine> overlay_lines(const OverlayInfo& i, int max_columns) {
     const std::size_t columns = static_cast<std::size_t>(std::max(max_columns, 8));
     const Toggles& t = i.toggles;
     std::vector<std::string> lines;
-    lines.push_back(i.loading ? i.model + "  loading..." : format("%s  %zu triangles", i.model.c_str(), i.triangles));
+    lines.push_back(i.loading ? i.model + "  loading..." : i.model + "  " + describe_primitives(i.triangles, i.points, i.segments));
     std::string rate = i.fps > 0 ? format("%.1f fps", i.fps) : std::string("-- fps");
     std::string size = format("%dx%d", i.width, i.height);
     if (i.render_width != i.width || i.render_height != i.height) size += format(" (%dx%d)", i.render_width, i.render_height);

@@ -14,7 +14,7 @@ namespace facet::viewer {
 
 struct OverlayInfo {
     std::string model;            // file name, or "default scene"
-    std::size_t triangles = 0;
+    std::size_t triangles = 0, points = 0, segments = 0;
     double fps = 0;               // presented frames per second lately; 0: idle (not measured)
     double frame_ms = 0;          // time to render the last frame (scene, resolve), milliseconds
     int width = 0, height = 0;    // the window's pixels

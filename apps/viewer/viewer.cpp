@@ -28,6 +28,7 @@
 #include "screenshot.hpp"
 #include "view_renderer.hpp"
 #include "view_state.hpp"
+#include "facet/primitive_counts.hpp"
 
 namespace facet::viewer {
 namespace {
@@ -385,6 +386,8 @@ private:
         info.model = display_name(loading_ ? loading_path_ : model_path_);
         info.loading = loading_;
         info.triangles = scene_.triangle_count();
+        info.points = point_count(scene_);
+        info.segments = segment_count(scene_);
         info.fps = measured_fps();
         info.frame_ms = frame_ms_;
         info.width = pw;

@@ -1,6 +1,8 @@
 // facet scene: rendering a Scene with a shading mode, automatic framing, the default scene.
 #include "facet/scene.hpp"
 
+#include "facet/primitive_counts.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -225,6 +227,34 @@ std::size_t Scene::triangle_count() const {
     std::size_t n = 0;
     for (const SceneObject& o : objects) n += o.mesh.triangle_count();
     return n;
+}
+
+std::size_t point_count(const Scene& scene) {
+    std::size_t n = 0;
+    for (const SceneObject& o : scene.objects) n += o.mesh.points.size();
+    return n;
+}
+
+std::size_t segment_count(const Scene& scene) {
+    std::size_t n = 0;
+    for (const SceneObject& o : scene.objects) n += o.mesh.lines.size() / 2;
+    return n;
+}
+
+std::string describe_primitives(std::size_t triangles, std::size_t points, std::size_t segments) {
+    std::string s;
+    const auto add = [&](std::size_t n, const char* what) {
+        if (!s.empty()) s += ", ";
+        s += std::to_string(n) + " " + what;
+    };
+    if (triangles > 0 || (points == 0 && segments == 0)) add(triangles, "triangles");
+    if (points > 0) add(points, "points");
+    if (segments > 0) add(segments, "segments");
+    return s;
+}
+
+std::string describe_primitives(const Scene& scene) {
+    return describe_primitives(scene.triangle_count(), point_count(scene), segment_count(scene));
 }
 
 namespace {

@@ -136,6 +136,13 @@ TEST(ViewerOverlay, ShowsRateTimeTrianglesResolutionAndKeys) {
     const std::string busy = joined(overlay_lines(info, 80));
     for (const char* s : {"-- fps", "800x600 (400x300)", "normals", "wire on", "loading..."})
         EXPECT_NE(busy.find(s), std::string::npos) << s << " missing from\n" << busy;
+
+    // A point cloud is spoken of by its points, a wireframe by its segments, not as "0 triangles".
+    info.loading = false;
+    info.triangles = 0, info.points = 20000;
+    EXPECT_NE(joined(overlay_lines(info, 80)).find("bunny.ply  20000 points\n"), std::string::npos);
+    info.triangles = 12, info.segments = 30;
+    EXPECT_NE(joined(overlay_lines(info, 80)).find("bunny.ply  12 triangles, 20000 points, 30 segments"), std::string::npos);
 }
 
 TEST(ViewerOverlay, WrapsMessagesAndKeepsLinesWithinTheColumns) {
