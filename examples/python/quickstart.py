@@ -14,7 +14,7 @@ model, out = sys.argv[1], sys.argv[2]
 # A model file: every format `facet render` reads, the same limits and errors.
 scene = facet.load(model)
 cameras = [facet.Camera.orbit(azimuth, 20) for azimuth in (0, 90, 180, 270)]  # `--azimuth A --elevation 20`
-views = facet.render(scene, cameras, 256, 256, ssaa=2)["color"]  # (4, 256, 256, 4) uint8 RGBA
+views = facet.render(scene, cameras, 256, 256, ssaa=2, contact_shadow=0.6)["color"]  # (4, 256, 256, 4) uint8 RGBA
 
 # A mesh of arrays: a wavy grid coloured by its height, with normals computed as for a file.
 n = 96

@@ -11,6 +11,7 @@ number of threads. `python3 -m facet render ...` runs the command line.
 """
 from ._facet import (
     Camera,
+    Environment,
     Error,
     LoadWarning,
     Renderer,
@@ -24,6 +25,7 @@ from ._facet import (
 
 __all__ = [
     "Camera",
+    "Environment",
     "Error",
     "LoadWarning",
     "Renderer",
@@ -35,6 +37,6 @@ __all__ = [
     "write_png",
 ]
 
-for _name in ("Camera", "Renderer", "Scene", "load", "load_isolated", "render", "write_png"):
+for _name in ("Camera", "Environment", "Renderer", "Scene", "load", "load_isolated", "render", "write_png"):
     globals()[_name].__module__ = __name__  # help() and reprs say facet.Camera, not facet._facet.Camera
 del _name

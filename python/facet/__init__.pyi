@@ -13,6 +13,7 @@ Colour = Sequence[float]
 PassName = Literal["color", "alpha", "depth", "range", "normal", "instance", "material", "primitive", "uv"]
 NormalSpace = Literal["world", "camera"]
 PointShape = Literal["round", "square"]
+ToneMapping = Literal["neutral", "aces", "linear"]
 ShadingName = Literal["lit", "lambert", "flat", "normals", "mask", "vertex-color", "texture"]
 
 class _MeshLike(Protocol):
@@ -119,6 +120,13 @@ class Camera:
     @property
     def far(self) -> Optional[float]: ...
 
+class Environment:
+    def __init__(self, path: Union[str, os.PathLike[str]]) -> None: ...
+    @property
+    def path(self) -> str: ...
+
+EnvironmentLike = Union[Environment, str, os.PathLike[str], None]
+
 class Renderer:
     def __init__(self, threads: Optional[int] = None) -> None: ...
     def render(
@@ -138,6 +146,11 @@ class Renderer:
         point_shape: PointShape = "round",
         point_world_size: Optional[float] = None,
         line_width: float = ...,
+        aa: int = ...,
+        environment: EnvironmentLike = None,
+        exposure: float = ...,
+        tone_mapping: ToneMapping = "neutral",
+        contact_shadow: float = ...,
     ) -> dict[str, np.ndarray]: ...
     @property
     def threads(self) -> int: ...
@@ -180,5 +193,10 @@ def render(
     point_shape: PointShape = "round",
     point_world_size: Optional[float] = None,
     line_width: float = ...,
+    aa: int = ...,
+    environment: EnvironmentLike = None,
+    exposure: float = ...,
+    tone_mapping: ToneMapping = "neutral",
+    contact_shadow: float = ...,
 ) -> dict[str, np.ndarray]: ...
 def write_png(path: Union[str, os.PathLike[str]], image: npt.NDArray[np.uint8]) -> None: ...

@@ -36,6 +36,8 @@ int in_range(Integer v, const char* name, long long lo, long long hi);
 [[noreturn]] void value_error(const std::string& message);
 // facet.Error carrying `error.code` as the exception's `code` ("bad_format", "limit_exceeded", ...).
 [[noreturn]] void raise_facet_error(const Error& error);
+// Reading the file at `path` failed: a FileNotFoundError when it does not exist, else facet.Error.
+[[noreturn]] void raise_file_error(const Error& error, const std::string& path);
 
 // A scene the Python Scene object holds: loaded objects (owned) and meshes over the caller's
 // arrays (borrowed, kept alive by the references held here), in the order they were added, and

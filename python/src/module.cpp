@@ -45,21 +45,9 @@ LoadOptions load_options(float crease_angle, const std::string& up_axis, Integer
     return o;
 }
 
-// The scene, its warnings issued as facet.LoadWarning; a missing file is a FileNotFoundError,
-// any other failure a facet.Error, both with facet's message.
+// The scene, its warnings issued as facet.LoadWarning; failures as raise_file_error.
 std::shared_ptr<PyScene> finish_load(Result<LoadedModel> model, const std::string& path) {
-    if (!model) {
-        std::error_code ec;
-        if (model.error().code == ErrorCode::io && !std::filesystem::exists(path, ec)) {
-            py::object e = py::reinterpret_steal<py::object>(
-                PyObject_CallFunction(PyExc_FileNotFoundError, "s", model.error().message.c_str()));
-            e.attr("errno") = ENOENT;
-            e.attr("filename") = path;
-            PyErr_SetObject(PyExc_FileNotFoundError, e.ptr());
-            throw py::error_already_set();
-        }
-        raise_facet_error(model.error());
-    }
+    if (!model) raise_file_error(model.error(), path);
     for (const std::string& w : model->warnings)
         if (PyErr_WarnEx(g_warning_type.ptr(), w.c_str(), 2) != 0) throw py::error_already_set();
     return PyScene::from_loaded(std::move(*model));
@@ -68,6 +56,18 @@ std::shared_ptr<PyScene> finish_load(Result<LoadedModel> model, const std::strin
 }  // namespace
 
 void value_error(const std::string& message) { throw py::value_error(message); }
+
+void raise_file_error(const Error& error, const std::string& path) {
+    std::error_code ec;
+    if (error.code == ErrorCode::io && !std::filesystem::exists(path, ec)) {
+        py::object e = py::reinterpret_steal<py::object>(PyObject_CallFunction(PyExc_FileNotFoundError, "s", error.message.c_str()));
+        e.attr("errno") = ENOENT;
+        e.attr("filename") = path;
+        PyErr_SetObject(PyExc_FileNotFoundError, e.ptr());
+        throw py::error_already_set();
+    }
+    raise_facet_error(error);
+}
 
 int in_range(Integer v, const char* name, long long lo, long long hi) {
     if (v.value < lo || v.value > hi)

@@ -4,6 +4,7 @@
 // the colour resolves. The GIL is released from the first camera to the last image.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 
 #include "binding.hpp"
@@ -57,6 +58,55 @@ struct PrimitiveArgs {
     std::optional<double> point_world_size;
     double line_width = defaults::k_line_width;
 };
+
+// An environment light read once (facet.Environment) and shared by the renders given it.
+struct PyEnvironment {
+    std::shared_ptr<const Environment> light;
+    std::string path;
+};
+
+std::shared_ptr<const Environment> load_environment(const std::string& path) {
+    Result<std::shared_ptr<const Environment>> e = [&] {
+        py::gil_scoped_release release;
+        return Environment::load_hdr(path);
+    }();
+    if (!e) raise_file_error(e.error(), path);
+    return *e;
+}
+
+// render()'s lit-mode and anti-aliasing arguments, as `facet render`'s --environment, --exposure,
+// --tone-mapping, --aa and --contact-shadow.
+struct LitArgs {
+    py::object environment = py::none();  // None (the studio), a facet.Environment or a path
+    double exposure = defaults::k_exposure;
+    std::string tone_mapping = "neutral";
+    Integer aa{defaults::k_aa};
+    double contact_shadow = defaults::k_contact_shadow;
+};
+
+// Checked as `facet render` checks them; the contact shadow is the lit mode's only.
+void set_lit(ViewRequest& r, const LitArgs& a) {
+    if (antialias_offsets(static_cast<int>(std::clamp<long long>(a.aa.value, 0, 64))).empty())
+        value_error("aa must be 1, 2, 4 or 8, got " + std::to_string(a.aa.value));
+    r.aa = static_cast<int>(a.aa.value);
+    if (!(a.exposure > 0 && std::isfinite(a.exposure)))
+        value_error("exposure must be a positive number, got " + py::str(py::float_(a.exposure)).cast<std::string>());
+    r.settings.exposure = static_cast<float>(a.exposure);
+    if (!parse_tone_mapping(a.tone_mapping, r.settings.tone_mapping))
+        value_error("tone_mapping must be 'neutral', 'aces' or 'linear', got '" + a.tone_mapping + "'");
+    if (!(a.contact_shadow >= 0 && a.contact_shadow <= 1))
+        value_error("contact_shadow must be 0..1, got " + py::str(py::float_(a.contact_shadow)).cast<std::string>());
+    r.contact_shadow = r.settings.shading == Shading::lit ? static_cast<float>(a.contact_shadow) : 0.0f;
+    const py::handle env = a.environment;
+    if (py::isinstance<PyEnvironment>(env)) {
+        r.settings.environment = env.cast<const PyEnvironment&>().light;
+    } else if (py::isinstance<py::str>(env) || py::hasattr(env, "__fspath__")) {
+        r.settings.environment = load_environment(py::str(py::module_::import("os").attr("fspath")(env)).cast<std::string>());
+    } else if (!env.is_none()) {
+        throw py::type_error("environment must be a facet.Environment, a path to a .hdr file or None, got " +
+                             std::string(py::str(py::type::handle_of(env).attr("__name__"))));
+    }
+}
 
 // The style of points and lines: the supersampled target draws them ssaa times larger.
 void set_primitives(RenderSettings& s, const PrimitiveArgs& a, int ssaa) {
@@ -159,7 +209,7 @@ T* pass_output(Pass p, std::vector<py::ssize_t> shape, int channels, const py::d
 
 py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, Integer width_arg, Integer height_arg,
                 py::object passes_obj, const std::string& shading, Integer ssaa_arg, py::object background,
-                const std::string& normal_space, py::object out, const PrimitiveArgs& primitives) {
+                const std::string& normal_space, py::object out, const PrimitiveArgs& primitives, const LitArgs& lit) {
     PyScene& scene = scene_of(scene_obj);
     Job job;
     const bool batch = !py::isinstance<PyCamera>(cameras);
@@ -180,6 +230,7 @@ py::dict render(PyRenderer& r, py::object scene_obj, py::object cameras, Integer
     request.width = width, request.height = height, request.ssaa = ssaa;
     request.settings = parse_settings(shading, background);
     set_primitives(request.settings, primitives, ssaa);
+    set_lit(request, lit);
     request.passes = parse_passes(passes_obj);
     if (normal_space != "world" && normal_space != "camera") value_error("normal_space must be 'world' or 'camera'");
     request.normal_space = normal_space == "camera" ? NormalSpace::camera : NormalSpace::world;
@@ -280,6 +331,22 @@ point_world_size : float, optional
     The points' diameter in model units instead, perspective-scaled.
 line_width : float
     Width of the scene's line segments in pixels of the image (0 < width <= 256 / ssaa).
+aa : int
+    Anti-aliasing by jittered frames: 1 (default, none), 2, 4 or 8 frames (N frames cost
+    about N renders); combines with ssaa. Color and alpha average every sample of every frame, the
+    other passes are the unjittered frame's (the same as aa=1's). As `facet render --aa`.
+environment : Environment, str or os.PathLike, optional
+    The lit mode's light: a facet.Environment, or a Radiance .hdr path read (and
+    prefiltered) on every call; keep a facet.Environment to render many times with one
+    (default: the built-in studio). As `facet render --environment`.
+exposure : float
+    The lit mode's linear exposure factor before tone mapping (> 0, default 1).
+tone_mapping : str
+    The lit mode's display transform: 'neutral' (default, Khronos PBR Neutral), 'aces' or
+    'linear' (clamp).
+contact_shadow : float
+    The lit mode's contact shadow under the model, its opacity 0..1 (default 0: none); in
+    the color only.
 %s
 Returns
 -------
@@ -316,6 +383,28 @@ void bind_render(py::module_& m) {
     const py::arg_v point_shape = py::arg("point_shape") = "round";
     const py::arg_v point_world_size = py::arg("point_world_size") = py::none();
     const py::arg_v line_width = py::arg("line_width") = double{defaults::k_line_width};
+    // The lit mode's and the jittered anti-aliasing's arguments, after them.
+    const py::arg_v aa = py::arg("aa") = Integer{defaults::k_aa};
+    const py::arg_v environment = py::arg("environment") = py::none();
+    const py::arg_v exposure = py::arg("exposure") = double{defaults::k_exposure};
+    const py::arg_v tone_mapping = py::arg("tone_mapping") = "neutral";
+    const py::arg_v contact_shadow = py::arg("contact_shadow") = double{defaults::k_contact_shadow};
+    py::class_<PyEnvironment>(m, "Environment", R"doc(An environment light for the lit mode, read once from a Radiance .hdr file.
+
+Environment(path) reads the equirectangular image (+Y up, its centre column toward +X, as
+three.js and <model-viewer> map them) and prefilters it for every roughness; render(...,
+environment=env) then lights with it without reading the file again, from any thread. A
+missing file raises FileNotFoundError, an unreadable one facet.Error, naming the file. The
+GIL is released while reading.
+)doc")
+        .def(py::init([](const std::filesystem::path& path) {
+                 return PyEnvironment{load_environment(path.string()), path.string()};
+             }),
+             py::arg("path"))
+        .def_property_readonly("path", [](const PyEnvironment& e) { return e.path; }, "The file it was read from.")
+        .def("__repr__", [](const PyEnvironment& e) {
+            return "facet.Environment(" + py::repr(py::str(e.path)).cast<std::string>() + ")";
+        });
     py::class_<PyRenderer>(m, "Renderer", R"doc(A renderer that keeps its threads and memory between calls.
 
 Renderer(threads=None) starts `threads` workers (None: one per core); render() then draws
@@ -330,15 +419,18 @@ parallel.
             [](PyRenderer& r, py::object scene, py::object camera, Integer width, Integer height, py::object passes,
                const std::string& shading, Integer ssaa, py::object background, const std::string& normal_space,
                py::object out, double point_size, const std::string& point_shape, std::optional<double> point_world_size,
-               double line_width) {
+               double line_width, Integer aa, py::object environment, double exposure, const std::string& tone_mapping,
+               double contact_shadow) {
                 return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, out,
-                              {point_size, point_shape, point_world_size, line_width});
+                              {point_size, point_shape, point_world_size, line_width},
+                              {environment, exposure, tone_mapping, aa, contact_shadow});
             },
             py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
             py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
             py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
             py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("out") = py::none(),
-            point_size, point_shape, point_world_size, line_width, doc("Render `scene` seen by `camera` into arrays.",
+            point_size, point_shape, point_world_size, line_width, aa, environment, exposure, tone_mapping, contact_shadow,
+            doc("Render `scene` seen by `camera` into arrays.",
                 "out : dict of str to numpy.ndarray, optional\n    Arrays to render into (C-contiguous, of each pass's "
                 "shape and dtype),\n    returned in the dict: no allocation.\n")
                 .c_str())
@@ -370,16 +462,19 @@ parallel.
         "render",
         [](py::object scene, py::object camera, Integer width, Integer height, py::object passes, const std::string& shading,
            Integer ssaa, py::object background, const std::string& normal_space, std::optional<Integer> threads,
-           double point_size, const std::string& point_shape, std::optional<double> point_world_size, double line_width) {
+           double point_size, const std::string& point_shape, std::optional<double> point_world_size, double line_width,
+           Integer aa, py::object environment, double exposure, const std::string& tone_mapping, double contact_shadow) {
             PyRenderer r(checked_threads(threads));
             return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, py::none(),
-                          {point_size, point_shape, point_world_size, line_width});
+                          {point_size, point_shape, point_world_size, line_width},
+                          {environment, exposure, tone_mapping, aa, contact_shadow});
         },
         py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
         py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
         py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
         py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("threads") = py::none(),
-        point_size, point_shape, point_world_size, line_width, doc("Render `scene` seen by `camera` into arrays (with a Renderer made for the call; keep a\nfacet.Renderer "
+        point_size, point_shape, point_world_size, line_width, aa, environment, exposure, tone_mapping, contact_shadow,
+            doc("Render `scene` seen by `camera` into arrays (with a Renderer made for the call; keep a\nfacet.Renderer "
             "for many renders).",
             "threads : int, optional\n    Threads drawing; None: one per core. The image is the same.\n")
             .c_str());

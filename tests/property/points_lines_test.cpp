@@ -257,8 +257,12 @@ TEST(Lines, LoopsCloseWithAJoinWithoutGapsOrDoubleHits) {
                 }
                 const int count = hits.count[py * k_size + px];
                 ASSERT_LE(count, 1) << "pixel " << px << "," << py << " drawn twice, trial " << trial << ", " << n << " sides";
-                if (nearest < -1.0 / 64) ASSERT_EQ(count, 1) << "gap at " << px << "," << py << ", trial " << trial;
-                if (count) EXPECT_LT(nearest, 2 * h) << "stray pixel " << px << "," << py << ", trial " << trial;
+                if (nearest < -1.0 / 64) {
+                    ASSERT_EQ(count, 1) << "gap at " << px << "," << py << ", trial " << trial;
+                }
+                if (count) {
+                    EXPECT_LT(nearest, 2 * h) << "stray pixel " << px << "," << py << ", trial " << trial;
+                }
                 covered += count;
             }
         EXPECT_EQ(hits.stats.segments_in, static_cast<std::uint64_t>(n) + 2);
