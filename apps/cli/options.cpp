@@ -306,8 +306,8 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, 
         p.environment_file = o.environment;
     }
     if (p.settings.shading == Shading::lit) {
-        // Built here, in the process that forks the workers, so that each worker inherits them
-        // instead of spending ~50 ms of its own on them (README, "The lit mode").
+        // Made here, in the process that forks the workers, so that each worker inherits them
+        // (the built-in ones are the library's constants, copied once; README, "The lit mode").
         if (!p.settings.environment) p.settings.environment = Environment::studio();
         split_sum_table();
     }

@@ -41,8 +41,9 @@ public:
     // thumbnail sizes, a texel per few degrees of the GGX lobe above it.
     static constexpr int k_level_sizes[k_levels] = {128, 64, 32, 16, 16, 16};
 
-    // The built-in neutral studio: soft boxes over a grey room (README, "The lit mode"), made on
-    // the first call and shared; the same bits every time and on every machine.
+    // The built-in neutral studio: soft boxes over a grey room (README, "The lit mode"), prefiltered
+    // when the library was built (its constants copied on the first call) and shared; the same bits
+    // every time and on every machine.
     static std::shared_ptr<const Environment> studio();
     // From equirectangular linear radiance (width x height RGB floats, row 0 the top, +Y up; the
     // image's centre column looks toward +X, as three.js and <model-viewer> map them; non-finite
@@ -75,6 +76,7 @@ public:
 private:
     Environment() = default;
     void build(const std::vector<float>& sharpest);  // sharpest: level 0's interior, size^2 RGB
+    std::size_t lay_out_levels();                    // levels_ from k_level_sizes; the floats they take
 
     std::vector<float> texels_;  // every level with its border
     std::array<OctahedralLevel, k_levels> levels_{};
@@ -154,7 +156,7 @@ inline Vec3 Environment::diffuse(Vec3 n) const {
 // such that the specular reflectance under uniform light is F0 A + B (Smith height-correlated
 // visibility, importance-sampled with 256 Hammersley points per entry). k_split_sum_size^2
 // entries, n.v = (i + 0.5) / size along rows, roughness = (j + 0.5) / size down the columns,
-// A and B interleaved. Computed once, on first use; the same bits everywhere.
+// A and B interleaved. Computed when the library was built; the same bits everywhere.
 inline constexpr int k_split_sum_size = 32;
 const std::vector<float>& split_sum_table();
 // Bilinear lookup (clamped at the edges): {A, B}.

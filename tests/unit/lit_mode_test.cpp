@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "facet/model.hpp"
 #include "facet/scene.hpp"
 #include "facet/tone_mapping.hpp"
+#include "shade/environment_prefilter.hpp"
 #include "support/gltf_writer.hpp"
 #include "support/test_data.hpp"
 
@@ -129,6 +131,23 @@ TEST(Environment, StudioIsBuiltOnceWithTheSameBits) {
     // Brighter above than below, and brightest toward the key light (above left of the front).
     EXPECT_GT(a->diffuse({0, 1, 0}).x, a->diffuse({0, -1, 0}).x);
     EXPECT_GT(a->diffuse(normalize(Vec3{-0.65f, 0.55f, 0.55f})).x, a->diffuse(normalize(Vec3{0.65f, 0.55f, -0.55f})).x);
+}
+
+// The studio and the split-sum table are constants computed when the library was built
+// (src/shade/bake): they must be what the library's code computes now, bit for bit.
+TEST(Environment, BakedStudioAndSplitSumAreTheComputedOnes) {
+    const auto baked = Environment::studio();
+    const auto computed = Environment::from_function(environment_detail::studio_radiance);
+    ASSERT_EQ(baked->texels().size(), computed->texels().size());
+    EXPECT_EQ(0, std::memcmp(baked->texels().data(), computed->texels().data(), baked->texels().size() * sizeof(float)));
+    for (int l = 0; l < Environment::k_levels; ++l) {
+        EXPECT_EQ(baked->level(l).size, computed->level(l).size) << l;
+        EXPECT_EQ(baked->level(l).offset, computed->level(l).offset) << l;
+    }
+    EXPECT_EQ(0, std::memcmp(baked->diffuse_sh().data(), computed->diffuse_sh().data(), sizeof(baked->diffuse_sh())));
+    const std::vector<float> table = environment_detail::make_split_sum_table();
+    ASSERT_EQ(split_sum_table().size(), table.size());
+    EXPECT_EQ(0, std::memcmp(split_sum_table().data(), table.data(), table.size() * sizeof(float)));
 }
 
 TEST(Environment, SplitSumTableIsABrdfsScaleAndBias) {
