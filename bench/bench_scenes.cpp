@@ -18,7 +18,7 @@ namespace facet::bench {
 namespace fs = std::filesystem;
 
 namespace {
-constexpr const char* k_cgal_names[] = {"bunny00.off", "armadillo.off", "refined_elephant.off"};
+constexpr const char* k_cgal_names[] = {"bunny00.off", "armadillo.off", "refined_elephant.off", "nefertiti.off", "homer.off"};
 }
 
 std::optional<fs::path> cgal_mesh_dir() {

@@ -14,7 +14,7 @@
 // processes (--memory-worker).
 //
 //   facet_bench_scenes [--frames N] [--rounds R] [--warmup N] [--threads 1,2] [--sizes 1920x1080,512x512]
-//                      [--scenes bunny,armadillo,elephant,sphere1m,quads64] [--markdown FILE]
+//                      [--scenes bunny,armadillo,elephant,sphere1m,quads64,nefertiti,homer] [--markdown FILE]
 //                      [--no-memory] [--no-agreement]
 #include <spawn.h>
 #include <sys/resource.h>
@@ -58,7 +58,7 @@ struct Options {
     int frames = 11, rounds = 3, warmup = 3;
     std::vector<int> threads{1, 2};
     std::vector<Size> sizes{{1920, 1080}, {512, 512}};
-    std::vector<std::string> scenes{"bunny", "armadillo", "elephant", "sphere1m", "quads64"};
+    std::vector<std::string> scenes{"bunny", "armadillo", "elephant", "sphere1m", "quads64", "nefertiti", "homer"};
     std::string markdown;
     bool memory = true, agreement = true;
     // Child modes.
@@ -76,7 +76,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
 
 constexpr const char* k_usage =
     "usage: facet_bench_scenes [--frames N] [--rounds R] [--warmup N] [--threads 1,2] [--sizes WxH,...]\n"
-    "                          [--scenes bunny,armadillo,elephant,sphere1m,quads64] [--markdown FILE]\n"
+    "                          [--scenes bunny,armadillo,elephant,sphere1m,quads64,nefertiti,homer] [--markdown FILE]\n"
     "                          [--no-memory] [--no-agreement]\n"
     "Renders each scene with facet and with Mesa llvmpipe (EGL, surfaceless) on the same camera, size,\n"
     "shading and thread count, and prints both median frame times and their ratio (llvmpipe / facet),\n"
@@ -88,7 +88,7 @@ constexpr const char* k_usage =
     "  --warmup N        frames drawn first and not measured, default 3 (and 1 before every round)\n"
     "  --threads LIST    facet thread counts, default 1,2 (llvmpipe: LP_NUM_THREADS 0 for 1, else the same)\n"
     "  --sizes LIST      render sizes, WxH each, default 1920x1080,512x512\n"
-    "  --scenes LIST     which scenes, default all five\n"
+    "  --scenes LIST     which scenes, default all seven\n"
     "  --markdown FILE   also write the results as the Markdown of docs/BENCHMARKS.md\n"
     "  --no-memory       skip the peak-memory measurement\n"
     "  --no-agreement    skip the image-agreement measurement\n";
@@ -151,8 +151,12 @@ struct BenchScene {
 Result<BenchScene> make_scene(const std::string& name, Size size) {
     BenchScene b;
     b.name = name;
-    if (name == "bunny" || name == "armadillo" || name == "elephant") {
-        const std::string file = name == "bunny" ? "bunny00.off" : name == "armadillo" ? "armadillo.off" : "refined_elephant.off";
+    static const std::map<std::string, std::string> k_cgal_files = {
+        {"bunny", "bunny00.off"}, {"armadillo", "armadillo.off"}, {"elephant", "refined_elephant.off"},
+        // Small meshes, where the fixed cost of a frame (clear, stores) is most of it.
+        {"nefertiti", "nefertiti.off"}, {"homer", "homer.off"}};
+    if (const auto it = k_cgal_files.find(name); it != k_cgal_files.end()) {
+        const std::string& file = it->second;
         auto s = load_cgal_mesh(file);
         if (!s) return s.error();
         b.scene = std::move(s.value());
