@@ -537,6 +537,7 @@ int run_parent(const Options& o) {
                 settings.shading = Shading::lambert;
                 settings.background = k_background;
                 const Camera camera = (*b)->camera_for(size);
+                settings.keep_depth = false;  // nothing reads it (the agreement frame draws its own)
                 const auto draw_facet = [&] { render_scene(renderer, fb, (*b)->scene, camera, settings); };
                 Samples facet, gl;
                 bool have_gl = worker_ok;

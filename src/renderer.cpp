@@ -105,6 +105,8 @@ void Renderer::project_vertices(std::size_t begin, std::size_t end, const Plan& 
 
 void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end) {
     const std::size_t count = end - first;
+    // The next batch reads the depth this one leaves in the target.
+    plan.store_depth = plan.params.state.keep_depth || end < plan.primitive_count;
     const std::size_t by_size = (count + k_min_chunk_triangles - 1) / k_min_chunk_triangles;
     plan.chunk_count = std::max<std::size_t>(1, std::min<std::size_t>(by_size, 2 * static_cast<std::size_t>(threads())));
     if (chunks_.size() < plan.chunk_count) chunks_.resize(plan.chunk_count);
@@ -120,7 +122,7 @@ void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t fir
 }
 
 void Renderer::run_tiles(Framebuffer& target, Plan& plan, const detail::TileShading& shading) {
-    tiles_->run(pool_, {chunks_.data(), plan.chunk_count, vertices_, plan.params}, target, shading, plan.clear_tiles,
+    tiles_->run(pool_, {chunks_.data(), plan.chunk_count, vertices_, plan.params}, target, shading, plan.clear_tiles, plan.store_depth,
                 plan.passes ? &passes_->draw : nullptr);
     plan.clear_tiles = false;  // done by the first batch's tiles
 }

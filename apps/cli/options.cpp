@@ -395,7 +395,9 @@ DrawStats render_plan(ViewRenderer& renderer, const Scene& scene, const RenderPl
     PassImages out;
     out.colour = colour.pixels.data();
     out.window_depth = depth ? depth->data() : nullptr;
-    return renderer.render(scene, {&camera, 1}, view_request(plan), {&out, 1});
+    ViewRequest request = view_request(plan);
+    request.settings.keep_depth = depth != nullptr;  // otherwise only the colour is read
+    return renderer.render(scene, {&camera, 1}, request, {&out, 1});
 }
 
 Result<Scene> load_scene(const std::string& path, const RenderPlan& plan, const char* command) {

@@ -44,6 +44,13 @@ struct DrawState {
     // each tile is cleared by the thread that draws it, just before it does, instead of in a
     // separate pass over the whole framebuffer.
     std::optional<ClearValues> clear = std::nullopt;
+    // false: nothing reads the target's depth after this draw, so the draw need not store it (a
+    // render pass's "don't care" store): the colour is the same, the target's depth afterwards is
+    // unspecified. Pays for a draw that clears and is the frame's only draw: its depth stays in the
+    // tiles' own buffers, and the empty tiles get only their clear colour (at 1920x1080 half of the
+    // 16 MB a clear writes). Draws that need the target's depth themselves (the one-pass order,
+    // every batch but the last) still store it.
+    bool keep_depth = true;
     Rect viewport;  // clip space maps onto this rectangle; pixels outside it are never written
 };
 

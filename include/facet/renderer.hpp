@@ -71,6 +71,7 @@ private:
         std::size_t batch_size;   // triangles per batch
         std::size_t chunk_count;  // of the current batch
         bool clear_tiles;         // DrawState::clear, still to be done by the tiles of the next batch
+        bool store_depth;         // the current batch's tiles store their depth (DrawState::keep_depth)
         bool passes;              // the draw writes render passes (passes_)
     };
     // Checks the viewport and plans the draw. A clear that no tile will do (DrawOrder::nothing) is done here.

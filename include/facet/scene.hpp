@@ -135,6 +135,10 @@ struct RenderSettings {
     // lambert and flat modes; with normals they are lit like surfaces facing that way.
     PrimitiveStyle primitives{defaults::k_point_size, PointShape::round, 0.0f, defaults::k_line_width};
     bool point_size_in_model_units = false;
+    // false: nothing reads the target's depth after render_scene, so a frame of one draw (one
+    // object, triangles only) does not store it (DrawState::keep_depth): the same colour, the
+    // target's depth unspecified. The command line sets it when no depth image is asked for.
+    bool keep_depth = true;
 };
 
 // Anti-aliasing by n jittered frames (n = 1, 2, 4 or 8): each frame drawn with one of these

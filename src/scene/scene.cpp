@@ -367,6 +367,8 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
     auto blends = [&](const ObjectView& o) {
         return o.material->alpha_mode == AlphaMode::blend && !lambert && settings.shading != Shading::mask;
     };
+    // A frame of one draw (DrawState::keep_depth): one object, and triangles only.
+    const bool only_draw = object_count(objects) == 1 && object_at(objects, 0).points.empty() && object_at(objects, 0).lines.empty();
     auto draw = [&](const ObjectView& o, std::size_t index, bool blended) {
         const ShadingUniforms u = uniforms_for(o, camera, clip_from_world, settings);
         if (passes) {
@@ -387,6 +389,7 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
             state.depth_write = false;
         }
         state.clear = std::exchange(clear, std::nullopt);
+        state.keep_depth = settings.keep_depth || !only_draw;
         const DrawPasses* p = passes ? &draw_passes : nullptr;
         // An object of points or lines alone draws no triangles (and a mesh of nothing draws nothing,
         // but still clears).

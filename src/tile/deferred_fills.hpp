@@ -41,15 +41,18 @@ struct DeferredFills {
     int row = 0;
     int stride = 0;        // the target's row, in pixels
     std::uint32_t colour = 0, depth = 0;  // the clear values' bits
+    int layers = 2;         // rows per tile row: colour and depth, or colour alone (no depth store)
     bool streamed = false;  // rows were taken since the last fence
 
-    // Empties the queue (it must have been drained) for a draw that clears to `c` and `z`, with room
-    // for all `tile_count` tiles of the target: queueing them allocates nothing.
-    void start(TargetView target, Rgba8 c, float z, std::size_t tile_count) {
+    // Empties the queue (it must have been drained) for a draw that clears to `c` and `z` (colour
+    // alone without `with_depth`), with room for all `tile_count` tiles of the target: queueing them
+    // allocates nothing.
+    void start(TargetView target, Rgba8 c, float z, bool with_depth, std::size_t tile_count) {
         tiles.clear();
         tiles.reserve(tile_count);
         next = 0, row = 0;
         stride = target.stride;
+        layers = with_depth ? 2 : 1;
         std::memcpy(&colour, &c, sizeof(colour));
         std::memcpy(&depth, &z, sizeof(depth));
     }
@@ -76,7 +79,7 @@ struct DeferredFills {
         out = {(is_colour ? t.colour : t.depth) + static_cast<std::size_t>(r) * static_cast<std::size_t>(stride),
                t.width, is_colour ? colour : depth};
         streamed = true;
-        if (++row == 2 * t.height) row = 0, ++next;
+        if (++row == layers * t.height) row = 0, ++next;
         return true;
     }
 };

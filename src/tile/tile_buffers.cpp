@@ -86,9 +86,9 @@ void TileBuffers::write_shading_records(std::size_t first, const VaryingsSource&
     write_records<-1>(*this, first, source);
 }
 
-void TileBuffers::end(PixelRect tile, TargetView target, bool depth_write) {
+void TileBuffers::end(PixelRect tile, TargetView target, bool depth_write, bool store_depth) {
     find_owned_pixels(*this, tile);
-    if (depth_write || depth_cleared)
+    if (store_depth && (depth_write || depth_cleared))
         store_tile_rows(depth, k_max_tile_size, target.depth + target.at(tile.x0, tile.y0), tile, target.stride,
                         depth_cleared);
 }

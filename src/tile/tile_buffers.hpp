@@ -93,8 +93,9 @@ struct TileBuffers {
     // varyings found in `source`.
     void write_shading_records(std::size_t first, const VaryingsSource& source);
     // Ends the depth pass: finds the covered pixels, and writes the tile's depth back to the target
-    // when it changed (cleared by begin() or written by the depth pass, depth_write).
-    void end(PixelRect tile, TargetView target, bool depth_write);
+    // when it changed (cleared by begin() or written by the depth pass, depth_write) and the draw
+    // stores its depth (store_depth).
+    void end(PixelRect tile, TargetView target, bool depth_write, bool store_depth = true);
     // What the shading pass reads (valid until the next begin()).
     VisibleTile visible(PixelRect tile) {
         return {tile, owner, covered, static_cast<std::uint32_t>(triangles.size()), triangles.data(), records.data(),

@@ -73,7 +73,7 @@ void for_each_bin(const TileBatch& batch, std::size_t tile, const Each& each) {
 // (and with render passes, theirs).
 void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJob& job, TargetView target,
                        const TileShading& shading, ResolveBinKernel resolve_bin, const TileBuffers::Clear* clear,
-                       const PassDraw* passes, PassRow* pass_rows) {
+                       bool store_depth, const PassDraw* passes, PassRow* pass_rows) {
     const PixelRect tile = job.rect;
     buffers.begin(tile, shading.varyings, target, clear);
     for_each_bin(batch, job.index, [&](const FrontEndChunk& chunk, const TileBin& bin) {
@@ -83,7 +83,7 @@ void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJ
         buffers.write_shading_records(first, {batch.vertices, chunk.extras});
         if (passes) write_pass_records(buffers, first, *passes, chunk, bin, chunk.primitives[job.index]);
     });
-    buffers.end(tile, target, shading.depth_write);
+    buffers.end(tile, target, shading.depth_write, store_depth);
     const VisibleTile visible = buffers.visible(tile);
     shading.shade_visible(shading.shader, visible, buffers.colour_view(tile, target));
     if (passes) write_pass_pixels(visible, buffers.pass_records.data(), buffers.pass_stride, *passes, pass_rows);
@@ -142,7 +142,7 @@ TilePass::TilePass(int workers) {
 TilePass::~TilePass() = default;
 
 void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target, const TileShading& shading,
-                   bool clear, const PassDraw* passes) {
+                   bool clear, bool store_depth, const PassDraw* passes) {
     if (shading.order == DrawOrder::nothing) return;
     const std::size_t max_tile_triangles = order_tiles(batch);
     const TargetView view{target.colour_data(), target.depth_data(), target.width()};
@@ -157,7 +157,7 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
         // no longer grow, whichever tiles each worker is given.
         for (const auto& b : buffers_) {
             b->reserve(max_tile_triangles, shading.varyings, pass_varyings);
-            if (visible_only) b->fills.start(view, clear_to.colour, clear_to.depth, order_.size());
+            if (visible_only) b->fills.start(view, clear_to.colour, clear_to.depth, store_depth, order_.size());
         }
     }
     pool.parallel_for(order_.size(), [&](std::size_t n, int worker) {
@@ -173,7 +173,7 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
         if (!job.busy) return;
         if (visible_only)
             draw_visible_only(buffers, batch, job, view, shading, resolve_bin,
-                              how == TileClear::by_buffers ? &clear_to : nullptr, passes, pass_rows);
+                              how == TileClear::by_buffers ? &clear_to : nullptr, store_depth, passes, pass_rows);
         else
             draw_one_pass(buffers, batch, job, view, shading, passes, pass_rows);
     });

@@ -39,8 +39,10 @@ public:
 
     // Draws every tile of `batch` into `target`, and with `passes` its render passes into their
     // targets. With `clear`, each tile is first cleared to DrawState::clear (params.state.clear), and
-    // its passes to their background, the whole tile, inside the viewport or not.
+    // its passes to their background, the whole tile, inside the viewport or not. Without
+    // `store_depth`, the visible-only order leaves the target's depth as it was (DrawState::keep_depth).
     void run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target, const TileShading& shading, bool clear,
+             bool store_depth,
              const PassDraw* passes = nullptr);
 
 private:

@@ -2,7 +2,9 @@
 // colour and depth, byte for byte: over the whole target even when the viewport is smaller, with
 // several batches, for both drawing orders (visible-only and one pass with blending), for a draw
 // with no triangles and one whose depth test passes nothing, on 1 and 3 threads and several tiles,
-// and on a target whose empty tiles are cleared between the kernels' work (DeferredFills).
+// and on a target whose empty tiles are cleared between the kernels' work (DeferredFills). A draw
+// that does not keep its depth (DrawState::keep_depth) draws the same colour and leaves the depth
+// of the target's empty tiles alone.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -133,6 +135,39 @@ TEST(DrawClear, EmptyTilesAreClearedWhereverTheTrianglesAre) {
     for (std::size_t i = 0; i < out.depth.size(); ++i) (out.depth[i] == 0.8f ? cleared : drawn)++;
     EXPECT_GT(cleared, size.width * size.height / 2);
     EXPECT_GT(drawn, 1000);
+}
+
+// The "don't care" depth store: the same colour as a draw that stores its depth, in both orders,
+// with one batch or several (all but the last store theirs: the next one reads it); and with one
+// batch in the visible-only order, the empty tiles' depth is not written at all.
+TEST(DrawClear, DrawThatKeepsNoDepthDrawsTheSameColour) {
+    const Triangles corner = random_triangles(300, -0.95f, -0.2f);
+    const Triangles spread = random_triangles(300);
+    const Size size{256, 192};
+    for (Blend blend : {Blend::none, Blend::alpha})
+        for (int threads : {1, 3})
+            for (int tile : {16, 64})
+                for (int batch : {0, 40})
+                    for (const Triangles* t : {&corner, &spread}) {
+                        DrawState state;
+                        state.cull = CullMode::none;
+                        state.blend = blend;
+                        const RendererConfig config{.threads = threads, .tile_size = tile, .batch_triangles = batch};
+                        const Output kept = draw(*t, state, config, true, size);
+                        state.keep_depth = false;
+                        EXPECT_EQ(draw(*t, state, config, true, size).colour, kept.colour)
+                            << "blend " << static_cast<int>(blend) << ", threads " << threads << ", tile " << tile
+                            << ", batch " << batch << ", triangles in the corner " << (t == &corner);
+                    }
+    DrawState state;
+    state.cull = CullMode::none;
+    state.keep_depth = false;
+    const Output out = draw(corner, state, {.threads = 2}, true, size);
+    int untouched = 0;
+    for (const float d : out.depth) untouched += d == 0.25f;  // the value before the draw's clear
+    EXPECT_GT(untouched, size.width * size.height / 2);
+    state.keep_depth = true;
+    for (const float d : draw(corner, state, {.threads = 2}, true, size).depth) ASSERT_NE(d, 0.25f);
 }
 
 }  // namespace
