@@ -69,7 +69,6 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
     ThumbnailFigures f;
     std::string error;
     try {
-        ViewRenderer renderer({.threads = k_thumbnail_threads});
         Image colour;
         report.phase(WorkerPhase::loading);
         Clock::time_point start = Clock::now();
@@ -93,7 +92,8 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
                         error = views.error().message;
                         f.reason = views.error().code == ErrorCode::io ? FailReason::write_failed : FailReason::render_failed;
                     }
-                } else {
+                } else {  // one thumbnail; render_views_into has a ViewRenderer of its own
+                    ViewRenderer renderer({.threads = k_thumbnail_threads});
                     render_plan(renderer, *scene, plan, plan_camera(*scene, plan), colour, nullptr);
                 }
                 const auto& px = colour.pixels;
