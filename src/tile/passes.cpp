@@ -11,6 +11,7 @@
 
 #include "facet/detail/fragment.hpp"
 #include "facet/detail/vertex_stage.hpp"
+#include "simd/isa.hpp"
 #include "tile/tile_buffers.hpp"
 #include "tile/tile_store.hpp"
 
@@ -79,6 +80,9 @@ void write_pass_records(TileBuffers& b, std::size_t first, const PassDraw& d, co
         std::memcpy(out + ph_primitive, &primitive, sizeof(primitive));
         const Vec3 normal = face && d.topology == Topology::triangles ? face_normal(d, primitive) : Vec3{};
         out[ph_face_x] = normal.x, out[ph_face_y] = normal.y, out[ph_face_z] = normal.z;
+        out[ph_x0] = t.x0, out[ph_y0] = t.y0, out[ph_z0] = t.z0, out[ph_dzdx] = t.dzdx, out[ph_dzdy] = t.dzdy;
+        out[ph_q0] = t.q0, out[ph_dqdx] = t.dqdx, out[ph_dqdy] = t.dqdy;
+        out[ph_dl1dx] = t.dl1dx, out[ph_dl1dy] = t.dl1dy, out[ph_dl2dx] = t.dl2dx, out[ph_dl2dy] = t.dl2dy;
         if (n > 0) {
             const float* var[3];
             for (int k = 0; k < 3; ++k) var[k] = varyings_of(t.vertex[k], *d.vertices, chunk.pass_extras);
@@ -88,14 +92,6 @@ void write_pass_records(TileBuffers& b, std::size_t first, const PassDraw& d, co
 }
 
 namespace {
-
-// Where one row's pixels go, pixel i at [i] of each (null: a pass not wanted).
-struct PassOut {
-    float *alpha, *depth, *range;
-    Vec3* normal;
-    std::uint32_t *instance, *material, *primitive;
-    Vec2* uv;
-};
 
 // The targets' row from pixel `at` on.
 PassOut targets_at(const PassTargets& t, std::size_t at) {
@@ -108,18 +104,6 @@ PassOut rows_for(PassRow& r, const PassTargets& t) {
     return {t.alpha ? r.alpha : nullptr,         t.depth ? r.depth : nullptr,         t.range ? r.range : nullptr,
             t.normal ? r.normal : nullptr,       t.instance ? r.instance : nullptr,   t.material ? r.material : nullptr,
             t.primitive ? r.primitive : nullptr, t.uv ? r.uv : nullptr};
-}
-
-// Pixels [0, n) of `o` set to the background.
-void fill_background(const PassOut& o, int n) {
-    if (o.alpha) std::fill_n(o.alpha, n, 0.0f);
-    if (o.depth) std::fill_n(o.depth, n, k_background_depth);
-    if (o.range) std::fill_n(o.range, n, k_background_depth);
-    if (o.normal) std::fill_n(o.normal, n, Vec3{});
-    if (o.instance) std::fill_n(o.instance, n, 0u);
-    if (o.material) std::fill_n(o.material, n, 0u);
-    if (o.primitive) std::fill_n(o.primitive, n, 0u);
-    if (o.uv) std::fill_n(o.uv, n, Vec2{});
 }
 
 // Rows [0, height) of `width` pixels from `from` (`rows_stride` pixels apart: 0 repeats one row) to
@@ -145,69 +129,81 @@ void store_rows(const PassOut& from, int rows_stride, const PassTargets& t, std:
 
 }  // namespace
 
+void fill_pass_background(const PassOut& o, int begin, int end) {
+    const int n = end - begin;
+    if (n <= 0) return;
+    if (o.alpha) std::fill_n(o.alpha + begin, n, 0.0f);
+    if (o.depth) std::fill_n(o.depth + begin, n, k_background_depth);
+    if (o.range) std::fill_n(o.range + begin, n, k_background_depth);
+    if (o.normal) std::fill_n(o.normal + begin, n, Vec3{});
+    if (o.instance) std::fill_n(o.instance + begin, n, 0u);
+    if (o.material) std::fill_n(o.material + begin, n, 0u);
+    if (o.primitive) std::fill_n(o.primitive + begin, n, 0u);
+    if (o.uv) std::fill_n(o.uv + begin, n, Vec2{});
+}
+
+void write_pass_pixel(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& d, int r,
+                      int i, const PassOut& out) {
+    const DrawPasses& p = *d.passes;
+    const PassLayout& l = d.layout;
+    const int n = l.count, x = tile.rect.x0 + i, y = tile.rect.y0 + r;
+    const std::uint32_t owner = tile.owner[r * VisibleTile::k_row + i];
+    const TriangleSetup& t = *tile.triangles[owner];
+    const float* record = records + static_cast<std::size_t>(owner) * static_cast<std::size_t>(record_stride);
+    // As fragment_at: the pixel centre relative to vertex 0, q = 1/w, the barycentrics.
+    const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
+    const float dx = px - t.x0, dy = py - t.y0;
+    const float q = t.q0 + t.dqdx * dx + t.dqdy * dy;
+    const float w = 1.0f / q;
+    if (out.alpha) out.alpha[i] = 1.0f;
+    if (out.depth || out.range) {
+        const float depth = p.depth_scale == 0 ? w : p.depth_offset + p.depth_scale * depth_at(t, x, y);
+        if (out.depth) out.depth[i] = depth;
+        if (out.range) {
+            const float a = p.ray[0] + p.ray[1] * px + p.ray[2] * py;
+            const float b = p.ray[3] + p.ray[4] * px + p.ray[5] * py;
+            out.range[i] = depth * std::sqrt(1.0f + a * a + b * b);
+        }
+    }
+    float b1 = 0, b2 = 0;
+    if (n > 0) {
+        b1 = (0.0f + t.dl1dx * dx + t.dl1dy * dy) * w;
+        b2 = (0.0f + t.dl2dx * dx + t.dl2dy * dy) * w;
+    }
+    const float *v0 = record + k_pass_head, *d1 = v0 + n, *d2 = v0 + 2 * n;
+    auto varying = [&](int k) { return v0[k] + b1 * d1[k] + b2 * d2[k]; };
+    if (out.normal) {
+        Vec3 normal{record[ph_face_x], record[ph_face_y], record[ph_face_z]};
+        if (l.normal_at >= 0)
+            normal = normalize(Vec3{varying(l.normal_at), varying(l.normal_at + 1), varying(l.normal_at + 2)});
+        out.normal[i] = l.rotate_normals ? p.normal_space * normal : normal;
+    }
+    if (out.uv) out.uv[i] = l.uv_at >= 0 ? Vec2{varying(l.uv_at), varying(l.uv_at + 1)} : Vec2{};
+    if (out.instance) out.instance[i] = p.instance;
+    if (out.material) out.material[i] = p.material;
+    if (out.primitive) {
+        std::uint32_t primitive;
+        std::memcpy(&primitive, record + ph_primitive, sizeof(primitive));
+        out.primitive[i] = primitive + 1;
+    }
+}
+
 void write_pass_pixels(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& d,
                        PassRow* rows) {
-    const DrawPasses& p = *d.passes;
-    const PassTargets& targets = p.targets;
-    const PassLayout& l = d.layout;
-    const int n = l.count, width = tile.rect.x1 - tile.rect.x0;
-    const bool perspective = p.depth_scale == 0;
-    const bool rotate = l.rotate_normals;
-    const bool need_depth = targets.depth || targets.range;
-    const bool need_barycentrics = n > 0;
+    const PassTargets& targets = d.passes->targets;
+    const int width = tile.rect.x1 - tile.rect.x0;
+    const bool scalar = use_scalar_kernels();
     for (int y = tile.rect.y0; y < tile.rect.y1; ++y) {
-        std::uint64_t mask = tile.covered[y - tile.rect.y0];
+        const int r = y - tile.rect.y0;
+        const std::uint64_t mask = tile.covered[r];
         const std::size_t row_at = static_cast<std::size_t>(y) * static_cast<std::size_t>(d.stride) + static_cast<std::size_t>(tile.rect.x0);
-        PassOut out;
-        if (rows) {
-            out = rows_for(*rows, targets);
-            fill_background(out, width);
+        if (!rows && !mask) continue;
+        const PassOut out = rows ? rows_for(*rows, targets) : targets_at(targets, row_at);
+        if (!mask || scalar) {
+            if (rows) fill_pass_background(out, 0, width);
+            for (std::uint64_t m = mask; m; m &= m - 1) write_pass_pixel(tile, records, record_stride, d, r, std::countr_zero(m), out);
         } else {
-            if (!mask) continue;
-            out = targets_at(targets, row_at);
-        }
-        const std::uint32_t* owner_row = tile.owner + (y - tile.rect.y0) * VisibleTile::k_row;
-        for (; mask; mask &= mask - 1) {
-            const int i = std::countr_zero(mask), x = tile.rect.x0 + i;
-            const std::uint32_t owner = owner_row[i];
-            const TriangleSetup& t = *tile.triangles[owner];
-            const float* record = records + static_cast<std::size_t>(owner) * static_cast<std::size_t>(record_stride);
-            // As fragment_at: the pixel centre relative to vertex 0, q = 1/w, the barycentrics.
-            const float px = static_cast<float>(x) + 0.5f, py = static_cast<float>(y) + 0.5f;
-            const float dx = px - t.x0, dy = py - t.y0;
-            const float q = t.q0 + t.dqdx * dx + t.dqdy * dy;
-            const float w = 1.0f / q;
-            if (out.alpha) out.alpha[i] = 1.0f;
-            if (need_depth) {
-                const float depth = perspective ? w : p.depth_offset + p.depth_scale * depth_at(t, x, y);
-                if (out.depth) out.depth[i] = depth;
-                if (out.range) {
-                    const float a = p.ray[0] + p.ray[1] * px + p.ray[2] * py;
-                    const float b = p.ray[3] + p.ray[4] * px + p.ray[5] * py;
-                    out.range[i] = depth * std::sqrt(1.0f + a * a + b * b);
-                }
-            }
-            float b1 = 0, b2 = 0;
-            if (need_barycentrics) {
-                b1 = (0.0f + t.dl1dx * dx + t.dl1dy * dy) * w;
-                b2 = (0.0f + t.dl2dx * dx + t.dl2dy * dy) * w;
-            }
-            const float *v0 = record + k_pass_head, *d1 = v0 + n, *d2 = v0 + 2 * n;
-            auto varying = [&](int k) { return v0[k] + b1 * d1[k] + b2 * d2[k]; };
-            if (out.normal) {
-                Vec3 normal{record[ph_face_x], record[ph_face_y], record[ph_face_z]};
-                if (l.normal_at >= 0)
-                    normal = normalize(Vec3{varying(l.normal_at), varying(l.normal_at + 1), varying(l.normal_at + 2)});
-                out.normal[i] = rotate ? p.normal_space * normal : normal;
-            }
-            if (out.uv) out.uv[i] = l.uv_at >= 0 ? Vec2{varying(l.uv_at), varying(l.uv_at + 1)} : Vec2{};
-            if (out.instance) out.instance[i] = p.instance;
-            if (out.material) out.material[i] = p.material;
-            if (out.primitive) {
-                std::uint32_t primitive;
-                std::memcpy(&primitive, record + ph_primitive, sizeof(primitive));
-                out.primitive[i] = primitive + 1;
-            }
+            write_pass_row(tile, records, record_stride, d, r, mask, out, rows != nullptr);
         }
         if (rows) store_rows(out, 0, targets, row_at, width, 1, d.stride, true);
     }
@@ -217,7 +213,7 @@ void write_pass_pixels(const VisibleTile& tile, const float* records, int record
 void clear_pass_targets(const PassTargets& t, PixelRect r, int stride, bool stream) {
     PassRow background;
     const PassOut row = rows_for(background, t);
-    fill_background(row, k_max_tile_size);
+    fill_pass_background(row, 0, k_max_tile_size);
     for (int x = r.x0; x < r.x1; x += k_max_tile_size) {
         const int width = std::min(k_max_tile_size, r.x1 - x);
         const std::size_t at = static_cast<std::size_t>(r.y0) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(x);

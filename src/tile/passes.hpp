@@ -30,9 +30,12 @@ struct PassLayout {
 };
 PassLayout pass_layout(const DrawPasses& passes);
 
-// A triangle's pass record in a tile, floats: the head, then its pass varyings in barycentric form
-// (v0[N], d1[N], d2[N], as the shading record's varyings: write_varying_planes).
-enum PassHead : int { ph_primitive, ph_face_x, ph_face_y, ph_face_z, k_pass_head };
+// A triangle's pass record in a tile, floats: the head (its primitive's bits, its face normal, and a
+// copy of the set-up values the pixels read, so that a SIMD kernel fetches any field of any triangle
+// from one record), then its pass varyings in barycentric form (v0[N], d1[N], d2[N], as the shading
+// record's varyings: write_varying_planes).
+enum PassHead : int { ph_primitive, ph_face_x, ph_face_y, ph_face_z, ph_x0, ph_y0, ph_z0, ph_dzdx, ph_dzdy, ph_q0,
+                      ph_dqdx, ph_dqdy, ph_dl1dx, ph_dl1dy, ph_dl2dx, ph_dl2dy, k_pass_head };
 constexpr int pass_record_floats(int varyings) { return k_pass_head + 3 * varyings; }
 
 // What the tile pass knows of a draw's passes.
@@ -76,6 +79,28 @@ struct PassRow {
     alignas(64) std::uint32_t primitive[k_max_tile_size];
     alignas(64) Vec2 uv[k_max_tile_size];
 };
+
+// Where one row's pixels of the passes go, pixel i at [i] of each (null: a pass not wanted).
+struct PassOut {
+    float *alpha, *depth, *range;
+    Vec3* normal;
+    std::uint32_t *instance, *material, *primitive;
+    Vec2* uv;
+};
+
+// Pixels [begin, end) of `o` set to the background.
+void fill_pass_background(const PassOut& o, int begin, int end);
+
+// The specification of a pass pixel: pixel i of row r of the tile (visible: it has an owner) into
+// [i] of `out`, every pass the targets want, as fragment_at computes the varyings.
+void write_pass_pixel(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& draw, int r,
+                      int i, const PassOut& out);
+
+// Row r of the tile as write_pass_pixels writes it into `out`, its visible pixels `pixels` (the
+// row's covered bits), with `whole` every other pixel of the row the background too: a SIMD kernel
+// for the selected ISA (passes_simd.cpp), the same bytes as write_pass_pixel per pixel.
+void write_pass_row(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& draw, int r,
+                    std::uint64_t pixels, const PassOut& out, bool whole);
 
 // The visible pixels of the tile into the pass targets: each from the triangle that owns it, its
 // set-up record (q, the barycentric planes, window depth) and its pass record. Without `rows` the

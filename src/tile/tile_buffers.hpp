@@ -70,7 +70,7 @@ struct TileBuffers {
     DeferredFills fills;
     // A draw with render passes (tile/passes.hpp): each listed triangle's pass record, `pass_stride`
     // floats apart (pass_record_floats).
-    std::vector<float> pass_records;
+    std::vector<float, UninitialisedAllocator<float>> pass_records;  // resize() leaves them to write_pass_records
     int pass_stride = 0;
     PassRow pass_row;  // a row of the passes of a tile the draw clears, before it goes to the targets
 

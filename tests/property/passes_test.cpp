@@ -421,7 +421,15 @@ AllPasses render_all(RendererConfig config, int ssaa = 1) {
     close.near = 0.4f, close.far = 12;
     cameras.push_back(close);
     ViewRenderer renderer(config);
-    return {renderer.render(scene, cameras, request)};
+    AllPasses all{renderer.render(scene, cameras, request)};
+    // Normals rotated into camera space, and an orthographic camera (depth from the window depth).
+    Camera ortho = cameras[0];
+    ortho.projection_kind = ProjectionKind::orthographic;
+    ortho.ortho_height = 5;
+    cameras.push_back(ortho);
+    request.normal_space = NormalSpace::camera;
+    for (ViewImages& v : renderer.render(scene, cameras, request)) all.views.push_back(std::move(v));
+    return all;
 }
 
 TEST(Passes, EveryPassIsTheSameBytesForEveryThreadCountTileSizeAndIsa) {
