@@ -7,11 +7,16 @@
 // version in tests/support/reference_creased_normals.cpp.
 #include "facet/mesh.hpp"
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstdint>
+#include <cstdlib>
 #include <cmath>
 #include <memory>
+#include <new>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -46,6 +51,49 @@ std::uint64_t hash_of(const PositionKey& k) {
     return h ^ (h >> 29);
 }
 
+// Large scratch arrays that start as zeros: fresh pages from the system (zero already, not
+// written again as value-initializing does), of 2 MB where the system grants them (a fault and a
+// page cleared per 2 MB rather than per 4 KB: the 1M sphere's 32 MB of sums by position took 20 ms
+// less to fault in). Small ones from calloc. Aligned to cache lines. For types whose zero bits are
+// their zero value.
+template <class T>
+class ZeroedArray {
+public:
+    explicit ZeroedArray(std::size_t n) : bytes_(n * sizeof(T) + k_huge) {
+        if (bytes_ < 2 * k_huge) {
+            raw_ = std::calloc(bytes_, 1);
+            bytes_ = 0;  // not mapped here
+            if (!raw_) throw std::bad_alloc();
+            data_ = reinterpret_cast<T*>(align(raw_, 64));
+            return;
+        }
+        raw_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        if (raw_ == MAP_FAILED) throw std::bad_alloc();
+        const std::uintptr_t start = align(raw_, k_huge);
+        madvise(reinterpret_cast<void*>(start), bytes_ - (start - reinterpret_cast<std::uintptr_t>(raw_)), MADV_HUGEPAGE);
+        data_ = reinterpret_cast<T*>(start);
+    }
+    ~ZeroedArray() {
+        if (bytes_)
+            munmap(raw_, bytes_);
+        else
+            std::free(raw_);
+    }
+    ZeroedArray(const ZeroedArray&) = delete;
+    ZeroedArray& operator=(const ZeroedArray&) = delete;
+    T& operator[](std::size_t i) const { return data_[i]; }
+    T* data() const { return data_; }
+
+private:
+    static constexpr std::uintptr_t k_huge = 2 << 20;
+    static std::uintptr_t align(void* p, std::uintptr_t to) {
+        return (reinterpret_cast<std::uintptr_t>(p) + to - 1) & ~(to - 1);
+    }
+    std::size_t bytes_;
+    void* raw_;
+    T* data_;
+};
+
 // An id per distinct position (in order of first appearance), and each id's key.
 struct Weld {
     std::vector<std::uint32_t> id;   // per vertex
@@ -53,7 +101,6 @@ struct Weld {
 };
 
 Weld weld_by_position(const std::vector<Vec3>& positions) {
-    constexpr std::uint64_t empty = ~std::uint64_t{0};
     // The table is far larger than the caches and each vertex probes a random slot: slots are
     // fetched this many vertices ahead (the hashes in a ring), so that the misses overlap, and each
     // holds 32 bits of its key's hash beside the id, so that a probe past another position rarely
@@ -61,8 +108,9 @@ Weld weld_by_position(const std::vector<Vec3>& positions) {
     constexpr std::size_t ahead = 16;
     Weld w;
     w.id.resize(positions.size());
+    w.key.reserve(positions.size());
     const std::size_t capacity = std::bit_ceil(2 * positions.size() + 2);
-    std::vector<std::uint64_t> table(capacity, empty);  // open addressing: tag << 32 | id, linear probing
+    const ZeroedArray<std::uint64_t> table(capacity);  // open addressing: tag << 32 | id + 1 (0: empty), linear probing
     std::uint64_t ring[ahead];
     for (std::size_t v = 0; v < std::min(positions.size(), ahead); ++v) {
         ring[v] = hash_of(key_of(positions[v]));
@@ -77,11 +125,11 @@ Weld weld_by_position(const std::vector<Vec3>& positions) {
         }
         const std::uint64_t tag = h >> 32 << 32;
         for (std::size_t slot = h & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
-            if (table[slot] == empty) {
-                table[slot] = tag | w.key.size();
+            if (table[slot] == 0) {
+                table[slot] = tag | (w.key.size() + 1);
                 w.key.push_back(k);
             }
-            const auto id = static_cast<std::uint32_t>(table[slot]);
+            const auto id = static_cast<std::uint32_t>(table[slot]) - 1;
             if ((table[slot] & ~std::uint64_t{0xFFFFFFFF}) == tag && w.key[id] == k) {
                 w.id[v] = id;
                 break;
@@ -152,16 +200,18 @@ struct TriangleFacts {
     std::uint32_t vertex[3];    // and vertices
 };
 
+// A corner's angle from its triangle's normalized sides (side k from corner k to k + 1): the
+// corner at k sees sides k and k + 2 reversed, and normalize(-v) is exactly -normalize(v).
+float corner_angle(Vec3 side_out, Vec3 side_in) { return detail::corner_acos(clamp(dot(side_out, -side_in), -1.0f, 1.0f)); }
+
 // The face normal and the corner angles of a triangle, as the specification computes them: for
 // the triangles the shape kernel leaves out, and for all of them with the scalar ISA.
 void describe_triangle(const Vec3 (&p)[3], TriangleFacts& out) {
     const Vec3 face = normalize(cross(p[1] - p[0], p[2] - p[0]));
     float angle[3] = {0, 0, 0};
     if (dot(face, face) > 0) {  // degenerate: no weight anywhere (and no NaN angles)
-        // Each side normalized once: the corner at k sees sides k and k + 2 reversed, and
-        // normalize(-v) is exactly -normalize(v).
         const Vec3 side[3] = {normalize(p[1] - p[0]), normalize(p[2] - p[1]), normalize(p[0] - p[2])};
-        for (int k = 0; k < 3; ++k) angle[k] = std::acos(clamp(dot(side[k], -side[(k + 2) % 3]), -1.0f, 1.0f));
+        for (int k = 0; k < 3; ++k) angle[k] = corner_angle(side[k], side[(k + 2) % 3]);
     }
     for (int k = 0; k < 3; ++k) out.face[k] = face[k], out.angle[k] = angle[k];
 }
@@ -179,38 +229,48 @@ void fill_chunk(const Mesh& mesh, const std::vector<bool>& in_range, std::size_t
     }
 }
 
-// The facts of every valid triangle. The kernel does the normalizations and the cosines in lanes
-// (bunny, 1 thread: 3.75 -> 1.7 ms for all this, most of what is left the 226,224 calls of
-// std::acos, which stays the libm call the specification makes). The corners are grouped by
-// position beside it (it reads nothing this writes), on another thread when there is one: 0.3 ms
-// less of 4.0 ms at 2 threads.
+// described(t, facts) for each valid triangle of [first, last), in order, with its face and
+// angles (the other fields not filled). The kernel does the normalizations, the cosines and their
+// arc cosines in lanes.
+template <class Described>
+void describe_range(const Mesh& mesh, const std::vector<bool>& in_range, std::size_t first, std::size_t last,
+                    const Described& described) {
+    constexpr std::size_t chunk_size = detail::TriangleChunk::k_capacity;
+    detail::TriangleChunk chunk;
+    for (std::size_t begin = first; begin < last; begin += chunk_size) {
+        const std::size_t count = std::min(chunk_size, last - begin);
+        fill_chunk(mesh, in_range, begin, count, chunk);
+        const bool shaped = detail::shape_triangles(chunk);
+        for (std::size_t i = 0; i < count; ++i) {
+            const std::size_t t = begin + i;
+            if (!in_range[t]) continue;
+            TriangleFacts facts;
+            if (shaped && !(chunk.unusual >> i & 1)) {
+                for (int k = 0; k < 3; ++k)
+                    facts.face[k] = chunk.face[k][i], facts.angle[k] = chunk.angle[k][i];
+            } else {
+                Vec3 p[3];
+                for (int k = 0; k < 3; ++k)
+                    for (int axis = 0; axis < 3; ++axis) p[k][axis] = chunk.corner[k][axis][i];
+                describe_triangle(p, facts);
+            }
+            described(t, facts);
+        }
+    }
+}
+
+// The facts of every valid triangle, for sharing the positions between threads. The corners are
+// grouped by position beside it (it reads nothing this writes), on another thread: 0.3 ms less of
+// 4.0 ms at 2 threads on the bunny.
 void describe_triangles(const Mesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t positions,
                         const std::vector<bool>& in_range, detail::ThreadPool* pool, TriangleFacts* out,
                         CornersByPosition& by_position) {
-    constexpr std::size_t chunk_size = detail::TriangleChunk::k_capacity;
     auto describe_block = [&](std::size_t first, std::size_t last, int) {
-        detail::TriangleChunk chunk;
-        for (std::size_t begin = first; begin < last; begin += chunk_size) {
-            const std::size_t count = std::min(chunk_size, last - begin);
-            fill_chunk(mesh, in_range, begin, count, chunk);
-            const bool shaped = detail::shape_triangles(chunk);
-            for (std::size_t i = 0; i < count; ++i) {
-                const std::size_t t = begin + i;
-                if (!in_range[t]) continue;
-                TriangleFacts& facts = out[t];
-                if (shaped && !(chunk.unusual >> i & 1)) {
-                    for (int k = 0; k < 3; ++k)
-                        facts.face[k] = chunk.face[k][i], facts.angle[k] = std::acos(chunk.cosine[k][i]);
-                } else {
-                    Vec3 p[3];
-                    for (int k = 0; k < 3; ++k)
-                        for (int axis = 0; axis < 3; ++axis) p[k][axis] = chunk.corner[k][axis][i];
-                    describe_triangle(p, facts);
-                }
-                const std::uint32_t* idx = mesh.indices.data() + 3 * t;
-                for (int k = 0; k < 3; ++k) facts.position[k] = weld[idx[k]], facts.vertex[k] = idx[k];
-            }
-        }
+        describe_range(mesh, in_range, first, last, [&](std::size_t t, TriangleFacts facts) {
+            const std::uint32_t* idx = mesh.indices.data() + 3 * t;
+            for (int k = 0; k < 3; ++k) facts.position[k] = weld[idx[k]], facts.vertex[k] = idx[k];
+            out[t] = facts;
+        });
     };
     for_blocks(pool, in_range.size(), describe_block,
                [&] { by_position = group_corners(mesh, weld, positions, in_range); });
@@ -269,23 +329,29 @@ struct FanScratch {
 // edge shared by thousands of triangles stays linear; ordinary edges have two faces.
 constexpr std::size_t k_max_edge_neighbours = 8;
 
-// The position's corners with area, in corner order, and the sum of their weighted faces. Corners
-// of degenerate triangles are left out: they are on no edge and alone in their sets, whose normal
-// is zero (which leaves their vertices to the other corners), and they add +0 to sums that start
-// at +0 (and so are never -0), which changes nothing.
-Vec3 gather_fan(std::span<const std::uint32_t> corners, const TriangleFacts* triangles, std::vector<FanCorner>& out) {
+// The position's corners with area, in corner order, and the sum of their weighted faces
+// (corner_of(c): the corner's FanCorner, its face zero when its triangle has no area). Corners of
+// degenerate triangles are left out: they are on no edge and alone in their sets, whose normal is
+// zero (which leaves their vertices to the other corners), and they add +0 to sums that start at
+// +0 (and so are never -0), which changes nothing.
+template <class CornerOf>
+Vec3 gather_fan(std::span<const std::uint32_t> corners, const CornerOf& corner_of, std::vector<FanCorner>& out) {
     out.clear();
     Vec3 around{};
     for (const std::uint32_t c : corners) {
-        const TriangleFacts& t = triangles[c / 3];
-        const Vec3 face{t.face[0], t.face[1], t.face[2]};
-        if (!(dot(face, face) > 0)) continue;
-        const std::uint32_t k = c % 3;
-        const Vec3 weighted = face * t.angle[k];
-        out.push_back({c, t.vertex[k], t.position[(k + 1) % 3], t.position[(k + 2) % 3], face, weighted});
-        around += weighted;
+        const FanCorner corner = corner_of(c);
+        if (!(dot(corner.face, corner.face) > 0)) continue;
+        out.push_back(corner);
+        around += corner.weighted;
     }
     return around;
+}
+
+// A corner as gather_fan takes it, from its triangle's facts.
+FanCorner corner_from_facts(std::uint32_t c, const TriangleFacts& t) {
+    const std::uint32_t k = c % 3;
+    const Vec3 face{t.face[0], t.face[1], t.face[2]};
+    return {c, t.vertex[k], t.position[(k + 1) % 3], t.position[(k + 2) % 3], face, face * t.angle[k]};
 }
 
 // Whether no edge has more sides than one is compared with (k_max_edge_neighbours), i.e. whether
@@ -451,7 +517,8 @@ std::vector<Vec3> split_fans(const CornersByPosition& by_position, const Triangl
             const std::size_t begin = by_position.start[w], end = by_position.start[w + 1];
             for (std::size_t i = begin + k_prefetch_corners; i < std::min(end + k_prefetch_corners, block_end); ++i)
                 __builtin_prefetch(triangles + corner[i] / 3);
-            around[w] = gather_fan({corner + begin, corner + end}, triangles, s.corners);
+            around[w] = gather_fan({corner + begin, corner + end},
+                                   [&](std::uint32_t c) { return corner_from_facts(c, triangles[c / 3]); }, s.corners);
             assign_set_normals(split_into_sets(cos_crease, s), around[w], s, out);
         }
     });
@@ -485,6 +552,195 @@ void copy_vertices(std::vector<FanScratch>& scratch, Mesh& mesh) {
     }
 }
 
+// One thread goes another way, with no facts per triangle (48 MB for the 1M sphere, which cost
+// more to fault in and fetch back by position than to compute): the triangles are described in
+// order and each corner's weighted face added to its position's sum at once (corner order, which
+// is the order the fans sum in: the same bits), and most positions are settled by that sum alone.
+// Per welded position:
+struct PositionSums {  // 64 bytes: a cache line
+    Vec3 around;  // the sum of its corners' weighted faces (with area), in corner order
+    Vec3 first;   // the face of its first corner with area
+    std::uint32_t faces;  // its corners with area, and k_rough or k_far
+    // The sides of its first corners with area (their other ends' welded positions, less this
+    // one's: a cache line holds it all); k_far when one does not fit.
+    struct Sides {
+        std::int16_t next[k_max_edge_neighbours + 1], prev[k_max_edge_neighbours + 1];
+    };
+    union {
+        Sides sides;
+        std::uint32_t place;  // once listed (creased_normals_in_order): where its corners end in the list
+    };
+};
+static_assert(sizeof(PositionSums) == 64);
+constexpr std::uint32_t k_rough = 1u << 31;  // not all faces within reach of the first, or too many: split
+constexpr std::uint32_t k_far = 1u << 30;    // sides too far to keep here: walked from the corners
+constexpr std::uint32_t k_count = k_far - 1;
+
+// A position is settled by its sum when its corners with area make one set, which it has when
+// (a) every face there is within half the crease angle of the first, less a margin, and (b) the
+// corners are joined by their sides: then each pair on a side is joined (their angle is under the
+// crease angle), and the set is the whole fan. (a) holds whatever the rounding: with faces of
+// squared length within 4e-6 of 1 (checked), a float dot product is within 4.5e-6 of the cosine of
+// their angle, so passing cos(crease / 2 - 1e-3) puts a face within crease / 2 - 1e-3 + 2e-4 of the
+// first (4.5e-6 / sin(0.024) < 2e-4), two faces within crease - 1.6e-3, and their dot product at
+// least 1.6e-3 * 0.048 - 4.5e-6 above cos(crease): a margin of more than 7e-5 for crease angles in
+// [0.05, pi - 0.05], the only ones taking this way (with the others every fan is split).
+struct FirstFaceTest {
+    float cos_half = 2;  // never passed: every fan of two faces or more is split as the threads do
+    explicit FirstFaceTest(float crease) {
+        if (crease >= 0.05f && crease <= k_pi - 0.05f) cos_half = static_cast<float>(std::cos(double{crease} / 2 - 1e-3));
+    }
+    bool near(Vec3 face, Vec3 first) const {
+        return std::fabs(dot(face, face) - 1.0f) <= 4e-6f && dot(face, first) > cos_half;
+    }
+};
+
+// The triangles described in order: each position's sums, and a bit per triangle with area.
+void sum_by_position(const Mesh& mesh, const std::vector<std::uint32_t>& weld, const std::vector<bool>& in_range,
+                     const FirstFaceTest& test, PositionSums* sums, std::vector<std::uint64_t>& area) {
+    area.assign((in_range.size() + 63) / 64, 0);
+    describe_range(mesh, in_range, 0, in_range.size(), [&](std::size_t t, const TriangleFacts& facts) {
+        const Vec3 face{facts.face[0], facts.face[1], facts.face[2]};
+        if (!(dot(face, face) > 0)) return;
+        area[t / 64] |= std::uint64_t{1} << t % 64;
+        const std::uint32_t* idx = mesh.indices.data() + 3 * t;
+        const std::int64_t w[3] = {weld[idx[0]], weld[idx[1]], weld[idx[2]]};
+        for (int k = 0; k < 3; ++k) {
+            PositionSums& p = sums[w[k]];
+            p.around += face * facts.angle[k];
+            const std::uint32_t faces = p.faces & k_count;
+            if (faces == 0) p.first = face;
+            if (faces > k_max_edge_neighbours || !test.near(face, p.first)) {
+                p.faces = (p.faces + 1) | k_rough;
+                continue;
+            }
+            const std::int64_t next = w[(k + 1) % 3] - w[k], prev = w[(k + 2) % 3] - w[k];
+            if (next >= -INT16_MAX && next <= INT16_MAX && prev >= -INT16_MAX && prev <= INT16_MAX)
+                p.sides.next[faces] = static_cast<std::int16_t>(next), p.sides.prev[faces] = static_cast<std::int16_t>(prev);
+            else
+                p.faces |= k_far;
+            ++p.faces;
+        }
+    });
+}
+
+bool has_area(const std::vector<std::uint64_t>& area, std::uint32_t t) { return area[t / 64] >> t % 64 & 1; }
+
+// Whether the corners (with area) of a position are all joined by sides. A closed manifold fan
+// (each corner's next side the previous side of exactly one other) is one set when following
+// those sides from the first corner comes back to it after all of them; otherwise the corners are
+// walked from the first, forward and back, which walks an open manifold fan in full. Anything else
+// (a bowtie, a non-manifold edge) is left to split_into_sets.
+template <class Side>
+bool joined_by_sides(const Side* next, const Side* prev, std::uint32_t n) {
+    // Closed: from each corner to the first whose previous side is its next side, back to the
+    // first corner after all of them (then each was reached once).
+    for (std::uint32_t at = 0, step = 1; step <= n; ++step) {
+        std::uint32_t j = 0;
+        while (j < n && prev[j] != next[at]) ++j;
+        if (j == n) break;
+        if ((at = j) == 0) {
+            if (step == n) return true;
+            break;
+        }
+    }
+    std::uint64_t reached = 1;
+    for (const bool forward : {true, false})
+        for (std::uint32_t at = 0;;) {
+            const Side side = forward ? next[at] : prev[at];
+            std::uint64_t on_side = 0;
+            for (std::uint32_t j = 0; j < n; ++j) on_side |= std::uint64_t{(forward ? prev[j] : next[j]) == side} << j;
+            on_side &= ~reached;
+            if (!on_side) break;
+            at = static_cast<std::uint32_t>(std::countr_zero(on_side));
+            reached |= on_side & -on_side;
+        }
+    return reached == (std::uint64_t{1} << n) - 1;
+}
+
+// The corner of triangle t at k as the specification describes it (for the few positions not
+// settled by their sums; the shape kernel gives the same bits for the others).
+FanCorner describe_corner(const Mesh& mesh, const std::vector<std::uint32_t>& weld, std::uint32_t c) {
+    const std::uint32_t t = c / 3, k = c % 3;
+    const std::uint32_t* idx = mesh.indices.data() + 3 * t;
+    const Vec3 p[3] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
+    const Vec3 face = normalize(cross(p[1] - p[0], p[2] - p[0]));
+    float angle = 0;
+    if (dot(face, face) > 0)
+        angle = corner_angle(normalize(p[(k + 1) % 3] - p[k]), normalize(p[k] - p[(k + 2) % 3]));
+    return {c, idx[k], weld[idx[(k + 1) % 3]], weld[idx[(k + 2) % 3]], face, face * angle};
+}
+
+// Vertices in no set (on degenerate triangles only, or on none): the normalized sum around their
+// position (around(w)).
+template <class Around>
+void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, const std::vector<std::uint32_t>& weld,
+                           const Around& around, std::vector<Vec3>& normals) {
+    for (std::uint32_t v = 0; v < vertex_set.size(); ++v) {
+        if (vertex_set[v] != k_no_set) continue;
+        const Vec3 n = normalize(around(weld[v]));
+        normals[v] = dot(n, n) > 0 ? n : Vec3{0, 0, 1};
+    }
+}
+
+// The normals with one thread: the fans of the positions that their sums do not settle split as
+// split_fans does, and the others' vertices left to the fallback (their one set's normal is the
+// normalized sum).
+void creased_normals_in_order(Mesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t positions,
+                              const std::vector<bool>& in_range, float crease) {
+    std::vector<std::uint32_t> vertex_set(mesh.positions.size(), k_no_set);
+    mesh.normals.assign(mesh.positions.size(), Vec3{});
+    std::vector<FanScratch> scratch(1);
+    const ZeroedArray<PositionSums> sums(positions);
+    std::vector<std::uint64_t> area;
+    sum_by_position(mesh, weld, in_range, FirstFaceTest(crease), sums.data(), area);
+    // The positions not settled here, listed: each given its place in `listed_corners` (in the
+    // place of its sides, which it no longer needs) and a bit in `listed`.
+    std::vector<std::uint64_t> listed((positions + 63) / 64, 0);
+    std::uint32_t listed_count = 0;
+    for (std::size_t w = 0; w < positions; ++w) {
+        PositionSums& p = sums[w];
+        const std::uint32_t faces = p.faces & k_count;
+        if (!(p.faces & k_rough) && (faces <= 1 || (!(p.faces & k_far) && joined_by_sides(p.sides.next, p.sides.prev, faces))))
+            continue;
+        p.place = listed_count, listed_count += faces;
+        listed[w / 64] |= std::uint64_t{1} << w % 64;
+    }
+    if (listed_count) {
+        // Their corners with area, in corner order (place ends where each position's corners end).
+        std::vector<std::uint32_t> listed_corners(listed_count);
+        const auto triangles = static_cast<std::uint32_t>(in_range.size());
+        for (std::uint32_t t = 0; t < triangles; ++t) {
+            if (!has_area(area, t)) continue;
+            for (std::uint32_t k = 0; k < 3; ++k)
+                if (const std::uint32_t w = weld[mesh.indices[3 * t + k]]; listed[w / 64] >> w % 64 & 1)
+                    listed_corners[sums[w].place++] = 3 * t + k;
+        }
+        const float cos_crease = std::cos(crease);
+        FanScratch& s = scratch[0];
+        for (std::size_t word = 0; word < listed.size(); ++word)
+            for (std::uint64_t bits = listed[word]; bits; bits &= bits - 1) {
+                const std::size_t w = 64 * word + static_cast<std::size_t>(std::countr_zero(bits));
+                const PositionSums& p = sums[w];
+                const std::uint32_t faces = p.faces & k_count;
+                const std::span<const std::uint32_t> corners{listed_corners.data() + p.place - faces, faces};
+                if (!(p.faces & k_rough)) {  // k_far: the sides from the corners
+                    std::uint32_t next[k_max_edge_neighbours + 1], prev[k_max_edge_neighbours + 1];
+                    for (std::uint32_t i = 0; i < faces; ++i) {
+                        const std::uint32_t* idx = mesh.indices.data() + corners[i] / 3 * 3;
+                        const std::uint32_t k = corners[i] % 3;
+                        next[i] = weld[idx[(k + 1) % 3]], prev[i] = weld[idx[(k + 2) % 3]];
+                    }
+                    if (joined_by_sides(next, prev, faces)) continue;
+                }
+                gather_fan(corners, [&](std::uint32_t c) { return describe_corner(mesh, weld, c); }, s.corners);
+                assign_set_normals(split_into_sets(cos_crease, s), p.around, s, {vertex_set, mesh.normals});
+            }
+        copy_vertices(scratch, mesh);
+    }
+    give_fallback_normals(vertex_set, weld, [&](std::uint32_t w) { return sums[w].around; }, mesh.normals);
+}
+
 }  // namespace
 
 void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads) {
@@ -501,24 +757,23 @@ void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads
     for (std::size_t t = 0; t < triangles; ++t)
         in_range[t] = mesh.indices[3 * t] < vertex_count && mesh.indices[3 * t + 1] < vertex_count &&
                       mesh.indices[3 * t + 2] < vertex_count;
+    if (!workers) {
+        creased_normals_in_order(mesh, welded.id, welded.key.size(), in_range, crease_angle_radians);
+        return;
+    }
 
-    // Each welded position's corners split into sets (split_fans); corners of invalid triangles
-    // are in no set and left alone.
+    // Each welded position's corners split into sets; corners of invalid triangles are in no set
+    // and left alone.
+    std::vector<std::uint32_t> vertex_set(vertex_count, k_no_set);
+    mesh.normals.assign(vertex_count, Vec3{});
+    std::vector<FanScratch> scratch(workers->size());
     CornersByPosition by_position;
     const auto facts = std::make_unique_for_overwrite<TriangleFacts[]>(triangles);
     describe_triangles(mesh, welded.id, welded.key.size(), in_range, workers, facts.get(), by_position);
-    std::vector<std::uint32_t> vertex_set(vertex_count, k_no_set);
-    mesh.normals.assign(vertex_count, Vec3{});
-    std::vector<FanScratch> scratch(workers ? workers->size() : 1);
     const std::vector<Vec3> around = split_fans(by_position, facts.get(), std::cos(crease_angle_radians), workers,
                                                 scratch, {vertex_set, mesh.normals});
     copy_vertices(scratch, mesh);
-    // Vertices in no set (on degenerate triangles only, or on none): the average around the position.
-    for (std::uint32_t v = 0; v < vertex_count; ++v) {
-        if (vertex_set[v] != k_no_set) continue;
-        const Vec3 n = normalize(around[welded.id[v]]);
-        mesh.normals[v] = dot(n, n) > 0 ? n : Vec3{0, 0, 1};
-    }
+    give_fallback_normals(vertex_set, welded.id, [&](std::uint32_t w) { return around[w]; }, mesh.normals);
 }
 
 }  // namespace facet

@@ -11,6 +11,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "scene/triangle_shapes.hpp"
+
 namespace facet_test {
 
 using namespace facet;
@@ -85,7 +87,9 @@ void reference_creased_normals(Mesh& mesh, float crease_angle_radians) {
         if (!(dot(face[t], face[t]) > 0)) continue;  // degenerate: no weight anywhere (and no NaN angles)
         for (int k = 0; k < 3; ++k) {
             const Vec3 e1 = normalize(p[(k + 1) % 3] - p[k]), e2 = normalize(p[(k + 2) % 3] - p[k]);
-            corner_angle[3 * t + k] = std::acos(clamp(dot(e1, e2), -1.0f, 1.0f));
+            // fdlibm's acosf, which std::acos was with glibc 2.36 (triangle_shapes.hpp): the same
+            // bits with any libm.
+            corner_angle[3 * t + k] = detail::corner_acos(clamp(dot(e1, e2), -1.0f, 1.0f));
         }
     }
     auto degenerate = [&](std::size_t t) { return !(dot(face[t], face[t]) > 0); };

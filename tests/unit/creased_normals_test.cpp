@@ -6,6 +6,7 @@
 // on every ISA, since a SIMD kernel shapes the triangles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include "facet/isa.hpp"
 #include "facet/mesh.hpp"
 #include "facet/model.hpp"
+#include "scene/triangle_shapes.hpp"
 #include "support/reference_creased_normals.hpp"
 #include "support/test_data.hpp"
 
@@ -166,6 +168,78 @@ Mesh extreme_triangles() {
 struct IsaGuard {
     ~IsaGuard() { select_isa("best"); }
 };
+
+// One thread sums each position's corners in triangle order and settles a fan without splitting it
+// when its faces are near the first and its corners are joined by sides (kept beside the sums as
+// differences of welded ids that fit 16 bits, else walked from the corners): what must still be
+// split is a fan of two parts that only touch at the position (a bowtie: two closed fans or two
+// open ones around one apex), whatever the crease angle, and fans whose neighbours are far apart
+// in the welding order (a large sphere with its vertices shuffled).
+TEST(CreasedNormals, BowtiesAndFarNeighboursMatchTheReference) {
+    Mesh bowties;
+    for (const float lift : {0.0f, 0.05f}) {
+        const auto apex = static_cast<std::uint32_t>(bowties.positions.size());
+        bowties.positions.push_back({0, 0, lift});
+        for (const float radius : {1.0f, 2.0f}) {  // two closed fans of 12 around the apex
+            const auto first = static_cast<std::uint32_t>(bowties.positions.size());
+            for (int i = 0; i < 12; ++i) {
+                const float a = 6.2831853f * static_cast<float>(i) / 12;
+                bowties.positions.push_back({radius * std::cos(a), radius * std::sin(a), lift + 0.01f * radius});
+                bowties.indices.insert(bowties.indices.end(), {apex, first + i, first + (i + 1) % 12});
+            }
+        }
+        const auto open_apex = static_cast<std::uint32_t>(bowties.positions.size());
+        bowties.positions.push_back({5, 0, lift});
+        for (const float start : {0.0f, 3.2f}) {  // two open fans of 4 on either side of it
+            const auto first = static_cast<std::uint32_t>(bowties.positions.size());
+            for (int i = 0; i < 5; ++i)
+                bowties.positions.push_back({5 + std::cos(start + 0.6f * i), std::sin(start + 0.6f * i), lift});
+            for (std::uint32_t i = 0; i < 4; ++i) bowties.indices.insert(bowties.indices.end(), {open_apex, first + i, first + i + 1});
+        }
+    }
+    for (float crease : {radians(10), radians(40), radians(90)}) expect_same_as_reference(bowties, crease, "bowties");
+
+    Mesh sphere = make_icosphere(1, 6);  // 40,962 positions: ids 32,767 or more apart are not kept
+    sphere.normals.clear();
+    std::mt19937 rng(3);
+    std::vector<std::uint32_t> order(sphere.positions.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    Mesh shuffled = sphere;
+    for (std::uint32_t i = 0; i < order.size(); ++i) shuffled.positions[order[i]] = sphere.positions[i];
+    for (std::uint32_t& index : shuffled.indices) index = order[index];
+    for (int k = 0; k < 200; ++k) std::swap(shuffled.indices[3 * k + 1], shuffled.indices[3 * k + 2]);  // some flipped
+    expect_same_as_reference(shuffled, radians(40), "shuffled icosphere");
+}
+
+// The arc cosine of the corner angles in the kernel's lanes is corner_acos, bit for bit, on every
+// ISA: every 8192nd float of [-1, 1] and the ends of its ways. With glibc up to 2.36, corner_acos is
+// std::acos (fdlibm's acosf; checked there for all floats of [-1, 1]), so normals are the same as
+// before it.
+TEST(CreasedNormals, KernelArcCosineIsCornerAcos) {
+    std::vector<float> values;
+    for (std::uint32_t u = 0; u <= 0x3f800000u; u += 8192)
+        for (const std::uint32_t sign : {0u, 0x80000000u}) values.push_back(std::bit_cast<float>(u | sign));
+    for (const std::uint32_t u : {0x32800000u, 0x32800001u, 0x3effffffu, 0x3f000000u, 0x3f000001u, 0x3f7fffffu, 0x3f800000u})
+        for (const std::uint32_t sign : {0u, 0x80000000u}) values.push_back(std::bit_cast<float>(u | sign));
+    std::vector<float> want(values.size());
+    for (std::size_t i = 0; i < values.size(); ++i) want[i] = detail::corner_acos(values[i]);
+#if defined(__GLIBC__) && __GLIBC__ == 2 && __GLIBC_MINOR__ <= 36
+    for (std::size_t i = 0; i < values.size(); ++i)
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(want[i]), std::bit_cast<std::uint32_t>(std::acos(values[i])))
+            << "acos(" << values[i] << ")";
+#endif
+    const IsaGuard guard;
+    for (const std::string& isa : available_isas()) {
+        SCOPED_TRACE(isa);
+        ASSERT_TRUE(select_isa(isa));
+        std::vector<float> got = values;
+        got.push_back(0.25f);  // a length that leaves a partial vector of lanes
+        if (!detail::corner_acos_lanes(got.data(), got.size())) continue;  // the scalar ISA: corner_acos itself
+        got.pop_back();
+        EXPECT_EQ(bits_of(got), bits_of(want));
+    }
+}
 
 TEST(CreasedNormals, EveryIsaMatchesTheReference) {
     const IsaGuard guard;
