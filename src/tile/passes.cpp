@@ -80,9 +80,6 @@ void write_pass_records(TileBuffers& b, std::size_t first, const PassDraw& d, co
         std::memcpy(out + ph_primitive, &primitive, sizeof(primitive));
         const Vec3 normal = face && d.topology == Topology::triangles ? face_normal(d, primitive) : Vec3{};
         out[ph_face_x] = normal.x, out[ph_face_y] = normal.y, out[ph_face_z] = normal.z;
-        out[ph_x0] = t.x0, out[ph_y0] = t.y0, out[ph_z0] = t.z0, out[ph_dzdx] = t.dzdx, out[ph_dzdy] = t.dzdy;
-        out[ph_q0] = t.q0, out[ph_dqdx] = t.dqdx, out[ph_dqdy] = t.dqdy;
-        out[ph_dl1dx] = t.dl1dx, out[ph_dl1dy] = t.dl1dy, out[ph_dl2dx] = t.dl2dx, out[ph_dl2dy] = t.dl2dy;
         if (n > 0) {
             const float* var[3];
             for (int k = 0; k < 3; ++k) var[k] = varyings_of(t.vertex[k], *d.vertices, chunk.pass_extras);
@@ -111,20 +108,11 @@ PassOut rows_for(PassRow& r, const PassTargets& t) {
 // values per pixel. Not fenced: the caller calls fence_streams().
 void store_rows(const PassOut& from, int rows_stride, const PassTargets& t, std::size_t at, int width, int height,
                 int stride, bool stream) {
-    auto store = [&](const void* rows, void* target, int components) {
+    for_each_pass(from, targets_at(t, at), [&](const void* rows, void* target, int components) {
         if (!target) return;
         const PixelRect r{0, 0, width * components, height};
-        store_tile_rows(rows, rows_stride * components, static_cast<std::uint32_t*>(target) + at * static_cast<std::size_t>(components),
-                        r, stride * components, stream, nullptr, 0, false);
-    };
-    store(from.alpha, t.alpha, 1);
-    store(from.depth, t.depth, 1);
-    store(from.range, t.range, 1);
-    store(from.normal, t.normal, 3);
-    store(from.instance, t.instance, 1);
-    store(from.material, t.material, 1);
-    store(from.primitive, t.primitive, 1);
-    store(from.uv, t.uv, 2);
+        store_tile_rows(rows, rows_stride * components, target, r, stride * components, stream, nullptr, 0, false);
+    });
 }
 
 }  // namespace
@@ -203,7 +191,9 @@ void write_pass_pixels(const VisibleTile& tile, const float* records, int record
             if (rows) fill_pass_background(out, 0, width);
             for (std::uint64_t m = mask; m; m &= m - 1) write_pass_pixel(tile, records, record_stride, d, r, std::countr_zero(m), out);
         } else {
-            write_pass_row(tile, records, record_stride, d, r, mask, out, rows != nullptr);
+            const PassOut direct = targets_at(targets, row_at);
+            if (write_pass_row(tile, records, record_stride, d, r, mask, out, rows != nullptr, rows ? &direct : nullptr))
+                continue;
         }
         if (rows) store_rows(out, 0, targets, row_at, width, 1, d.stride, true);
     }

@@ -30,12 +30,9 @@ struct PassLayout {
 };
 PassLayout pass_layout(const DrawPasses& passes);
 
-// A triangle's pass record in a tile, floats: the head (its primitive's bits, its face normal, and a
-// copy of the set-up values the pixels read, so that a SIMD kernel fetches any field of any triangle
-// from one record), then its pass varyings in barycentric form (v0[N], d1[N], d2[N], as the shading
-// record's varyings: write_varying_planes).
-enum PassHead : int { ph_primitive, ph_face_x, ph_face_y, ph_face_z, ph_x0, ph_y0, ph_z0, ph_dzdx, ph_dzdy, ph_q0,
-                      ph_dqdx, ph_dqdy, ph_dl1dx, ph_dl1dy, ph_dl2dx, ph_dl2dy, k_pass_head };
+// A triangle's pass record in a tile, floats: the head, then its pass varyings in barycentric form
+// (v0[N], d1[N], d2[N], as the shading record's varyings: write_varying_planes).
+enum PassHead : int { ph_primitive, ph_face_x, ph_face_y, ph_face_z, k_pass_head };
 constexpr int pass_record_floats(int varyings) { return k_pass_head + 3 * varyings; }
 
 // What the tile pass knows of a draw's passes.
@@ -88,6 +85,14 @@ struct PassOut {
     Vec2* uv;
 };
 
+// f(a's row, b's row, 4-byte values per pixel) for each pass, a's and b's pointers to the same pass
+// (null where it is not wanted).
+template <class F>
+void for_each_pass(const PassOut& a, const PassOut& b, F&& f) {
+    f(a.alpha, b.alpha, 1), f(a.depth, b.depth, 1), f(a.range, b.range, 1), f(a.normal, b.normal, 3);
+    f(a.instance, b.instance, 1), f(a.material, b.material, 1), f(a.primitive, b.primitive, 1), f(a.uv, b.uv, 2);
+}
+
 // Pixels [begin, end) of `o` set to the background.
 void fill_pass_background(const PassOut& o, int begin, int end);
 
@@ -98,9 +103,12 @@ void write_pass_pixel(const VisibleTile& tile, const float* records, int record_
 
 // Row r of the tile as write_pass_pixels writes it into `out`, its visible pixels `pixels` (the
 // row's covered bits), with `whole` every other pixel of the row the background too: a SIMD kernel
-// for the selected ISA (passes_simd.cpp), the same bytes as write_pass_pixel per pixel.
-void write_pass_row(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& draw, int r,
-                    std::uint64_t pixels, const PassOut& out, bool whole);
+// for the selected ISA (passes_simd.cpp), the same bytes as write_pass_pixel per pixel. With
+// `stream` (and `whole`: `out` is then a row buffer), when each of its rows is whole aligned cache
+// lines the row goes straight to them with streaming stores, not fenced, and it returns true
+// (`out` then holds nothing of it); otherwise it returns false.
+bool write_pass_row(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& draw, int r,
+                    std::uint64_t pixels, const PassOut& out, bool whole, const PassOut* stream = nullptr);
 
 // The visible pixels of the tile into the pass targets: each from the triangle that owns it, its
 // set-up record (q, the barycentric planes, window depth) and its pass record. Without `rows` the

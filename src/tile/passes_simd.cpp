@@ -9,9 +9,11 @@
 #define HWY_TARGET_INCLUDE "tile/passes_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include <bit>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 
@@ -44,25 +46,25 @@ struct PassLanes {
 };
 
 // write_pass_pixel for the lanes whose pixel centres are (px, py), each triangle value read by
-// field(j) (pass record offset j; field_u for the primitive's bits). Lanes whose normal needs
-// normalize_rare are added to `scalar`.
-template <class Field, class FieldU>
-HWY_INLINE PassLanes pass_lanes(const PassDraw& d, const Field& field, const FieldU& field_u, VF px, VF py,
-                                MF& scalar) {
+// setup(&TriangleSetup::member) or field(j) (pass record offset j; field_u for the primitive's bits).
+// Lanes whose normal needs normalize_rare are added to `scalar`.
+template <class Setup, class Field, class FieldU>
+HWY_INLINE PassLanes pass_lanes(const PassDraw& d, const Setup& setup, const Field& field, const FieldU& field_u,
+                                VF px, VF py, MF& scalar) {
     const DF df;
     const DrawPasses& p = *d.passes;
     const PassTargets& t = p.targets;
     const PassLayout& l = d.layout;
     const int n = l.count;
     PassLanes o;
-    const VF dx = hn::Sub(px, field(ph_x0)), dy = hn::Sub(py, field(ph_y0));
-    const VF q = hn::Add(hn::Add(field(ph_q0), hn::Mul(field(ph_dqdx), dx)), hn::Mul(field(ph_dqdy), dy));
+    const VF dx = hn::Sub(px, setup(&TriangleSetup::x0)), dy = hn::Sub(py, setup(&TriangleSetup::y0));
+    const VF q = hn::Add(hn::Add(setup(&TriangleSetup::q0), hn::Mul(setup(&TriangleSetup::dqdx), dx)), hn::Mul(setup(&TriangleSetup::dqdy), dy));
     const VF w = hn::Div(hn::Set(df, 1.0f), q);
     if (t.depth || t.range) {
         if (p.depth_scale == 0) {
             o.depth = w;
         } else {  // depth_at: the window depth clamped to [0, 1] (NaN kept)
-            VF z = hn::Add(hn::Add(field(ph_z0), hn::Mul(field(ph_dzdx), dx)), hn::Mul(field(ph_dzdy), dy));
+            VF z = hn::Add(hn::Add(setup(&TriangleSetup::z0), hn::Mul(setup(&TriangleSetup::dzdx), dx)), hn::Mul(setup(&TriangleSetup::dzdy), dy));
             const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
             z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
             o.depth = hn::Add(hn::Set(df, p.depth_offset), hn::Mul(hn::Set(df, p.depth_scale), z));
@@ -79,8 +81,8 @@ HWY_INLINE PassLanes pass_lanes(const PassDraw& d, const Field& field, const Fie
     VF b1 = hn::Zero(df), b2 = hn::Zero(df);
     if (n > 0) {
         const VF zero = hn::Zero(df);
-        b1 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(ph_dl1dx), dx)), hn::Mul(field(ph_dl1dy), dy)), w);
-        b2 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(ph_dl2dx), dx)), hn::Mul(field(ph_dl2dy), dy)), w);
+        b1 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(setup(&TriangleSetup::dl1dx), dx)), hn::Mul(setup(&TriangleSetup::dl1dy), dy)), w);
+        b2 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(setup(&TriangleSetup::dl2dx), dx)), hn::Mul(setup(&TriangleSetup::dl2dy), dy)), w);
     }
     auto varying = [&](int k) {
         return hn::Add(hn::Add(field(k_pass_head + k), hn::Mul(b1, field(k_pass_head + n + k))),
@@ -184,17 +186,41 @@ HWY_INLINE void store_pass_background(const PassOut& out, int i) {
     if (out.uv) hn::StoreInterleaved2(zero, zero, df, reinterpret_cast<float*>(out.uv + i));
 }
 
+// Whether every pass of `to` (a row of the targets) starts on a cache line and is whole cache lines
+// for `width` pixels.
+bool whole_lines(const PassOut& to, int width) {
+    if (width % 16 != 0) return false;
+    auto aligned = [](const void* p) { return reinterpret_cast<std::uintptr_t>(p) % 64 == 0; };
+    return aligned(to.alpha) && aligned(to.depth) && aligned(to.range) && aligned(to.normal) && aligned(to.instance) &&
+           aligned(to.material) && aligned(to.primitive) && aligned(to.uv);
+}
+
+// [i, i + lanes) of each pass of `from` (a row buffer, whole) streamed to `to` (whole aligned lines).
+HWY_INLINE void stream_pass_lanes(const PassOut& from, const PassOut& to, int i) {
+    const DF df;
+    constexpr int lanes = static_cast<int>(hn::MaxLanes(DF()));
+    for_each_pass(from, to, [&](const void* src, void* dst, int components) {
+        if (!dst) return;
+        const float* s = static_cast<const float*>(src) + i * components;
+        float* t = static_cast<float*>(dst) + i * components;
+        for (int k = 0; k < components; ++k) hn::Stream(hn::Load(df, s + k * lanes), df, t + k * lanes);
+    });
+}
+
 // GCC 12 cannot see that the runs found from the leaders' bits fill run_record[0, runs) before the
 // blends read it, and warns; the entries read are exactly those written.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-void WritePassRow(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& d, int r,
-                  std::uint64_t pixels, const PassOut& out, bool whole) {
+bool WritePassRow(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& d, int r,
+                  std::uint64_t pixels, const PassOut& out, bool whole, const PassOut* stream) {
     const DF df;
     const DU du;
     constexpr int lanes = static_cast<int>(hn::MaxLanes(DF()));
     constexpr std::uint64_t lane_bits = lanes >= 64 ? ~0ull : (1ull << lanes) - 1;
     const int width = tile.rect.x1 - tile.rect.x0, simd_width = width / lanes * lanes;
+    // Straight to the targets: each vector through `out` at its place (in the caches) and streamed
+    // from there, so that the specification can still mend its lanes first.
+    const bool direct = whole && stream && simd_width == width && whole_lines(*stream, width);
     const std::uint32_t* owner_row = tile.owner + r * VisibleTile::k_row;
     const VF py = hn::Set(df, static_cast<float>(tile.rect.y0 + r) + 0.5f);
     // Lane l's left neighbour (itself for lane 0, which has none).
@@ -208,6 +234,7 @@ void WritePassRow(const VisibleTile& tile, const float* records, int record_stri
         const std::uint64_t bits = (pixels >> i) & lane_bits;
         if (!bits) {
             if (whole) store_pass_background(out, i);
+            if (direct) stream_pass_lanes(out, *stream, i);
             continue;
         }
         std::uint8_t bytes[8];
@@ -221,8 +248,10 @@ void WritePassRow(const VisibleTile& tile, const float* records, int record_stri
         hn::Store(owners, du, owner_of);
         MF run_mask[lanes];
         const float* run_record[lanes];
+        const TriangleSetup* run_setup[lanes];
         const std::uint32_t first_owner = owner_of[std::countr_zero(bits)];
         run_record[0] = records + static_cast<std::size_t>(first_owner) * static_cast<std::size_t>(record_stride);
+        run_setup[0] = tile.triangles[first_owner];
         int runs = 1;
         const MF first_run = hn::RebindMask(df, hn::Eq(owners, hn::Set(du, first_owner)));
         if (!hn::AllFalse(df, hn::AndNot(first_run, visible))) {
@@ -232,6 +261,7 @@ void WritePassRow(const VisibleTile& tile, const float* records, int record_stri
                 const std::uint32_t owner = owner_of[std::countr_zero(leaders)];
                 run_mask[runs] = hn::RebindMask(df, hn::Eq(owners, hn::Set(du, owner)));
                 run_record[runs] = records + static_cast<std::size_t>(owner) * static_cast<std::size_t>(record_stride);
+                run_setup[runs] = tile.triangles[owner];
             }
         }
         const VF px = hn::Add(hn::Iota(df, static_cast<float>(tile.rect.x0 + i)), hn::Set(df, 0.5f));
@@ -239,14 +269,21 @@ void WritePassRow(const VisibleTile& tile, const float* records, int record_stri
         PassLanes o;
         if (runs == 1) {  // one triangle: plain broadcasts
             const float* record = run_record[0];
+            const TriangleSetup& t = *run_setup[0];
+            auto setup = [&](float TriangleSetup::*m) { return hn::Set(df, t.*m); };
             auto field = [&](int j) { return hn::Set(df, record[j]); };
             auto field_u = [&](int j) {
                 std::uint32_t u;
                 std::memcpy(&u, record + j, sizeof(u));
                 return hn::Set(du, u);
             };
-            o = pass_lanes(d, field, field_u, px, py, scalar);
+            o = pass_lanes(d, setup, field, field_u, px, py, scalar);
         } else {
+            auto setup = [&](float TriangleSetup::*m) {
+                VF v = hn::Set(df, run_setup[0]->*m);
+                for (int k = 1; k < runs; ++k) v = hn::IfThenElse(run_mask[k], hn::Set(df, run_setup[k]->*m), v);
+                return v;
+            };
             auto field = [&](int j) {
                 VF v = hn::Set(df, run_record[0][j]);
                 for (int k = 1; k < runs; ++k) v = hn::IfThenElse(run_mask[k], hn::Set(df, run_record[k][j]), v);
@@ -262,15 +299,24 @@ void WritePassRow(const VisibleTile& tile, const float* records, int record_stri
                 for (int k = 1; k < runs; ++k) v = hn::IfThenElse(hn::RebindMask(du, run_mask[k]), at(k), v);
                 return v;
             };
-            o = pass_lanes(d, field, field_u, px, py, scalar);
+            o = pass_lanes(d, setup, field, field_u, px, py, scalar);
         }
         store_pass_lanes(d, o, visible, whole, out, i);
-        redo |= (mask_bits(hn::And(scalar, visible)) & bits) << i;
+        const std::uint64_t rare = mask_bits(hn::And(scalar, visible)) & bits;
+        if (direct) {
+            for (std::uint64_t b = rare; b; b &= b - 1)
+                write_pass_pixel(tile, records, record_stride, d, r, i + std::countr_zero(b), out);
+            stream_pass_lanes(out, *stream, i);
+        } else {
+            redo |= rare << i;
+        }
     }
+    if (direct) return true;
     // The columns past the last whole vector, and the lanes the vectors could not do.
     if (whole) fill_pass_background(out, simd_width, width);
     redo |= simd_width >= 64 ? 0 : pixels & (~0ull << simd_width);
     for (; redo; redo &= redo - 1) write_pass_pixel(tile, records, record_stride, d, r, std::countr_zero(redo), out);
+    return false;
 }
 #pragma GCC diagnostic pop
 
@@ -282,9 +328,9 @@ namespace facet::detail {
 
 HWY_EXPORT(WritePassRow);
 
-void write_pass_row(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& d, int r,
-                    std::uint64_t pixels, const PassOut& out, bool whole) {
-    HWY_DYNAMIC_DISPATCH(WritePassRow)(tile, records, record_stride, d, r, pixels, out, whole);
+bool write_pass_row(const VisibleTile& tile, const float* records, int record_stride, const PassDraw& d, int r,
+                    std::uint64_t pixels, const PassOut& out, bool whole, const PassOut* stream) {
+    return HWY_DYNAMIC_DISPATCH(WritePassRow)(tile, records, record_stride, d, r, pixels, out, whole, stream);
 }
 
 }  // namespace facet::detail
