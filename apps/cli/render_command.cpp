@@ -160,7 +160,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
         return k_exit_failed;
     }
     report.phase(WorkerPhase::writing);
-    if (Status s = write_png(r.output, colour); !s) {
+    if (Status s = write_png(r.output, colour, {.threads = renderer.renderer().threads()}); !s) {
         std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
         return k_exit_failed;
     }

@@ -114,7 +114,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
         if (error.empty() && !job.staging) {
             report.phase(WorkerPhase::writing);
             start = Clock::now();
-            if (Status s = write_png(job.output.string(), colour); !s) {
+            if (Status s = write_png(job.output.string(), colour, {.threads = k_thumbnail_threads}); !s) {
                 error = s.error().message;
                 f.reason = FailReason::write_failed;
             }

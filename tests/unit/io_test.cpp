@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "facet/io.hpp"
 
@@ -74,6 +75,88 @@ TEST(Png, Gray16StoresBigEndianSamples) {
     ASSERT_TRUE(back.ok());
     EXPECT_EQ(back->at(0, 0).r, 0x12);
     EXPECT_EQ(back->at(1, 0).r, 0xff);
+}
+
+std::string file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Pixels that compress poorly (a hash of x and y), so that each block of rows holds real work.
+Image noise(int w, int h, bool opaque) {
+    Image img{w, h, std::vector<Rgba8>(static_cast<std::size_t>(w) * h)};
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::uint32_t v = (static_cast<std::uint32_t>(x) * 73856093u) ^ (static_cast<std::uint32_t>(y) * 19349663u);
+            const std::uint32_t m = v * 2654435761u;
+            img.at(x, y) = {static_cast<std::uint8_t>(m >> 24), static_cast<std::uint8_t>(m >> 16),
+                            static_cast<std::uint8_t>(x + y), static_cast<std::uint8_t>(opaque ? 255 : m >> 8)};
+        }
+    return img;
+}
+
+// The encoder deflates blocks of rows (~128 KB of filtered bytes each) in parallel: a 200x400 image
+// has 2 blocks as RGB and 3 as RGBA. The file must decode to the same pixels (libspng checks the
+// chunks' CRCs and the zlib stream's Adler-32) and be the same bytes whatever the thread count.
+TEST(Png, ImagesOfManyRowBlocksRoundTripInTheSameBytesOnAnyThreadCount) {
+    const fs::path dir = temp_dir("blocks");
+    for (bool opaque : {true, false}) {
+        const Image img = noise(200, 400, opaque);
+        std::string first;
+        for (int threads : {1, 2, 3}) {
+            const fs::path path = dir / ("t" + std::to_string(threads) + (opaque ? "rgb" : "rgba") + ".png");
+            ASSERT_TRUE(write_png(path.string(), img, {.threads = threads}).ok());
+            if (first.empty()) {
+                first = file_bytes(path);
+                EXPECT_EQ(png_colour_type(path), opaque ? 2 : 6);
+                Result<Image> back = read_png(path.string());
+                ASSERT_TRUE(back.ok()) << back.error().message;
+                EXPECT_TRUE(back->pixels == img.pixels);
+            } else {
+                EXPECT_EQ(file_bytes(path), first) << threads << " threads";
+            }
+        }
+    }
+}
+
+TEST(Png, EveryLevelDecodesToTheSamePixelsAndOthersAreRefused) {
+    const fs::path dir = temp_dir("levels");
+    const Image img = noise(100, 300, false);
+    std::size_t stored = 0, best = 0;
+    for (int level : {0, 1, 2, 6, 9}) {
+        const fs::path path = dir / ("l" + std::to_string(level) + ".png");
+        ASSERT_TRUE(write_png(path.string(), img, {.level = level}).ok());
+        Result<Image> back = read_png(path.string());
+        ASSERT_TRUE(back.ok()) << level << ": " << back.error().message;
+        EXPECT_TRUE(back->pixels == img.pixels) << level;
+        (level == 0 ? stored : best) = fs::file_size(path);
+    }
+    EXPECT_GT(stored, img.pixels.size() * 4);  // level 0 stores the filtered rows as they are
+    EXPECT_LT(best, stored);
+    for (int level : {-1, 10}) {
+        const Status s = write_png((dir / "bad.png").string(), img, {.level = level});
+        ASSERT_FALSE(s.ok());
+        EXPECT_EQ(s.error().code, ErrorCode::invalid_argument);
+        EXPECT_NE(s.error().message.find("bad.png"), std::string::npos);
+    }
+    EXPECT_FALSE(fs::exists(dir / "bad.png"));
+}
+
+TEST(Png, Rgb16OfManyRowBlocksKeepsEverySample) {
+    const fs::path dir = temp_dir("rgb16");
+    const int w = 200, h = 300;  // 1201 bytes a row: 3 blocks
+    std::vector<std::uint16_t> values(static_cast<std::size_t>(w) * h * 3);
+    for (std::size_t i = 0; i < values.size(); ++i) values[i] = static_cast<std::uint16_t>(i * 40503u);
+    const std::string path = (dir / "c.png").string();
+    ASSERT_TRUE(write_png_rgb16(path, w, h, values).ok());
+    Result<Image> back = read_png(path);  // 16-bit samples decode to their high byte
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    for (std::size_t p = 0; p < back->pixels.size(); ++p) {
+        const Rgba8 px = back->pixels[p];
+        ASSERT_EQ(px.r, values[3 * p] >> 8) << p;
+        ASSERT_EQ(px.g, values[3 * p + 1] >> 8) << p;
+        ASSERT_EQ(px.b, values[3 * p + 2] >> 8) << p;
+    }
 }
 
 TEST(Png, WritingIntoAMissingDirectoryFailsAndNamesTheFile) {
