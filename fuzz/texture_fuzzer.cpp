@@ -1,5 +1,5 @@
-// Fuzz target: encoded images (PNG, JPEG, BMP, TGA, GIF, PSD, HDR, PNM, ... whatever stb_image
-// reads) through facet::Texture::decode with small TextureLimits, then sampling the decoded texture
+// Fuzz target: encoded images (JPEG through libjpeg-turbo; PNG, BMP, TGA, GIF, PSD, HDR, PNM, ...
+// whatever stb_image reads) through facet::Texture::decode with small TextureLimits, then sampling the decoded texture
 // with every filter and wrap mode at ordinary and hostile coordinates (NaN, inf, 1e30, huge or
 // NaN derivatives, any lod).
 // A finding is a crash, a sanitizer report, decode returning a texture over the limits, or a

@@ -462,6 +462,19 @@ TEST(TextureLoad, GarbageIsABadFormatNamingTheFile) {
     EXPECT_EQ(cut.error().code, ErrorCode::bad_format);
 }
 
+// JPEG goes through libjpeg-turbo, whose decoder finishes a cut file in grey with a warning: every
+// cut of a JPEG is an error naming the file, not an image (the whole file decodes).
+TEST(TextureLoad, TruncatedJpegIsAnError) {
+    const std::vector<unsigned char> jpeg = two_block_jpeg();
+    ASSERT_TRUE(Texture::decode(jpeg.data(), jpeg.size(), "whole.jpg").ok());
+    for (std::size_t size = 1; size < jpeg.size(); ++size) {
+        auto cut = Texture::decode(jpeg.data(), size, "cut.jpg");
+        ASSERT_FALSE(cut.ok()) << size << " of " << jpeg.size() << " bytes";
+        EXPECT_EQ(cut.error().code, ErrorCode::bad_format) << size;
+        EXPECT_TRUE(mentions(cut.error(), "cut.jpg")) << cut.error().message;
+    }
+}
+
 TEST(TextureLoad, HugeHeadersExceedTheLimitsBeforeDecoding) {
     const fs::path dir = temp_dir("huge");
     const fs::path path = dir / "huge.png";
