@@ -182,14 +182,28 @@ HWY_INLINE VF portable_pow(VF x, float y) {
     return hn::IfThenElse(hn::Ge(x, zero), r, hn::Set(df, std::numeric_limits<float>::quiet_NaN()));
 }
 
-// shaders::detail::lambert_term: ambient + (key * k + fill * f) * diffuse, per channel.
-HWY_INLINE Vec3Lanes lambert_term(const Vec3Lanes& n, const ShadingUniforms& u) {
+// Whether the three channels of c have the same bits: then the same arithmetic on each channel
+// gives each the same result, and it need be done once.
+inline bool grey(Vec3 c) {
+    return std::bit_cast<std::uint32_t>(c.x) == std::bit_cast<std::uint32_t>(c.y) &&
+           std::bit_cast<std::uint32_t>(c.y) == std::bit_cast<std::uint32_t>(c.z);
+}
+// Whether both lights are grey (grey above): the usual white key light and no fill.
+inline bool grey_lights(const ShadingUniforms& u) { return grey(u.key.colour) && grey(u.fill.colour); }
+
+// shaders::detail::lambert_term: ambient + (key * k + fill * f) * diffuse, per channel; with
+// `grey_light` (grey_lights(u)) one channel computed for all three.
+HWY_INLINE Vec3Lanes lambert_term(const Vec3Lanes& n, const ShadingUniforms& u, bool grey_light = false) {
     const DF df;
     const VF k = max_zero(dot(n, splat(u.key.direction))), f = max_zero(dot(n, splat(u.fill.direction)));
     const VF ambient = hn::Set(df, u.ambient), diffuse = hn::Set(df, u.diffuse);
     auto channel = [&](float key, float fill) {
         return hn::Add(ambient, hn::Mul(hn::Add(hn::Mul(hn::Set(df, key), k), hn::Mul(hn::Set(df, fill), f)), diffuse));
     };
+    if (grey_light) {
+        const VF c = channel(u.key.colour.x, u.fill.colour.x);
+        return {c, c, c};
+    }
     return {channel(u.key.colour.x, u.fill.colour.x), channel(u.key.colour.y, u.fill.colour.y),
             channel(u.key.colour.z, u.fill.colour.z)};
 }
@@ -265,6 +279,11 @@ HWY_INLINE hn::Vec<DU> to_rgba8(const ColourLanes& c) {
     return hn::Or(hn::Or(unorm8(c.r), hn::ShiftLeft<8>(unorm8(c.g))),
                   hn::Or(hn::ShiftLeft<16>(unorm8(c.b)), hn::ShiftLeft<24>(unorm8(c.a))));
 }
+// to_rgba8 of a grey colour: r, g and b all `grey`.
+HWY_INLINE hn::Vec<DU> grey_to_rgba8(VF grey, VF alpha) {
+    const auto c = unorm8(grey);
+    return hn::Or(hn::Or(c, hn::ShiftLeft<8>(c)), hn::Or(hn::ShiftLeft<16>(c), hn::ShiftLeft<24>(unorm8(alpha))));
+}
 
 // How many varyings' derivatives a shader's lanes read: Lanes::D, or none.
 template <class Lanes>
@@ -273,13 +292,11 @@ constexpr int derivative_lanes() {
     else return 0;
 }
 
-// The colours of the lanes in `active`, whose pixel centres are (centre_x, centre_y) (each x + 0.5
+// The inputs of the lanes in `active`, whose pixel centres are (centre_x, centre_y) (each x + 0.5
 // computed exactly as fragment_at does): interpolation (and derivatives) as in fragment_at, with
-// each triangle value read by field(j) (record offset j), then the shader's lanes. Lanes whose
-// result needs the specification are added to `scalar`.
-template <int N, class Lanes, class Field>
-HWY_INLINE hn::Vec<DU> shade_lanes(const Lanes& lanes, const Field& field, VF centre_x, VF centre_y, MF active,
-                                   MF& scalar) {
+// each triangle value read by field(j) (record offset j).
+template <int N, int D, class Field>
+HWY_INLINE void interpolate_lanes(const Field& field, VF centre_x, VF centre_y, MF active, LanesIn<N, D>& in) {
     const DF df;
     const VF dx = hn::Sub(centre_x, field(sh_x0));
     const VF dy = hn::Sub(centre_y, field(sh_y0));
@@ -289,8 +306,6 @@ HWY_INLINE hn::Vec<DU> shade_lanes(const Lanes& lanes, const Field& field, VF ce
     const VF zero = hn::Zero(df);
     const VF b1 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
     const VF b2 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
-    constexpr int D = derivative_lanes<Lanes>();
-    LanesIn<N, D> in;
     for (int k = 0; k < N; ++k)
         in.v[k] = hn::Add(hn::Add(field(k_shading_head + k), hn::Mul(b1, field(k_shading_head + N + k))),
                           hn::Mul(b2, field(k_shading_head + 2 * N + k)));
@@ -309,9 +324,6 @@ HWY_INLINE hn::Vec<DU> shade_lanes(const Lanes& lanes, const Field& field, VF ce
     in.front_facing = hn::Gt(field(sh_front), hn::Zero(df));
     in.visible = active;
     in.scalar = hn::FirstN(df, 0);
-    const auto rgba = to_rgba8(lanes(in));
-    scalar = hn::Or(scalar, hn::And(in.scalar, active));
-    return rgba;
 }
 
 constexpr int k_max_lanes = HWY_MAX_BYTES / sizeof(float);
@@ -366,7 +378,11 @@ HWY_INLINE void store_block(D d, hn::Vec<D> v, T* p, int stride) {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 template <class S, class Lanes>
-void ShadeVisibleTile(const S& shader, const Lanes& lanes, const VisibleTile& vis, TargetView target) {
+void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile& vis, TargetView target) {
+    // A copy of the shader's lanes on the stack, whose address does not escape: the stores to the
+    // target cannot alias it, so the compiler keeps its uniforms (and what it computes from them
+    // alone) in registers across the blocks instead of loading them again after every store.
+    const Lanes lanes = lanes_in;
     constexpr int N = S::k_varyings;
     static_assert(Lanes::N == N);
     const DF df;
@@ -409,12 +425,24 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const VisibleTile& vi
 
     std::uint64_t redo[k_max_tile_size];  // per row: pixels for the specification
     for (int r = 0; r < height; ++r) redo[r] = vis.covered[r] & (r < simd_height ? tail_bits : ~0ull);
+    // A row of blocks is shaded in two steps: first each block's triangles are found and its inputs
+    // interpolated, then the shader runs on every block of the row. The shader's arithmetic is one
+    // long chain of dependent operations per block (a division, a square root and another division
+    // in a row for Lambert); in a loop of its own the core overlaps the chains of several blocks,
+    // which it could not across the first step's scalar work and branches.
+    constexpr int D = derivative_lanes<Lanes>();
+    struct Block {
+        LanesIn<N, D> in;
+        int i;  // its first column in the tile
+    };
+    Block blocks[k_max_tile_size / bw];
     for (int r0 = 0; r0 < simd_height; r0 += bh) {
         std::uint64_t any = 0;
         for (int r = 0; r < bh; ++r) any |= vis.covered[r0 + r];
         if (!any) continue;
         const int y = tile.y0 + r0;
         const VF centre_y = hn::Add(hn::Add(hn::Set(df, static_cast<float>(y)), lane_row), half);
+        int count = 0;
         for (int i = 0; i < simd_width; i += bw) {
             std::uint64_t bits = 0;
             for (int r = 0; r < bh; ++r) bits |= ((vis.covered[r0 + r] >> i) & block_row_bits) << (r * bw);
@@ -427,7 +455,6 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const VisibleTile& vi
             stream_fill_rows(*vis.idle, k_fill_rows_per_block);
             const int x = tile.x0 + i;
             const VF centre_x = hn::Add(hn::Add(hn::Set(df, static_cast<float>(x)), lane_column), half);
-            MF scalar = hn::FirstN(df, 0);
 
             // The triangles owning the visible lanes: each lane's value of a record field is
             // assembled from one broadcast per triangle. (Gathering values lane by lane was measured
@@ -461,27 +488,38 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes, const VisibleTile& vi
                     run_record[runs] = records + static_cast<std::size_t>(owner) * vis.record_stride;
                 }
             }
-            hn::Vec<DU> rgba;
+            Block& block = blocks[count++];
+            block.i = i;
             if (runs == 1) {  // one triangle: plain broadcasts
                 const float* record = run_record[0];
                 auto field = [&](int j) { return hn::Set(df, record[j]); };
-                rgba = shade_lanes<N>(lanes, field, centre_x, centre_y, visible, scalar);
+                interpolate_lanes<N, D>(field, centre_x, centre_y, visible, block.in);
             } else {
                 auto field = [&](int j) {
                     VF v = hn::Set(df, run_record[0][j]);
                     for (int r = 1; r < runs; ++r) v = hn::IfThenElse(run_mask[r], hn::Set(df, run_record[r][j]), v);
                     return v;
                 };
-                rgba = shade_lanes<N>(lanes, field, centre_x, centre_y, visible, scalar);
+                interpolate_lanes<N, D>(field, centre_x, centre_y, visible, block.in);
             }
+        }
+        for (int b = 0; b < count; ++b) {
+            LanesIn<N, D>& in = blocks[b].in;
+            const int i = blocks[b].i;
+            // A shader's lanes may pack their own colours (e.g. grey ones, once for three channels).
+            hn::Vec<DU> rgba;
+            if constexpr (requires { lanes.rgba8(in); }) rgba = lanes.rgba8(in);
+            else rgba = to_rgba8(lanes(in));
             // Rgba8 is four bytes, r first: stored as 32-bit lanes (Highway stores may alias).
-            auto* colour = reinterpret_cast<std::uint32_t*>(target.colour + target.at(x, y));
+            auto* colour = reinterpret_cast<std::uint32_t*>(target.colour + target.at(tile.x0 + i, y));
             // Read the old colours only to keep the pixels of a partly visible block (reading them
             // for every block was measured at 8% of the pass: the framebuffer is not in the caches).
-            if (!hn::AllTrue(df, visible))
-                rgba = hn::IfThenElse(hn::RebindMask(du, visible), rgba, load_block(du, colour, colour_stride));
+            if (!hn::AllTrue(df, in.visible))
+                rgba = hn::IfThenElse(hn::RebindMask(du, in.visible), rgba, load_block(du, colour, colour_stride));
             store_block(du, rgba, colour, colour_stride);
-            const std::uint64_t redo_bits = mask_bits(scalar);
+            const MF redo_lanes = hn::And(in.scalar, in.visible);
+            if (HWY_LIKELY(hn::AllFalse(df, redo_lanes))) continue;
+            const std::uint64_t redo_bits = mask_bits(redo_lanes);
             for (int r = 0; r < bh; ++r) redo[r0 + r] |= ((redo_bits >> (r * bw)) & block_row_bits) << i;
         }
     }

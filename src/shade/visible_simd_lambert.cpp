@@ -14,13 +14,25 @@ namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 // The lane-wide fragment() of LambertShader (shaders::Lambert, shaders::LambertBaseColour).
+// With grey lights the light is computed once for three channels, and with a grey base colour
+// (LambertBaseColour) so is the colour: both are the lambert mode's (white key light, no fill, grey
+// albedo). The same operations on the same bits: the same bytes.
 template <class S>
 struct LambertLanes {
     static constexpr int N = S::k_varyings;
-    const S& s;
-    ColourLanes operator()(LanesIn<N>& in) const {
+    S s;  // a copy: the kernel's stores cannot alias it, so its uniforms stay in registers
+    bool grey_light = grey_lights(s.u);
+    bool grey_colour = grey_light && !S::k_vertex_colours && grey(Vec3{s.u.base_colour.x, s.u.base_colour.y, s.u.base_colour.z});
+    Vec3Lanes light(LanesIn<N>& in) const {
         const Vec3Lanes n = normalize(vec3_lanes<typename S::Layout, shaders::Varying::normal>(in.v), in.scalar);
-        return shade(albedo_lanes(s, in), lambert_term(n, s.u));
+        return lambert_term(n, s.u, grey_light);
+    }
+    ColourLanes operator()(LanesIn<N>& in) const { return shade(albedo_lanes(s, in), light(in)); }
+    hn::Vec<DU> rgba8(LanesIn<N>& in) const {
+        if (!grey_colour) return to_rgba8((*this)(in));
+        const DF df;
+        // shade(): albedo.r * light.x, alpha kept.
+        return grey_to_rgba8(hn::Mul(hn::Set(df, s.u.base_colour.x), light(in).x), hn::Set(df, s.u.base_colour.w));
     }
 };
 

@@ -71,7 +71,9 @@ Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
     return m;
 }
 
-enum class Lights { ordinary, nan_fill };
+// grey: the lambert mode's white key light, no fill, a grey base colour (the Lambert kernels then
+// compute one channel for three); grey_nan_fill: the same with a NaN fill direction.
+enum class Lights { ordinary, nan_fill, grey, grey_nan_fill };
 
 ShadingUniforms uniforms(int width, int height, float shininess, Lights lights = Lights::ordinary) {
     Camera camera;
@@ -86,7 +88,13 @@ ShadingUniforms uniforms(int width, int height, float shininess, Lights lights =
     u.base_colour = {0.9f, 0.7f, 1.3f, 0.8f};
     u.shininess = shininess;
     // max(dot(n, l), 0) of a NaN is NaN (and the colour 0), not 0: the lanes' max must keep it.
-    if (lights == Lights::nan_fill) u.fill.direction.y = std::numeric_limits<float>::quiet_NaN();
+    if (lights == Lights::grey || lights == Lights::grey_nan_fill) {
+        u.key.colour = {1, 1, 1};
+        u.fill.colour = {0, 0, 0};
+        u.base_colour = {0.8f, 0.8f, 0.8f, 0.9f};
+    }
+    if (lights == Lights::nan_fill || lights == Lights::grey_nan_fill)
+        u.fill.direction.y = std::numeric_limits<float>::quiet_NaN();
     return u;
 }
 
@@ -169,6 +177,7 @@ void expect_every_isa_matches_the_specification(const char* name, float shinines
 TEST(CompiledVisiblePass, LambertMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::Lambert>("Lambert");
     expect_every_isa_matches_the_specification<shaders::Lambert>("Lambert, NaN fill light", 40.0f, Lights::nan_fill);
+    expect_every_isa_matches_the_specification<shaders::Lambert>("Lambert, grey lights", 40.0f, Lights::grey);
 }
 TEST(CompiledVisiblePass, BlinnPhongMatchesTheSpecificationOnEveryIsa) {
     // Every branch of portable_pow: x^0, moderate, and exponents that underflow and overflow.
@@ -177,6 +186,9 @@ TEST(CompiledVisiblePass, BlinnPhongMatchesTheSpecificationOnEveryIsa) {
 }
 TEST(CompiledVisiblePass, BaseColourVariantsMatchTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour");
+    expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey", 40.0f, Lights::grey);
+    expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey, NaN fill light",
+                                                                           40.0f, Lights::grey_nan_fill);
     expect_every_isa_matches_the_specification<shaders::BlinnPhongBaseColour>("BlinnPhongBaseColour");
 }
 TEST(CompiledVisiblePass, NormalsMatchesTheSpecificationOnEveryIsa) {
