@@ -1,19 +1,17 @@
 // facet command line: one view's render passes into files (pass_files.hpp): PNG, NumPy .npy and
-// OpenEXR.
+// OpenEXR (through libfacet_exr.so, exr_module.hpp).
 #include "pass_files.hpp"
 
 #include <unistd.h>
 
-#include <OpenEXR/ImfChannelList.h>
-#include <OpenEXR/ImfFrameBuffer.h>
-#include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfOutputFile.h>
-
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
 
+#include "exr_module.hpp"
+#include "facet/detail/module.hpp"
 #include "facet/io.hpp"
 
 namespace facet::cli {
@@ -44,41 +42,36 @@ std::uint16_t unit16(float v) {
 
 // The EXR file of a view: every pass but colour, as channels.
 Status write_exr(const std::string& path, const ViewImages& v, PassSet passes) {
-    const int w = v.width, h = v.height;
-    Imf::Header header(w, h);
-    header.compression() = Imf::ZIP_COMPRESSION;
-    Imf::FrameBuffer frame;
-    auto add = [&](const char* name, Imf::PixelType type, const void* first, int components) {
-        header.channels().insert(name, Imf::Channel(type));
-        const std::size_t pixel = static_cast<std::size_t>(components) * 4;
-        frame.insert(name, Imf::Slice(type, const_cast<char*>(static_cast<const char*>(first)), pixel, pixel * static_cast<std::size_t>(w)));
+    std::string why;
+    const auto write = reinterpret_cast<WriteExr>(detail::module_symbol(k_exr_module, k_exr_write_symbol, why));
+    if (!write) return Error{ErrorCode::io, path + ": cannot write OpenEXR files: " + why};
+    std::vector<ExrChannel> channels;
+    auto add = [&](const char* name, bool is_uint, const void* first, int components) {
+        channels.push_back({name, is_uint, first, static_cast<std::size_t>(components) * 4});
     };
-    if (passes.has(Pass::alpha)) add("A", Imf::FLOAT, v.alpha.data(), 1);
-    if (passes.has(Pass::depth)) add("Z", Imf::FLOAT, v.depth.data(), 1);
-    if (passes.has(Pass::range)) add("range", Imf::FLOAT, v.range.data(), 1);
+    if (passes.has(Pass::alpha)) add("A", false, v.alpha.data(), 1);
+    if (passes.has(Pass::depth)) add("Z", false, v.depth.data(), 1);
+    if (passes.has(Pass::range)) add("range", false, v.range.data(), 1);
     if (passes.has(Pass::normal)) {
-        add("N.X", Imf::FLOAT, &v.normal[0].x, 3);
-        add("N.Y", Imf::FLOAT, &v.normal[0].y, 3);
-        add("N.Z", Imf::FLOAT, &v.normal[0].z, 3);
+        add("N.X", false, &v.normal[0].x, 3);
+        add("N.Y", false, &v.normal[0].y, 3);
+        add("N.Z", false, &v.normal[0].z, 3);
     }
     if (passes.has(Pass::uv)) {
-        add("uv.U", Imf::FLOAT, &v.uv[0].x, 2);
-        add("uv.V", Imf::FLOAT, &v.uv[0].y, 2);
+        add("uv.U", false, &v.uv[0].x, 2);
+        add("uv.V", false, &v.uv[0].y, 2);
     }
-    if (passes.has(Pass::instance)) add("instance", Imf::UINT, v.instance.data(), 1);
-    if (passes.has(Pass::material)) add("material", Imf::UINT, v.material.data(), 1);
-    if (passes.has(Pass::primitive)) add("primitive", Imf::UINT, v.primitive.data(), 1);
+    if (passes.has(Pass::instance)) add("instance", true, v.instance.data(), 1);
+    if (passes.has(Pass::material)) add("material", true, v.material.data(), 1);
+    if (passes.has(Pass::primitive)) add("primitive", true, v.primitive.data(), 1);
     // Atomically, as write_file_atomic does: a temporary beside it, renamed when complete.
     static std::atomic<unsigned> counter{0};
     const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + std::to_string(counter++);
-    try {
-        Imf::OutputFile file(tmp.c_str(), header);
-        file.setFrameBuffer(frame);
-        file.writePixels(h);
-    } catch (const std::exception& e) {
+    std::array<char, 512> error{};
+    if (write(tmp.c_str(), v.width, v.height, channels.data(), static_cast<int>(channels.size()), error.data(), error.size()) != 0) {
         std::error_code ec;
         fs::remove(tmp, ec);
-        return Error{ErrorCode::io, path + ": cannot write the OpenEXR file: " + e.what()};
+        return Error{ErrorCode::io, path + ": cannot write the OpenEXR file: " + error.data()};
     }
     std::error_code ec;
     fs::rename(tmp, path, ec);
@@ -169,6 +162,11 @@ Result<PassFiles> write_pass_files(const ViewImages& v, PassSet passes, const st
         out.files.push_back(file);
     }
     return out;
+}
+
+void load_writers_for(const RenderPlan& plan) {
+    std::string why;
+    if (plan.views && plan.views->float_format == FloatFormat::exr) (void)detail::module_symbol(k_exr_module, k_exr_write_symbol, why);
 }
 
 Status write_npy(const std::string& path, const void* data, std::string_view dtype, const std::vector<int>& shape) {

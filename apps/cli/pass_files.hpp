@@ -52,6 +52,11 @@ std::vector<std::string> pass_folders(PassSet passes, FloatFormat format);
 Result<PassFiles> write_pass_files(const ViewImages& images, PassSet passes, const std::string& name,
                                    const PassFileOptions& options);
 
+// Opens the OpenEXR writer's module now when `plan` writes EXR files: a worker does so before it
+// confines itself, since the sandbox no longer lets it read the module (an error then is the
+// writer's to report).
+void load_writers_for(const RenderPlan& plan);
+
 // A NumPy .npy file (format 1.0): `dtype` ("<f4", "<u4"), C order, `shape`, then the bytes of `data`.
 Status write_npy(const std::string& path, const void* data, std::string_view dtype, const std::vector<int>& shape);
 

@@ -17,6 +17,7 @@
 #include "facet/primitive_counts.hpp"
 #include "facet/sandbox.hpp"
 #include "options.hpp"
+#include "pass_files.hpp"
 #include "views_output.hpp"
 #include "worker.hpp"
 
@@ -284,6 +285,7 @@ int run_render(const std::string& model, const std::string& output, const std::s
         [&](const WorkerReport& report) {
             if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
             test_hook_sleep(model);
+            load_writers_for(*plan);
             confine_worker(model, outputs, plan->load.resource_dirs);
             return render_job(request, report);
         },

@@ -8,6 +8,7 @@
 
 #include "facet/io.hpp"
 #include "facet/sandbox.hpp"
+#include "pass_files.hpp"
 
 namespace facet::cli {
 namespace {
@@ -64,6 +65,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
         outputs.clear();
         for (const std::string& folder : job.staging->write_folders) outputs.push_back(folder + "/file");
     }
+    load_writers_for(plan);
     confine_worker(job.model, outputs, plan.load.resource_dirs);
     sandbox_test_probe();
     ThumbnailFigures f;
