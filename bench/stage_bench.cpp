@@ -487,6 +487,34 @@ void BM_Draw_Trivial(benchmark::State& state) {
 }
 BENCHMARK(BM_Draw_Trivial)->Arg(1)->Arg(2)->UseRealTime();
 
+// The fixed cost of a frame (issue 21): a clearing draw at 1920x1080 whose one triangle lies
+// outside the view, so that no pixel is covered: the clear of every tile (colour alone, as
+// facet_bench_scenes and facet render draw it, DrawState::keep_depth = false; arg 1: 1 with the
+// depth too), the tile walk and the draw's set-up, nothing else.
+void BM_Frame_NothingCovered(benchmark::State& state) {
+    static const Mesh mesh = [] {
+        Mesh m;
+        m.positions = {{-1, -1, 5}, {1, -1, 5}, {0, 1, 5}};  // behind the camera below
+        m.indices = {0, 1, 2};
+        return m;
+    }();
+    Renderer renderer(RendererConfig{.threads = static_cast<int>(state.range(0))});
+    Framebuffer fb(1920, 1080);
+    Camera camera;
+    camera.position = {0, 0, 3};
+    camera.target = {0, 0, 0};
+    shaders::LambertBaseColour shader;
+    shader.mesh = MeshArrays::of(mesh);
+    shader.u.clip_from_object = camera.projection(1920.0f / 1080.0f) * camera.view();
+    DrawState ds;
+    ds.clear = ClearValues{};
+    ds.keep_depth = state.range(1) != 0;
+    const DrawInput input{3, mesh.indices};
+    for (auto _ : state) benchmark::DoNotOptimize(renderer.draw(fb, ds, input, shader));
+    state.SetLabel(ds.keep_depth ? "colour and depth" : "colour");
+}
+BENCHMARK(BM_Frame_NothingCovered)->Args({1, 0})->Args({1, 1})->Args({2, 0})->UseRealTime();
+
 }  // namespace
 
 BENCHMARK_MAIN();

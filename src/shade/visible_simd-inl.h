@@ -191,12 +191,32 @@ inline bool grey(Vec3 c) {
 // Whether both lights are grey (grey above): the usual white key light and no fill.
 inline bool grey_lights(const ShadingUniforms& u) { return grey(u.key.colour) && grey(u.fill.colour); }
 
+// Whether a Lambert kernel may leave out the fill light (lambert_term's `no_fill`): its colour is
+// zero and its direction finite and small. Then for a normal of length 1 (the lanes' normalize
+// leaves the others to the specification) f = max(dot(n, fill), 0) is finite, fill * f is a zero,
+// and adding it changes the light at most by the sign of a zero, which to_rgba8 makes 0 either way
+// (an albedo times it is a zero or the same NaN; both become 0). Only for shaders whose light goes
+// through shade() straight to to_rgba8.
+inline bool fill_is_dark(const DirectionalLight& fill) {
+    constexpr float k_small = 1e30f;  // |n_i| <= 2 after normalize: the dot product stays finite
+    auto small = [](float v) { return std::fabs(v) <= k_small; };  // false for NaN
+    return fill.colour.x == 0.0f && fill.colour.y == 0.0f && fill.colour.z == 0.0f && small(fill.direction.x) &&
+           small(fill.direction.y) && small(fill.direction.z);
+}
+
 // shaders::detail::lambert_term: ambient + (key * k + fill * f) * diffuse, per channel; with
-// `grey_light` (grey_lights(u)) one channel computed for all three.
-HWY_INLINE Vec3Lanes lambert_term(const Vec3Lanes& n, const ShadingUniforms& u, bool grey_light = false) {
+// `grey_light` (grey_lights(u)) one channel computed for all three; with `no_fill` (fill_is_dark(u.fill))
+// ambient + (key * k) * diffuse.
+HWY_INLINE Vec3Lanes lambert_term(const Vec3Lanes& n, const ShadingUniforms& u, bool grey_light = false,
+                                  bool no_fill = false) {
     const DF df;
-    const VF k = max_zero(dot(n, splat(u.key.direction))), f = max_zero(dot(n, splat(u.fill.direction)));
     const VF ambient = hn::Set(df, u.ambient), diffuse = hn::Set(df, u.diffuse);
+    const VF k = max_zero(dot(n, splat(u.key.direction)));
+    if (grey_light && no_fill) {
+        const VF c = hn::Add(ambient, hn::Mul(hn::Mul(hn::Set(df, u.key.colour.x), k), diffuse));
+        return {c, c, c};
+    }
+    const VF f = max_zero(dot(n, splat(u.fill.direction)));
     auto channel = [&](float key, float fill) {
         return hn::Add(ambient, hn::Mul(hn::Add(hn::Mul(hn::Set(df, key), k), hn::Mul(hn::Set(df, fill), f)), diffuse));
     };

@@ -72,8 +72,10 @@ Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
 }
 
 // grey: the lambert mode's white key light, no fill, a grey base colour (the Lambert kernels then
-// compute one channel for three); grey_nan_fill: the same with a NaN fill direction.
-enum class Lights { ordinary, nan_fill, grey, grey_nan_fill };
+// compute one channel for three and leave the dark fill out); grey_nan_fill and grey_huge_fill: the
+// same with a NaN fill direction, and one so long that dot(n, fill) overflows (0 * inf: NaN), which
+// the kernels must not leave out.
+enum class Lights { ordinary, nan_fill, grey, grey_nan_fill, grey_huge_fill };
 
 ShadingUniforms uniforms(int width, int height, float shininess, Lights lights = Lights::ordinary) {
     Camera camera;
@@ -88,13 +90,14 @@ ShadingUniforms uniforms(int width, int height, float shininess, Lights lights =
     u.base_colour = {0.9f, 0.7f, 1.3f, 0.8f};
     u.shininess = shininess;
     // max(dot(n, l), 0) of a NaN is NaN (and the colour 0), not 0: the lanes' max must keep it.
-    if (lights == Lights::grey || lights == Lights::grey_nan_fill) {
+    if (lights == Lights::grey || lights == Lights::grey_nan_fill || lights == Lights::grey_huge_fill) {
         u.key.colour = {1, 1, 1};
         u.fill.colour = {0, 0, 0};
         u.base_colour = {0.8f, 0.8f, 0.8f, 0.9f};
     }
     if (lights == Lights::nan_fill || lights == Lights::grey_nan_fill)
         u.fill.direction.y = std::numeric_limits<float>::quiet_NaN();
+    if (lights == Lights::grey_huge_fill) u.fill.direction = {3e38f, 3e38f, 3e38f};
     return u;
 }
 
@@ -189,6 +192,8 @@ TEST(CompiledVisiblePass, BaseColourVariantsMatchTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey", 40.0f, Lights::grey);
     expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey, NaN fill light",
                                                                            40.0f, Lights::grey_nan_fill);
+    expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey, huge fill light",
+                                                                           40.0f, Lights::grey_huge_fill);
     expect_every_isa_matches_the_specification<shaders::BlinnPhongBaseColour>("BlinnPhongBaseColour");
 }
 TEST(CompiledVisiblePass, NormalsMatchesTheSpecificationOnEveryIsa) {
