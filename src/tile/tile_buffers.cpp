@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <utility>
 
 #include "tile/depth_pass.hpp"
@@ -36,14 +37,16 @@ void TileBuffers::begin(PixelRect tile, int varyings_, TargetView target, const 
     const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
     depth_cleared = colour_cleared = clear != nullptr;
     if (clear) clear_colour = clear->colour;
-    for (int r = 0; r < height; ++r) {
-        std::fill_n(owner + r * k_max_tile_size, width, k_none);
-        if (clear) {
-            std::fill_n(depth + r * k_max_tile_size, width, clear->depth);
-        } else {
-            std::copy_n(target.depth + target.at(tile.x0, tile.y0 + r), width, depth + r * k_max_tile_size);
-        }
+    // Whole rows of the arrays, one run each (the columns past a narrower tile are never inside a
+    // triangle, and no owner is the safe value there): the widest stores, no loop per row.
+    const auto words = static_cast<std::size_t>(height) * k_max_tile_size;
+    fill_words(owner, words, k_none);
+    if (clear) {
+        fill_words(depth, words, std::bit_cast<std::uint32_t>(clear->depth));
+        return;
     }
+    for (int r = 0; r < height; ++r)
+        std::copy_n(target.depth + target.at(tile.x0, tile.y0 + r), width, depth + r * k_max_tile_size);
 }
 
 namespace {

@@ -4,6 +4,7 @@
 // draw reads them again, copied otherwise. Does not decide which tiles are cleared (tile_pass.cpp).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -40,6 +41,11 @@ inline void store_tile_row_reference(const std::uint32_t* from, const std::uint6
     }
     for (int i = 0; i < width; ++i) to[i] = (*covered >> i) & 1 ? from[i] : fill;
 }
+
+// Sets `count` 4-byte words from `to` to `value`, with cached stores: a worker's own tile buffers
+// (TileBuffers::begin). In the widest vectors the CPU has (SIMD, tile_store_simd.cpp); code outside
+// the kernels is compiled for the baseline's 16-byte vectors.
+void fill_words(void* to, std::size_t count, std::uint32_t value);
 
 // Fills a rectangle of at most one tile with one colour and depth; with `stream`, past the caches (see
 // store_tile_rows), for a rectangle this draw reads no more.

@@ -54,6 +54,17 @@ void StoreTileRows(const std::uint32_t* HWY_RESTRICT rows, int rows_stride, cons
     if (streamed && fence) hwy::FlushStream();
 }
 
+// The words may be floats (a depth buffer): Highway's stores may alias, the rest is copied bytes.
+void FillWords(void* HWY_RESTRICT to, std::size_t count, std::uint32_t value) {
+    const hn::ScalableTag<std::uint32_t> du;
+    const std::size_t lanes = hn::Lanes(du);
+    const auto word = hn::Set(du, value);
+    auto* words = static_cast<std::uint32_t*>(to);
+    std::size_t i = 0;
+    for (; i + lanes <= count; i += lanes) hn::StoreU(word, du, words + i);
+    for (; i < count; ++i) std::memcpy(words + i, &value, sizeof(value));
+}
+
 void FenceStreams() { hwy::FlushStream(); }
 
 void FenceFills(DeferredFills& fills) {
@@ -75,12 +86,18 @@ HWY_AFTER_NAMESPACE();
 namespace facet::detail {
 
 HWY_EXPORT(StoreTileRows);
+HWY_EXPORT(FillWords);
 HWY_EXPORT(FenceStreams);
 HWY_EXPORT(DrainFills);
 HWY_EXPORT(FenceFills);
 
 void drain_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(DrainFills)(fills); }
 void fence_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(FenceFills)(fills); }
+
+void fill_words(void* to, std::size_t count, std::uint32_t value) {
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(FillWords)(to, count, value);
+    for (std::size_t i = 0; i < count; ++i) std::memcpy(static_cast<char*>(to) + i * sizeof(value), &value, sizeof(value));
+}
 
 void fence_streams() {
     if (!use_scalar_kernels()) HWY_DYNAMIC_DISPATCH(FenceStreams)();
