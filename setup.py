@@ -66,6 +66,11 @@ class CMakeBuild(build_ext):
         bin_dir.mkdir(exist_ok=True)
         for name in EXECUTABLES:
             shutil.copy2(out / "bin" / name, bin_dir / name)
+        # facet's modules (libfacet_assimp.so: assimp's formats, OBJ and glTF; libfacet_exr.so:
+        # --float-format exr), which the extension and the executables look for beside themselves.
+        for built_module in sorted((out / "lib" / "facet").glob("libfacet_*.so")):
+            for folder in (module.parent, bin_dir):
+                shutil.copy2(built_module, folder / built_module.name)
 
 
 # setuptools' own scratch (build/, *.egg-info) goes beside the CMake build, not into the sources.

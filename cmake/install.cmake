@@ -69,6 +69,9 @@ install(FILES ${PROJECT_BINARY_DIR}/facet.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}
 if(FACET_BUILD_APPS)
   install(TARGETS facet_cli facet_view RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
   install(TARGETS facet_exr LIBRARY DESTINATION ${FACET_MODULE_INSTALL_DIR} COMPONENT runtime)
+endif()
+install(TARGETS facet_assimp LIBRARY DESTINATION ${FACET_MODULE_INSTALL_DIR} COMPONENT runtime)
+if(FACET_BUILD_APPS)
   # Man pages from the executables' own --help, so they cannot drift from it: facet(1) for the
   # command and facet-render(1), facet-thumbs(1), facet-thumbnail(1), facet-view(1) (also the
   # viewer executable's) and facet-diff(1) for the subcommands. help2man names a page after the program it runs, so each

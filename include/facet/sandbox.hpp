@@ -34,7 +34,9 @@ struct SandboxRules {
 
 // The rules for reading a model: its folder (and, if the model is a link to a file elsewhere, that
 // file) and the resource folders (LoadOptions::resource_dirs), and what any job needs besides: the
-// processor list (the default thread count) and /dev/urandom. Add the write rules of the job.
+// processor list (the default thread count) and /dev/urandom, and what opening facet's modules
+// takes (their folders, those of the shared libraries loaded, the dynamic loader's cache: a load
+// opens the assimp module when its file needs it). Add the write rules of the job.
 SandboxRules sandbox_rules_for_model(const std::string& model_path, const std::vector<std::string>& resource_dirs);
 
 struct SandboxStatus {

@@ -3,6 +3,7 @@
 #include "facet/detail/module.hpp"
 
 #include <dlfcn.h>
+#include <link.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -17,10 +18,14 @@ namespace fs = std::filesystem;
 std::vector<std::string> candidate_dirs() {
     std::vector<std::string> dirs;
     if (const char* env = std::getenv("FACET_MODULE_DIR"); env && *env) dirs.push_back(env);
+    // The file holding this code: a shared library's path, or for the program itself (whose name
+    // in the loader's list is empty) /proc/self/exe, not argv[0], which may be a bare name on PATH.
     Dl_info info{};
-    if (dladdr(reinterpret_cast<void*>(&candidate_dirs), &info) != 0 && info.dli_fname) {
+    link_map* object = nullptr;
+    if (dladdr1(reinterpret_cast<void*>(&candidate_dirs), &info, reinterpret_cast<void**>(&object), RTLD_DL_LINKMAP) != 0) {
+        const bool program = !object || !object->l_name || object->l_name[0] == '\0';
         std::error_code ec;
-        const fs::path self = fs::canonical(info.dli_fname, ec);
+        const fs::path self = fs::canonical(program ? "/proc/self/exe" : object->l_name, ec);
         if (!ec) {
             const fs::path here = self.parent_path();
             dirs.push_back(here.string());

@@ -3,8 +3,11 @@
 // stable ABI spelled here, since Debian 12's kernel headers stop at ABI 2.
 #include "facet/sandbox.hpp"
 
+#include "facet/detail/module.hpp"
+
 #if defined(__linux__)
 #include <arpa/inet.h>
+#include <link.h>
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <sched.h>
@@ -42,6 +45,27 @@ bool sanitizer_build() {
 #endif
 }
 
+namespace {
+
+// The folders of the shared libraries loaded in this process, each once.
+std::vector<std::string> loaded_library_dirs() {
+    std::vector<std::string> dirs;
+#if defined(__linux__)
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, std::size_t, void* data) {
+            auto& out = *static_cast<std::vector<std::string>*>(data);
+            if (!info->dlpi_name || info->dlpi_name[0] != '/') return 0;  // the program itself, the vDSO
+            const std::string dir = std::filesystem::path(info->dlpi_name).parent_path().string();
+            if (std::find(out.begin(), out.end(), dir) == out.end()) out.push_back(dir);
+            return 0;
+        },
+        &dirs);
+#endif
+    return dirs;
+}
+
+}  // namespace
+
 SandboxRules sandbox_rules_for_model(const std::string& model_path, const std::vector<std::string>& resource_dirs) {
     namespace fs = std::filesystem;
     SandboxRules rules;
@@ -55,6 +79,12 @@ SandboxRules sandbox_rules_for_model(const std::string& model_path, const std::v
     // (temporary file names) falls back to /dev/urandom on processors without RDRAND.
     rules.read_dirs.push_back("/sys/devices/system/cpu");
     rules.read_files.push_back("/dev/urandom");
+    // facet's modules (facet/detail/module.hpp), which a load opens when its file needs one (assimp's
+    // formats, OBJ, glTF), and the shared libraries they need: the folders of the libraries the
+    // process has loaded already, where the system's are, and the dynamic loader's cache.
+    for (const std::string& dir : detail::module_dirs()) rules.read_dirs.push_back(dir);
+    for (const std::string& dir : loaded_library_dirs()) rules.read_dirs.push_back(dir);
+    rules.read_files.push_back("/etc/ld.so.cache");
     return rules;
 }
 

@@ -30,8 +30,10 @@
 
 // assimp's internal consistency checks (ai_assert) are compiled into Debian's libassimp and call
 // std::abort() when they fail; malformed input reaches some of them (a truncated ASCII PLY trips
-// one in the triangulation step). libassimp calls this function through its PLT and it is exported,
-// so the definition in the executable takes precedence. Throwing instead of aborting lets assimp's
+// one in the triangulation step). libassimp calls this function through its PLT and it is exported
+// (by the executable that links this file, or by the assimp module, io/assimp_module.map, which
+// comes before libassimp in the search order of what dlopen loads), so this definition takes
+// precedence. Throwing instead of aborting lets assimp's
 // own exception handling (around every importer and post-processing step) turn it into a failed
 // import with this message.
 namespace Assimp {
@@ -113,11 +115,6 @@ private:
 };
 
 }  // namespace
-
-bool assimp_reads_extension(const std::string& ext) {
-    static const Assimp::Importer importer;  // IsExtensionSupported only reads the importer list
-    return importer.IsExtensionSupported("." + ext);
-}
 
 Result<LoadedModel> load_with_assimp(const std::string& path, const std::string& ext, const LoadOptions& options) {
     Assimp::Importer importer;

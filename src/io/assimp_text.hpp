@@ -2,6 +2,13 @@
 // readers (plain_off.cpp, stl.cpp) use to read text exactly as assimp's readers do.
 #pragma once
 
+// fast_atof logs a warning through assimp's logger when a number overflows; facet keeps none of
+// assimp's warnings (assimp_import.cpp's ErrorCollector keeps errors only), and without the call
+// the readers of OFF, STL and PLY need nothing of libassimp, which is then loaded only for the
+// files that need it (assimp_module.hpp).
+#include <assimp/DefaultLogger.hpp>
+#undef ASSIMP_LOG_WARN
+#define ASSIMP_LOG_WARN(...) ((void)0)
 #include <assimp/fast_atof.h>
 
 #include <exception>

@@ -7,7 +7,8 @@
 //   2. plain OFF, STL and PLY files are read by facet's own readers (fast_path.hpp), several times
 //      faster, into the same Scene;
 //   3. everything else, and whatever those readers decline, is read by assimp and converted
-//      (assimp_import.hpp, assimp_scene.hpp);
+//      (assimp_import.hpp, assimp_scene.hpp); OBJ and glTF by facet's readers converted the same
+//      way; both in the assimp module, opened when a file needs it (assimp_module.hpp);
 //   point clouds, which assimp does not read (PLY of vertices alone, XYZ, PTS, OBJ of `v` lines
 //   alone), are read by point_cloud.hpp's readers.
 #include "facet/model.hpp"
@@ -25,6 +26,7 @@
 #include <string_view>
 
 #include "io/assimp_import.hpp"
+#include "io/assimp_module.hpp"
 #include "io/fast_path.hpp"
 #include "io/load_common.hpp"
 #include "io/load_paths.hpp"
@@ -100,8 +102,8 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
         if (fast_paths && own)
             if (std::optional<LoadedModel> model = own->load(path, head, size, options)) return std::move(*model);
         if (fast_paths)
-            if (std::optional<Result<LoadedModel>> model = io_detail::load_own_scene(path, ext, size, options)) return std::move(*model);
-        Result<LoadedModel> model = io_detail::load_with_assimp(path, ext, options);
+            if (std::optional<Result<LoadedModel>> model = io_detail::module_load_own_scene(path, ext, size, options)) return std::move(*model);
+        Result<LoadedModel> model = io_detail::module_load_with_assimp(path, ext, options);
         // assimp refuses OBJ files of vertices alone ("no faces"): those are point clouds.
         if (!model && ext == "obj" && model.error().code == ErrorCode::bad_format)
             if (const std::optional<std::string> bytes = io_detail::read_whole_file(path, size))
