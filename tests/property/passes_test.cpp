@@ -681,6 +681,44 @@ TEST(Passes, TheBackgroundHasTheDocumentedValues) {
         }
 }
 
+// Images whose rows are whole cache lines have the empty tiles of their passes cleared between the
+// kernels' work, with the colour (DeferredFills): into images full of other bytes, every pixel no
+// surface covers still gets the background, and the rest is what any tile size and thread count give.
+TEST(Passes, EmptyTilesOfAlignedImagesGetTheBackground) {
+    Scene scene;
+    scene.objects.push_back(sphere_object(32, 16));
+    ViewRequest request = all_passes(256, 128);
+    const Camera cameras[] = {Camera::orbit(k_sphere_centre, 0.4f, 0.3f, 6.0f)};
+    auto render = [&](RendererConfig config) {
+        ViewImages img = make_view_images(request);
+        auto garble = [](auto& v) { std::memset(static_cast<void*>(v.data()), 0xab, v.size() * sizeof(v[0])); };
+        garble(img.colour), garble(img.alpha), garble(img.depth), garble(img.range), garble(img.normal);
+        garble(img.instance), garble(img.material), garble(img.primitive), garble(img.uv);
+        const PassImages out[] = {img.images()};
+        ViewRenderer renderer(config);
+        renderer.render(scene, cameras, request, out);
+        return img;
+    };
+    const ViewImages img = render({.threads = 2, .tile_size = 16});
+    int background = 0, surface = 0;
+    for (std::size_t at = 0; at < pixels(request); ++at) {
+        if (img.instance[at] != 0) {
+            ASSERT_EQ(img.alpha[at], 1.0f);
+            ++surface;
+            continue;
+        }
+        ASSERT_EQ(img.alpha[at], 0.0f) << at;
+        ASSERT_TRUE(std::isinf(img.depth[at]) && std::isinf(img.range[at])) << at;
+        ASSERT_TRUE(img.normal[at] == Vec3{} && img.uv[at] == Vec2{}) << at;
+        ASSERT_EQ(img.material[at] + img.primitive[at], 0u) << at;
+        ++background;
+    }
+    EXPECT_GT(background, 20000);
+    EXPECT_GT(surface, 2000);
+    for (RendererConfig config : {RendererConfig{.threads = 1, .tile_size = 64}, RendererConfig{.threads = 3}})
+        EXPECT_TRUE(AllPasses{{render(config)}} == AllPasses{{img}});
+}
+
 // What a render is asked for is checked, with messages that say what is wrong.
 TEST(Passes, BadRequestsAreRefusedWithAReason) {
     const Scene scene = sphere_and_plane();
