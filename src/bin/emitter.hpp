@@ -1,6 +1,7 @@
 // facet bin: the Emitter, which sets up the front end's triangles (the SIMD batch or one by one) and
 // bins their records into screen tiles in submission order. In: projected, snapped triangles (from
-// assembled triangles, clipped polygons, or the quads of points and lines). Out: the chunk's bins.
+// assembled triangles, clipped polygons, or the quads of points and lines), points' pixel rectangles
+// and segments' records. Out: the chunk's bins.
 // Does not assemble, clip or project.
 #pragma once
 
@@ -8,6 +9,7 @@
 #include <bit>
 
 #include "facet/detail/front_end.hpp"
+#include "raster/segment.hpp"
 #include "setup/setup.hpp"
 
 namespace facet::detail {
@@ -71,15 +73,28 @@ public:
         const int max_x = r.x1 - 1, max_y = r.y1 - 1;
         ++set_up_;
         if (grid.one_tile(r.x0, max_x, r.y0, max_y)) {
-            const std::size_t tile = grid.tile_of_pixel(r.x0, r.y0);
-            TriangleSetup& t = grid.bins[tile].emplace_back();
-            if constexpr (Primitives) grid.primitives[tile].push_back(primitive);
-            prefetch_for_write(&t + k_record_write_distance);
-            write_rect(r, c, ref, t);
+            write_rect(r, c, ref, slot(grid, grid.tile_of_pixel(r.x0, r.y0), primitive));
             return;
         }
         write_rect(r, c, ref, scratch_[0]);
         bin_across_tiles(scratch_[0], grid.tiles_of(r.x0, max_x, r.y0, max_y), primitive);
+    }
+
+    // A line segment's record (raster/segment.hpp) of primitive `primitive`, with these inclusive
+    // pixel bounds: begin_segment hands out the record to write (in its tile's bin when the bounds
+    // are in one tile), end_segment bins it. The pending batch goes first.
+    TriangleSetup& begin_segment(int min_x, int max_x, int min_y, int max_y, std::uint32_t primitive) {
+        flush();
+        ++set_up_;
+        const BinGrid grid = grid_of();
+        segment_in_scratch_ = !grid.one_tile(min_x, max_x, min_y, max_y);
+        if (segment_in_scratch_) return scratch_[0];
+        return slot(grid, grid.tile_of_pixel(min_x, min_y), primitive);
+    }
+    void end_segment(std::uint32_t primitive) {
+        if (!segment_in_scratch_) return;
+        const TriangleSetup& t = scratch_[0];
+        bin_across_tiles(t, grid_of().tiles_of(t.min_x, t.max_x, t.min_y, t.max_y), primitive);
     }
 
     // A triangle made by clipping triangle `triangle`: the pending batch goes first, so records keep
@@ -117,16 +132,7 @@ private:
             const int i = std::countr_zero(keep);
             const std::int32_t* bounds = lanes_.bounds(i);
             if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
-                const std::size_t tile = grid.tile_of_pixel(bounds[0], bounds[1]);
-                TriangleSetup& t = grid.bins[tile].emplace_back();
-                if constexpr (Primitives) grid.primitives[tile].push_back(primitive_[i]);
-                // The bin's lines a few records on, owned before they are written: a bin is a
-                // stream the hardware has not learnt, and a store that misses waits for its line
-                // (measured 6% of a 1M-triangle frame). Past the allocation, a prefetch does nothing.
-                // 24 records (3 KB) on: since records are written as 16-byte copies, 8 was too close
-                // (the 1M-triangle sphere's front end 19.8 -> 17.2 ms; 16 to 64 measured the same).
-                prefetch_for_write(&t + k_record_write_distance);
-                write_record(lanes_, i, t);
+                write_record(lanes_, i, slot(grid, grid.tile_of_pixel(bounds[0], bounds[1]), Primitives ? primitive_[i] : 0));
                 continue;
             }
             write_record(lanes_, i, scratch_[0]);
@@ -134,6 +140,20 @@ private:
                              Primitives ? primitive_[i] : 0);
         }
         batch_.count = 0;
+    }
+
+    // A new record at the end of `tile`'s bin, to be written by the caller. The bin's lines a few
+    // records on are owned before they are written: a bin is a stream the hardware has not learnt,
+    // and a store that misses waits for its line (measured 6% of a 1M-triangle frame). Past the
+    // allocation, a prefetch does nothing. 24 records (3 KB) on: since records are written as 16-byte
+    // copies, 8 was too close (the 1M-triangle sphere's front end 19.8 -> 17.2 ms; 16 to 64 measured
+    // the same).
+    struct BinGrid;
+    [[gnu::always_inline]] static TriangleSetup& slot(const BinGrid& grid, std::size_t tile, std::uint32_t primitive) {
+        TriangleSetup& t = grid.bins[tile].emplace_back();
+        if constexpr (Primitives) grid.primitives[tile].push_back(primitive);
+        prefetch_for_write(&t + k_record_write_distance);
+        return t;
     }
 
     // The tiles a triangle's inclusive pixel bounds reach, inclusive. Tile sizes are powers of two
@@ -172,6 +192,7 @@ private:
         t.dl1dx = 0, t.dl1dy = 0, t.dl2dx = 0, t.dl2dy = 0;
         t.front_facing = true;
         t.small_edges = true;
+        t.segment = false;
     }
 
     // One triangle set up by the scalar code, and binned.
@@ -207,7 +228,9 @@ private:
         for (int ty = span.y0; ty <= span.y1; ++ty)
             for (int tx = span.x0; tx <= span.x1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
-                if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
+                if (t.segment ? segment_rejects(t, r)
+                              : edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r))
+                    continue;
                 grid.bins[grid.tile(tx, ty)].push_back(t);
                 if constexpr (Primitives) grid.primitives[grid.tile(tx, ty)].push_back(primitive);
             }
@@ -216,6 +239,7 @@ private:
     const FrontEndParams& p_;
     FrontEndChunk& out_;
     std::uint64_t set_up_ = 0, culled_ = 0;
+    bool segment_in_scratch_ = false;
     SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
     SetupLanes lanes_;
     TriangleSetup scratch_[SetupBatch::k_capacity];

@@ -1,10 +1,12 @@
-// facet bin: points and line segments as screen-space triangles, by the rules of README.md ("Points
-// and lines"). In: projected, snapped vertices. Out: triangles to the Emitter. Every decision is
+// facet bin: points and line segments as screen-space records, by the rules of README.md ("Points
+// and lines"). In: projected, snapped vertices. Out: pixel rectangles, segment records and (for the
+// rare segment quads that are not strictly convex) triangles to the Emitter. Every decision is
 // made from the draw's input alone (never from what another chunk did), in exact integer or exactly
 // rounded double arithmetic, so the pixels do not depend on threads, tiles or ISA.
 #include "bin/points_lines.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 namespace facet::detail {
@@ -43,6 +45,99 @@ void emit_quad(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex&
     const std::uint32_t r0[3] = {ref_ab, ref_ab, ref_cd}, r1[3] = {ref_ab, ref_cd, ref_cd};
     emit_triangle(a, b, c, r0, primitive, emitter);
     emit_triangle(a, c, d, r1, primitive, emitter);
+}
+
+// std::llround (halves away from zero) for |x| < 2^52 without the library call (a tenth of a
+// segment's front end): x - trunc(x) is exact, and the cast truncates.
+std::int64_t round_half_away(double x) {
+    const auto i = static_cast<std::int64_t>(x);
+    const double f = x - static_cast<double>(i);
+    return i + (f >= 0.5) - (f <= -0.5);
+}
+
+// A segment's end at screen vertex v: its corners left and right of the segment, v +- offset.
+struct SegmentEnd {
+    std::int32_t ox, oy;
+    bool operator==(const SegmentEnd&) const = default;
+};
+
+// Segment a -> b as one record (raster/segment.hpp): the quad a + e0, a - e0, b - e1, b + e1 by its
+// four edges, depth and attributes interpolated along the segment. A quad that is not strictly
+// convex (a short segment between sharp mitres, or one too thin to have an inside) or whose edges do
+// not fit the record's 32 bits (segments tens of thousands of pixels long) goes as emit_quad's two
+// triangles instead; a strictly convex quad covers the same pixels either way (its outer edges are
+// the triangles', and the top-left rule gives the diagonal's pixels to one of them), but for pixel
+// centres exactly on a corner.
+template <bool Primitives>
+void emit_segment(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, SegmentEnd e1, std::uint32_t ref_a,
+                  std::uint32_t ref_b, std::uint32_t primitive, const PixelRect& scissor, Emitter<Primitives>& emitter) {
+    const std::int32_t cx[4] = {a.x + e0.ox, a.x - e0.ox, b.x - e1.ox, b.x + e1.ox};
+    const std::int32_t cy[4] = {a.y + e0.oy, a.y - e0.oy, b.y - e1.oy, b.y + e1.oy};
+    // The turn at each corner: all > 0 or all < 0 when strictly convex. Square ends (e0 = e1) make a
+    // parallelogram, whose four turns are one. Bitwise and selected rather than branched on: a
+    // segment's direction, hence its quad's winding, is as good as random.
+    const auto turn = [&](int k) {
+        const int q = (k + 1) % 4, r = (k + 2) % 4;
+        return std::int64_t{cx[q] - cx[k]} * (cy[r] - cy[q]) - std::int64_t{cy[q] - cy[k]} * (cx[r] - cx[q]);
+    };
+    bool positive = turn(0) > 0, negative = turn(0) < 0;
+    if (!(e0 == e1)) {
+        for (int k = 1; k < 4; ++k) {
+            const std::int64_t t = turn(k);
+            positive &= t > 0;
+            negative &= t < 0;
+        }
+    }
+    const auto as_triangles = [&] {
+        const auto corner = [](const ScreenVertex& v, std::int32_t x, std::int32_t y) { return ScreenVertex{x, y, v.z, v.q}; };
+        emit_quad(corner(a, cx[0], cy[0]), corner(a, cx[1], cy[1]), corner(b, cx[2], cy[2]), corner(b, cx[3], cy[3]), ref_a,
+                  ref_b, primitive, emitter);
+    };
+    if (!(positive | negative)) [[unlikely]]
+        return as_triangles();
+    // Counter-clockwise as setup_triangle orients triangles, so that every edge is >= 0 inside.
+    const std::int32_t vx[4] = {cx[0], positive ? cx[1] : cx[3], cx[2], positive ? cx[3] : cx[1]};
+    const std::int32_t vy[4] = {cy[0], positive ? cy[1] : cy[3], cy[2], positive ? cy[3] : cy[1]};
+    const int min_x = std::max(first_centre(std::min(std::min(vx[0], vx[1]), std::min(vx[2], vx[3]))), scissor.x0);
+    const int max_x = std::min(last_centre(std::max(std::max(vx[0], vx[1]), std::max(vx[2], vx[3]))), scissor.x1 - 1);
+    const int min_y = std::max(first_centre(std::min(std::min(vy[0], vy[1]), std::min(vy[2], vy[3]))), scissor.y0);
+    const int max_y = std::min(last_centre(std::max(std::max(vy[0], vy[1]), std::max(vy[2], vy[3]))), scissor.y1 - 1);
+    if (min_x > max_x || min_y > max_y) return;
+    // Edges relative to the pixel of a, the planes' origin (segment_origin). They fit the lanes' 32
+    // bits over the whole bounds (small_edges) when the largest value there does.
+    const int ox = a.x >> k_subpixel_bits, oy = a.y >> k_subpixel_bits;
+    const std::int64_t reach = std::max(std::max(ox - min_x, max_x - ox), std::max(oy - min_y, max_y - oy));
+    SegmentEdges edges;
+    bool fits = true, small = true;
+    for (int k = 0; k < 4; ++k) {
+        const int n = (k + 1) % 4;
+        const PixelEdge e = pixel_edge(vx[k], vy[k], vx[n], vy[n], ox, oy);
+        fits &= e.at >= INT32_MIN && e.at <= INT32_MAX;
+        small &= std::abs(e.at) + (std::abs(std::int64_t{e.a}) + std::abs(std::int64_t{e.b})) * reach <= INT32_MAX;
+        edges.a[k] = e.a, edges.b[k] = e.b, edges.e[k] = static_cast<std::int32_t>(e.at);
+    }
+    if (!fits) [[unlikely]]
+        return as_triangles();
+    TriangleSetup& t = emitter.begin_segment(min_x, max_x, min_y, max_y, primitive);
+    set_segment_edges(t, edges);
+    t.min_x = min_x, t.max_x = max_x, t.min_y = min_y, t.max_y = max_y;
+    // The planes: f(p) = f(a) + (f(b) - f(a)) s(p), s the screen-space position along a -> b (0 at a,
+    // 1 at b: the projection of p on the segment). Depth and q = 1/w are linear in s; b1 q, the
+    // perspective-correct weight of b times q, is q(b) s, and vertex 2 has weight 0.
+    const double dx = b.x - a.x, dy = b.y - a.y, per_length2 = k_subpixel_one / (dx * dx + dy * dy);
+    const double sx = dx * per_length2, sy = dy * per_length2;  // ds per pixel
+    const double dz = static_cast<double>(b.z) - a.z, dq = static_cast<double>(b.q) - a.q, qb = b.q;
+    constexpr double scale = 1.0 / k_subpixel_one;
+    t.x0 = static_cast<float>(a.x * scale), t.y0 = static_cast<float>(a.y * scale);
+    t.z0 = a.z, t.dzdx = static_cast<float>(dz * sx), t.dzdy = static_cast<float>(dz * sy);
+    t.q0 = a.q, t.dqdx = static_cast<float>(dq * sx), t.dqdy = static_cast<float>(dq * sy);
+    t.dl1dx = static_cast<float>(qb * sx), t.dl1dy = static_cast<float>(qb * sy);
+    t.dl2dx = 0, t.dl2dy = 0;
+    t.vertex[0] = ref_a, t.vertex[1] = ref_b, t.vertex[2] = ref_b;
+    t.front_facing = true;
+    t.small_edges = small;
+    t.segment = true;
+    emitter.end_segment(primitive);
 }
 
 // Pixels [x0, x1) x [y0, y1) (inside the scissor) with point c's depth and varyings.
@@ -102,11 +197,10 @@ void emit_round_point(const ScreenVertex& c, float size, const PixelRect& scisso
 template <bool Primitives>
 void emit_square_point(const ScreenVertex& c, float size, const PixelRect& scissor, std::uint32_t ref,
                        std::uint32_t primitive, Emitter<Primitives>& emitter) {
-    const std::int64_t h = std::llround(static_cast<double>(size) * (k_subpixel_one / 2));
-    constexpr std::int64_t half = k_subpixel_one / 2;
-    // The first centre at or after lo, and the last one before hi (floor division by shifts).
-    const auto first = [](std::int64_t lo) { return static_cast<int>(-((half - lo) >> k_subpixel_bits)); };
-    const auto last = [](std::int64_t hi) { return static_cast<int>((hi - 1 - half) >> k_subpixel_bits); };
+    const std::int64_t h = round_half_away(static_cast<double>(size) * (k_subpixel_one / 2));
+    // The first centre at or after c - h, and the last one before c + h (h <= 2^15: no overflow).
+    const auto first = [](std::int64_t lo) { return first_centre(static_cast<std::int32_t>(lo)); };
+    const auto last = [](std::int64_t hi) { return last_centre(static_cast<std::int32_t>(hi - 1)); };
     const int x0 = std::max(first(c.x - h), scissor.x0), x1 = std::min(last(c.x + h), scissor.x1 - 1);
     const int y0 = std::max(first(c.y - h), scissor.y0), y1 = std::min(last(c.y + h), scissor.y1 - 1);
     if (x0 > x1 || y0 > y1) return;
@@ -140,15 +234,16 @@ bool join_offset(Vec2d na, Vec2d nb, double h, std::int32_t& ox, std::int32_t& o
     const double m2 = mx * mx + my * my;
     if (m2 * k_miter_limit * k_miter_limit < 4.0) return false;  // |m| / 2 = cos < 1 / limit
     const double s = 2.0 * h / m2 * k_subpixel_one;
-    ox = static_cast<std::int32_t>(std::llround(mx * s));
-    oy = static_cast<std::int32_t>(std::llround(my * s));
+    ox = static_cast<std::int32_t>(round_half_away(mx * s));
+    oy = static_cast<std::int32_t>(round_half_away(my * s));
     return true;
 }
 
-// A segment's end at screen vertex v: its corners left and right of the segment, v +- offset.
-struct SegmentEnd {
-    std::int32_t ox, oy;
-};
+// A square end: the corners at half-width h (pixels) on either side along unit normal n.
+SegmentEnd square_end(Vec2d n, double h) {
+    return {static_cast<std::int32_t>(round_half_away(n.x * h * k_subpixel_one)),
+            static_cast<std::int32_t>(round_half_away(n.y * h * k_subpixel_one))};
+}
 
 }  // namespace
 
@@ -225,10 +320,7 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
         if (codes == 0) {
             a = vertices.screen[i0], b = vertices.screen[i1];
             if (!segment_normal(a, b, n)) continue;
-            const auto square = [&](SegmentEnd& e) {
-                e.ox = static_cast<std::int32_t>(std::llround(n.x * h * k_subpixel_one));
-                e.oy = static_cast<std::int32_t>(std::llround(n.y * h * k_subpixel_one));
-            };
+            const SegmentEnd square = square_end(n, h);
             std::uint32_t j0, j1;
             Vec2d m;
             // The join before: with the previous segment, or for the first segment of a run that
@@ -237,12 +329,12 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
             if (s > 0 && joins_next(s - 1)) mitred = unclipped(s - 1, j0, j1, m) && join_offset(m, n, h, e0.ox, e0.oy);
             else if (const std::size_t e = run_last(s); e != s && unclipped(e, j0, j1, m) && j1 == i0)
                 mitred = join_offset(m, n, h, e0.ox, e0.oy);
-            if (!mitred) square(e0);
+            if (!mitred) e0 = square;
             mitred = false;
             if (joins_next(s)) mitred = unclipped(s + 1, j0, j1, m) && join_offset(n, m, h, e1.ox, e1.oy);
             else if (const std::size_t f = run_first(s); f != s && unclipped(f, j0, j1, m) && j0 == i1)
                 mitred = join_offset(n, m, h, e1.ox, e1.oy);
-            if (!mitred) square(e1);
+            if (!mitred) e1 = square;
         } else {
             ++out.stats.triangles_clipped;
             if (!clip_segment(ca, cb, codes, guard, vertices, out.extras, passes)) continue;
@@ -252,14 +344,9 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
             }
             a = project(ca.pos, p), b = project(cb.pos, p);
             if (!segment_normal(a, b, n)) continue;
-            e0.ox = e1.ox = static_cast<std::int32_t>(std::llround(n.x * h * k_subpixel_one));
-            e0.oy = e1.oy = static_cast<std::int32_t>(std::llround(n.y * h * k_subpixel_one));
+            e0 = e1 = square_end(n, h);
         }
-        const auto corner = [](const ScreenVertex& v, std::int32_t ox, std::int32_t oy) {
-            return ScreenVertex{v.x + ox, v.y + oy, v.z, v.q};
-        };
-        emit_quad(corner(a, e0.ox, e0.oy), corner(a, -e0.ox, -e0.oy), corner(b, -e1.ox, -e1.oy),
-                  corner(b, e1.ox, e1.oy), ca.ref, cb.ref, static_cast<std::uint32_t>(s), emitter);
+        emit_segment(a, b, e0, e1, ca.ref, cb.ref, static_cast<std::uint32_t>(s), p.scissor, emitter);
     }
 }
 

@@ -1,8 +1,8 @@
 // facet bin: the front end of point and line draws. In: projected vertices and the draw's point or
 // segment indices. Each point becomes the rectangles of whole pixels it covers (round: runs of rows;
 // square: one), each one flat record binned by the Emitter; each segment a quad around it (lines
-// clipped in clip space first) handed to the Emitter as two triangles. Binning and the tiles are the
-// triangles'.
+// clipped in clip space first), one record of its four edges (raster/segment.hpp), or two triangles
+// when the quad is not strictly convex. Binning and the tiles are the triangles'.
 // Does not shade, and knows nothing of the tiles.
 #pragma once
 

@@ -12,6 +12,7 @@
 
 #include "facet/detail/frame.hpp"
 #include "raster/coverage.hpp"
+#include "raster/segment.hpp"
 #include "simd/isa.hpp"
 
 namespace facet::detail {
@@ -68,6 +69,7 @@ std::optional<InclusiveRect> overlap(const TriangleSetup& t, PixelRect tile, Til
 }  // namespace
 
 bool rasterize_tile_reference(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
+    if (t.segment) return rasterize_segment_reference(t, tile, out);
     const std::optional<InclusiveRect> rect = overlap(t, tile, out);
     if (!rect) return false;
     const int x0 = rect->x0, x1 = rect->x1, y0 = rect->y0, y1 = rect->y1;
@@ -127,25 +129,34 @@ bool rasterize_tile(const TriangleSetup& t, PixelRect tile, TileCoverage& out) {
     edges.width = x1 - x0 + 1;
     edges.height = y1 - y0 + 1;
     edges.shift = x0 - tile.x0;
-    for (int k = 0; k < 3; ++k) {
-        // The edge's extremes over the rectangle are at its corners. max - min = |a| (w - 1) +
-        // |b| (h - 1) < 2 * 2^24 * 63 < 2^31, so an edge that changes sign inside (min < 0 <= max)
-        // has every value in the rectangle within 32 bits.
-        const std::int64_t a = t.a[k], b = t.b[k];
-        const std::int64_t first = edge_at(t, k, x0, y0);
+    // Edge (first, a, b) over the rectangle, its value at (x0, y0) and its steps. Its extremes are
+    // at the corners. max - min = |a| (w - 1) + |b| (h - 1) < 2 * 2^24 * 63 < 2^31, so an edge that
+    // changes sign inside (min < 0 <= max) has every value in the rectangle within 32 bits. False
+    // when it is negative everywhere.
+    const auto add_edge = [&](std::int64_t first, std::int32_t a, std::int32_t b) {
         const std::int64_t min = first + std::min<std::int64_t>(a, 0) * (edges.width - 1) +
                                  std::min<std::int64_t>(b, 0) * (edges.height - 1);
         const std::int64_t max = first + std::max<std::int64_t>(a, 0) * (edges.width - 1) +
                                  std::max<std::int64_t>(b, 0) * (edges.height - 1);
-        if (max < 0) {  // outside this edge everywhere
-            out.last_row = out.first_row - 1;
-            return false;
-        }
-        if (min >= 0) continue;  // inside this edge everywhere
+        if (max < 0) return false;
+        if (min >= 0) return true;  // inside this edge everywhere
         edges.e[edges.count] = static_cast<std::int32_t>(first);
-        edges.a[edges.count] = t.a[k];
-        edges.b[edges.count] = t.b[k];
+        edges.a[edges.count] = a;
+        edges.b[edges.count] = b;
         ++edges.count;
+        return true;
+    };
+    bool inside = true;
+    if (t.segment) {
+        const SegmentEdges s = segment_edges(t);
+        const PixelIndex origin = segment_origin(t);
+        for (int k = 0; k < 4 && inside; ++k) inside = add_edge(segment_edge_at(s, origin, k, x0, y0), s.a[k], s.b[k]);
+    } else {
+        for (int k = 0; k < 3 && inside; ++k) inside = add_edge(edge_at(t, k, x0, y0), t.a[k], t.b[k]);
+    }
+    if (!inside) {  // outside some edge everywhere
+        out.last_row = out.first_row - 1;
+        return false;
     }
     std::uint64_t* rows = out.rows + out.first_row;
     if (edges.count == 0) {

@@ -7,8 +7,8 @@
 namespace facet::detail {
 
 struct CrossingEdges {
-    int count;                      // 0 to 3 edges that are negative somewhere in the rectangle
-    std::int32_t e[3], a[3], b[3];  // value at the rectangle's first pixel, step per column, per row
+    int count;                      // 0 to 4 edges (a segment's: 4) that are negative somewhere in the rectangle
+    std::int32_t e[4], a[4], b[4];  // value at the rectangle's first pixel, step per column, per row
     int width, height;              // rectangle size in pixels (width <= 64)
     int shift;                      // column of the rectangle's first pixel within its tile row
 };

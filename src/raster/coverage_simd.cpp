@@ -16,14 +16,16 @@ HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-bool CoverRows(const CrossingEdges& edges, std::uint64_t* rows) {
+// K edges: 3 for a triangle's, 4 when a segment's four cross the rectangle.
+template <int K>
+bool CoverRowsOf(const CrossingEdges& edges, std::uint64_t* rows) {
     const hn::ScalableTag<std::int32_t> d;
     const int lanes = static_cast<int>(hn::Lanes(d));
     using V = hn::Vec<decltype(d)>;
     const V iota = hn::Iota(d, 0);
-    V a_iota[3];
-    std::uint32_t e[3], a[3], b[3];  // unsigned: wrapping arithmetic in lanes past the rectangle
-    for (int k = 0; k < 3; ++k) {
+    V a_iota[K];
+    std::uint32_t e[K], a[K], b[K];  // unsigned: wrapping arithmetic in lanes past the rectangle
+    for (int k = 0; k < K; ++k) {
         // Missing edges are e = a = b = 0, which never sets a sign bit.
         const bool used = k < edges.count;
         e[k] = used ? static_cast<std::uint32_t>(edges.e[k]) : 0;
@@ -38,7 +40,7 @@ bool CoverRows(const CrossingEdges& edges, std::uint64_t* rows) {
         for (int x = 0; x < edges.width; x += lanes) {
             const std::uint32_t ux = static_cast<std::uint32_t>(x);
             V v = hn::Zero(d);
-            for (int k = 0; k < 3; ++k)
+            for (int k = 0; k < K; ++k)
                 v = hn::Or(v, hn::Add(hn::Set(d, static_cast<std::int32_t>(e[k] + a[k] * ux)), a_iota[k]));
             // Covered where every edge function is >= 0: no sign bit in their OR.
             std::uint8_t bits[8] = {};
@@ -50,9 +52,13 @@ bool CoverRows(const CrossingEdges& edges, std::uint64_t* rows) {
         mask &= width_mask;
         any |= mask != 0;
         rows[row] = mask << edges.shift;
-        for (int k = 0; k < 3; ++k) e[k] += b[k];
+        for (int k = 0; k < K; ++k) e[k] += b[k];
     }
     return any;
+}
+
+bool CoverRows(const CrossingEdges& edges, std::uint64_t* rows) {
+    return edges.count > 3 ? CoverRowsOf<4>(edges, rows) : CoverRowsOf<3>(edges, rows);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE

@@ -11,27 +11,12 @@ namespace {
 std::int32_t min3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::min(a, std::min(b, c)); }
 std::int32_t max3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::max(a, std::max(b, c)); }
 
-// Pixel index range whose centres (i + 0.5) lie in [lo, hi] (fixed point). An arithmetic right
-// shift is floor division by the power of two k_subpixel_one.
-int first_centre(std::int32_t lo) { return -((k_subpixel_one / 2 - lo) >> k_subpixel_bits); }
-int last_centre(std::int32_t hi) { return (hi - k_subpixel_one / 2) >> k_subpixel_bits; }
-
-// Edge a->b: E(p) = A px + B py + C, positive inside. A pixel centre exactly on an edge belongs to
-// the triangle only for a top edge (horizontal, inside below) or a left edge (inside to the right).
-// With p = 256 i + 128 per axis, E = 256 (A ix + B iy) + 128 (A + B) + C, and for integers
-// 256 k + c >= 0  <=>  k + floor(c / 256) >= 0, which turns E into pixel units exactly.
-// Snapped coordinates are below 2^22 in magnitude, so A and B fit in 32 bits and only C needs 64.
 // Needs t's bounds.
 void set_edge(TriangleSetup& t, int e, const ScreenVertex& a, const ScreenVertex& b) {
-    const std::int32_t A = a.y - b.y, B = b.x - a.x;
-    const std::int64_t C = -(std::int64_t{A} * a.x + std::int64_t{B} * a.y);
-    // Bitwise, not short-circuit: the edge directions are random, so a branch here mispredicts often.
-    const bool top_left = (A > 0) | ((A == 0) & (B > 0));
-    const std::int64_t c = C + (static_cast<std::int64_t>(top_left) - 1) + std::int64_t{k_subpixel_one / 2} * (A + B);
-    t.a[e] = A;
-    t.b[e] = B;
-    // At pixel (0, 0) after the arithmetic shift (floor division by 256), then moved to the bounds' corner.
-    t.e0[e] = (c >> k_subpixel_bits) + std::int64_t{A} * t.min_x + std::int64_t{B} * t.min_y;
+    const PixelEdge edge = pixel_edge(a.x, a.y, b.x, b.y, t.min_x, t.min_y);
+    t.a[e] = edge.a;
+    t.b[e] = edge.b;
+    t.e0[e] = edge.at;
 }
 
 // The four attribute planes f(x, y) = f0 + dfdx (x - x0) + dfdy (y - y0) through the vertex values of
@@ -108,6 +93,7 @@ SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&ve
     t.vertex[1] = vertex_ref[flip ? 2 : 1];
     t.vertex[2] = vertex_ref[flip ? 1 : 2];
     t.front_facing = front;
+    t.segment = false;
     return SetupResult::ok;
 }
 

@@ -16,6 +16,35 @@ namespace facet::detail {
 
 enum class SetupResult { ok, culled, empty };
 
+// Pixel index range whose centres (i + 0.5) lie in [lo, hi] (fixed point). An arithmetic right
+// shift is floor division by the power of two k_subpixel_one.
+inline int first_centre(std::int32_t lo) { return -((k_subpixel_one / 2 - lo) >> k_subpixel_bits); }
+inline int last_centre(std::int32_t hi) { return (hi - k_subpixel_one / 2) >> k_subpixel_bits; }
+
+// The edge function of a -> b (snapped coordinates) in pixel units, the top-left rule folded in:
+// pixel (ix, iy) is on the inside (left of a -> b in screen coordinates, y down) when
+// at + a (ix - x) + b (iy - y) >= 0, exactly, `at` being its value at pixel (x, y). Every edge of a
+// triangle's or a segment's record is made by it.
+//
+// E(p) = A (px - ax) + B (py - ay), positive inside. A pixel centre exactly on an edge belongs to
+// the triangle only for a top edge (horizontal, inside below) or a left edge (inside to the right).
+// With p = 256 i + 128 per axis, E = 256 (A (ix - x) + B (iy - y)) + E(centre of (x, y)), and for
+// integers 256 k + c >= 0  <=>  k + floor(c / 256) >= 0, which turns E into pixel units exactly.
+// Snapped coordinates are below 2^22 in magnitude, so A and B fit in 32 bits and `at` needs 64.
+struct PixelEdge {
+    std::int32_t a, b;
+    std::int64_t at;
+};
+inline PixelEdge pixel_edge(std::int32_t ax, std::int32_t ay, std::int32_t bx, std::int32_t by, int x, int y) {
+    const std::int32_t A = ay - by, B = bx - ax;
+    // Bitwise, not short-circuit: the edge directions are random, so a branch here mispredicts often.
+    const bool top_left = (A > 0) | ((A == 0) & (B > 0));
+    const std::int64_t centre_x = std::int64_t{x} * k_subpixel_one + k_subpixel_one / 2 - ax;
+    const std::int64_t centre_y = std::int64_t{y} * k_subpixel_one + k_subpixel_one / 2 - ay;
+    const std::int64_t c = A * centre_x + B * centre_y + (static_cast<std::int64_t>(top_left) - 1);
+    return {A, B, c >> k_subpixel_bits};  // the arithmetic shift is floor division by 256
+}
+
 // `ref` names each vertex's varyings (a ClipVertices index, or k_clipped_bit | extras index).
 SetupResult setup_triangle(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], const FrontEndParams& params,
                            TriangleSetup& out);

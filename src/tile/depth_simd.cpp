@@ -17,20 +17,39 @@
 #include <algorithm>
 #include <cstring>
 
+#include "raster/segment.hpp"
 #include "tile/depth_pass.hpp"
 
 #ifndef FACET_TILE_DEPTH_SIMD_ONCE
 #define FACET_TILE_DEPTH_SIMD_ONCE
 namespace facet::detail {
 
-// The triangle's pixel bounds within a tile (inclusive) and its edges in the 32-bit form the lanes
-// evaluate, as coverage.cpp's rasterize_tile prepares them: an edge that is >= 0 over the whole
-// rectangle becomes e = a = b = 0 (its values there may not fit in 32 bits; it decides nothing), and
-// the others vary by less than 2^31 over the rectangle, so they fit.
-struct EdgeRect {
+// The triangle's (K = 3) or segment's (K = 4) pixel bounds within a tile (inclusive) and its edges in
+// the 32-bit form the lanes evaluate, as coverage.cpp's rasterize_tile prepares them: an edge that is
+// >= 0 over the whole rectangle becomes e = a = b = 0 (its values there may not fit in 32 bits; it
+// decides nothing), and the others vary by less than 2^31 over the rectangle, so they fit.
+template <int K>
+struct EdgeRectOf {
+    static constexpr int k_edges = K;
     int x0, y0, x1, y1;
-    std::uint32_t e[3], a[3], b[3];  // value at (x0, y0), step per column, per row; unsigned: lanes wrap
+    std::uint32_t e[K], a[K], b[K];  // value at (x0, y0), step per column, per row; unsigned: lanes wrap
 };
+using EdgeRect = EdgeRectOf<3>;
+
+// Edge k of r from its value at (r.x0, r.y0) and its steps, exact in 64 bits. False when it is
+// negative over the whole rectangle.
+template <int K>
+HWY_INLINE bool set_crossing_edge(EdgeRectOf<K>& r, int k, std::int64_t first, std::int32_t a, std::int32_t b) {
+    const std::int64_t w1 = r.x1 - r.x0, h1 = r.y1 - r.y0;
+    const std::int64_t min = first + std::min<std::int64_t>(a, 0) * w1 + std::min<std::int64_t>(b, 0) * h1;
+    const std::int64_t max = first + std::max<std::int64_t>(a, 0) * w1 + std::max<std::int64_t>(b, 0) * h1;
+    if (max < 0) return false;
+    const bool crosses = min < 0;
+    r.e[k] = crosses ? static_cast<std::uint32_t>(first) : 0;
+    r.a[k] = crosses ? static_cast<std::uint32_t>(a) : 0;
+    r.b[k] = crosses ? static_cast<std::uint32_t>(b) : 0;
+    return true;
+}
 
 // False when the bounds miss the tile or some edge is negative over the whole rectangle.
 HWY_INLINE bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
@@ -49,18 +68,29 @@ HWY_INLINE bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
         }
         return true;
     }
-    const std::int64_t w1 = r.x1 - r.x0, h1 = r.y1 - r.y0;
-    for (int k = 0; k < 3; ++k) {
-        const std::int64_t a = t.a[k], b = t.b[k];
-        const std::int64_t first = edge_at(t, k, r.x0, r.y0);
-        const std::int64_t min = first + std::min<std::int64_t>(a, 0) * w1 + std::min<std::int64_t>(b, 0) * h1;
-        const std::int64_t max = first + std::max<std::int64_t>(a, 0) * w1 + std::max<std::int64_t>(b, 0) * h1;
-        if (max < 0) return false;
-        const bool crosses = min < 0;
-        r.e[k] = crosses ? static_cast<std::uint32_t>(first) : 0;
-        r.a[k] = crosses ? static_cast<std::uint32_t>(t.a[k]) : 0;
-        r.b[k] = crosses ? static_cast<std::uint32_t>(t.b[k]) : 0;
+    for (int k = 0; k < 3; ++k)
+        if (!set_crossing_edge(r, k, edge_at(t, k, r.x0, r.y0), t.a[k], t.b[k])) return false;
+    return true;
+}
+
+// edge_rect for a segment's record: its four edges (raster/segment.hpp).
+HWY_INLINE bool segment_edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRectOf<4>& r) {
+    r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
+    r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
+    if (r.x0 > r.x1 || r.y0 > r.y1) return false;
+    const SegmentEdges s = segment_edges(t);
+    const PixelIndex origin = segment_origin(t);
+    if (t.small_edges) {  // every value fits: 32-bit arithmetic that wraps is exact, as edge_rect's
+        const auto dx = static_cast<std::uint32_t>(r.x0 - origin.x), dy = static_cast<std::uint32_t>(r.y0 - origin.y);
+        for (int k = 0; k < 4; ++k) {
+            r.a[k] = static_cast<std::uint32_t>(s.a[k]);
+            r.b[k] = static_cast<std::uint32_t>(s.b[k]);
+            r.e[k] = static_cast<std::uint32_t>(s.e[k]) + r.a[k] * dx + r.b[k] * dy;
+        }
+        return true;
     }
+    for (int k = 0; k < 4; ++k)
+        if (!set_crossing_edge(r, k, segment_edge_at(s, origin, k, r.x0, r.y0), s.a[k], s.b[k])) return false;
     return true;
 }
 
@@ -97,6 +127,14 @@ HWY_INLINE hn::Vec<DF> clamp_depth(DF df, hn::Vec<DF> z) {
 #endif
 }
 
+// The OR of K edge vectors: covered where every edge function is >= 0, i.e. no sign bit in it.
+template <int K, class V>
+HWY_INLINE V or_of(const V (&e)[K]) {
+    V v = e[0];
+    for (int k = 1; k < K; ++k) v = hn::Or(v, e[k]);
+    return v;
+}
+
 // Rows are drawn in groups of this many, unrolled, the group's rows past the rectangle computed
 // with no pixel inside: most triangles of dense meshes are one or two rows tall within a tile, and a
 // row loop whose trip count changes from one triangle to the next mispredicts its exit about once
@@ -108,16 +146,16 @@ constexpr int k_row_group = 2;
 // lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors. A row
 // past the rectangle (in the last group) is loaded and stored unchanged, past the tile in the
 // arrays' spare row (TileBuffers::k_rows).
-template <DepthTest D, bool DepthWrite, class DF>
+template <DepthTest D, bool DepthWrite, class DF, int K>
 HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileBuffers& buffers,
-                              std::uint32_t id, const EdgeRect& r, int start, int lo, int hi) {
+                              std::uint32_t id, const EdgeRectOf<K>& r, int start, int lo, int hi) {
     const hn::RebindToSigned<DF> di;
     const hn::RebindToUnsigned<DF> du;
     using VI = hn::Vec<decltype(di)>;
     const VI iota = hn::Iota(di, 0);
     const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
-    VI e[3], b[3];
-    for (int k = 0; k < 3; ++k) {
+    VI e[K], b[K];
+    for (int k = 0; k < K; ++k) {
         const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.x0);
         e[k] = hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
                        hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), iota));
@@ -138,8 +176,8 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
             // Covered where every edge function is >= 0: no sign bit in their OR.
             // The group's first row is always in the rectangle (the loop's condition).
             const auto in_rect = g == 0 ? columns : hn::And(columns, hn::Lt(hn::Set(di, g), rows_left));
-            const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e[0], e[1]), e[2]), hn::Zero(di)), in_rect);
-            for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], b[k]);
+            const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
+            for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b[k]);
             const float dy = (static_cast<float>(y + g) + 0.5f) - t.y0;
             auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
             z = clamp_depth(df, z);
@@ -166,9 +204,9 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
 // or two rows, most of the 1M sphere's, the wider set-up cost more than it saved (sphere 2.5%
 // slower), so those keep resolve_strip's single group of two 8-lane rows.
 constexpr int k_pair_group = 2;  // vectors per group
-template <DepthTest D, bool DepthWrite>
+template <DepthTest D, bool DepthWrite, int K>
 HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
-                                  const EdgeRect& r, int start, int lo, int hi) {
+                                  const EdgeRectOf<K>& r, int start, int lo, int hi) {
     const hn::Full512<float> df;
     const hn::Full256<float> dh;
     const hn::RebindToSigned<decltype(df)> di;
@@ -177,8 +215,8 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
     const VI iota = hn::Iota(di, 0);
     const VI column = hn::And(iota, hn::Set(di, 7)), row = hn::ShiftRight<3>(iota);
     const auto columns = hn::And(hn::Gt(column, hn::Set(di, lo - 1)), hn::Lt(column, hn::Set(di, hi + 1)));
-    VI e[3], b2[3];
-    for (int k = 0; k < 3; ++k) {
+    VI e[K], b2[K];
+    for (int k = 0; k < K; ++k) {
         const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.x0);
         e[k] = hn::Add(hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
                                hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), column)),
@@ -201,8 +239,8 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
         for (int g = 0; g < k_pair_group; ++g) {
             const VI row_g = hn::Add(row, hn::Set(di, 2 * g));
             const auto in_rect = hn::And(columns, hn::Lt(row_g, rows_left));
-            const auto inside = hn::AndNot(hn::Lt(hn::Or(hn::Or(e[0], e[1]), e[2]), hn::Zero(di)), in_rect);
-            for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], b2[k]);
+            const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
+            for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b2[k]);
             // (y + row + 0.5) - y0 per lane: the float operations of resolve_strip's dy.
             const auto dy = hn::Sub(hn::Add(hn::ConvertTo(df, hn::Add(row_g, hn::Set(di, y))), half), y0);
             auto z = hn::Add(z_x, hn::Mul(dzdy, dy));
@@ -226,16 +264,15 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
 }
 #endif
 
-// Pass one for one triangle: its rectangle in the tile in strips of one vector aligned within the
-// tile's arrays (whose rows are wider than the tile when it is narrower than a vector: those lanes
-// are never inside).
-template <DepthTest D, bool DepthWrite>
-HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
+// Pass one for one triangle's or segment's rectangle in the tile, r, in strips of one vector aligned
+// within the tile's arrays (whose rows are wider than the tile when it is narrower than a vector:
+// those lanes are never inside).
+template <DepthTest D, bool DepthWrite, int K>
+HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
+                             const EdgeRectOf<K>& r) {
     const hn::ScalableTag<float> df;
     const int lanes = static_cast<int>(hn::Lanes(df));
     static_assert(k_max_tile_size % (HWY_MAX_BYTES / sizeof(float)) == 0, "a row is whole vectors");
-    EdgeRect r;
-    if (!edge_rect(t, tile, r)) return false;
     // A rectangle within 8 aligned columns in half-width vectors when full ones are wider: on CPUs
     // that run a 512-bit operation as two 256-bit halves (AMD's Zen 4) that halves the work of the
     // most common triangles of dense meshes (the 1M sphere's frame 3-4% faster at 1 thread); where a
@@ -259,6 +296,23 @@ HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileBuffers&
         x = end + 1;
     }
     return any;
+}
+
+// Out of line: a segment's record (raster/segment.hpp), which only the bins of line draws hold.
+template <DepthTest D, bool DepthWrite>
+HWY_NOINLINE bool resolve_segment(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
+    EdgeRectOf<4> r;
+    if (!segment_edge_rect(t, tile, r)) return false;
+    return resolve_rect<D, DepthWrite>(t, tile, buffers, id, r);
+}
+
+template <DepthTest D, bool DepthWrite>
+HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
+    if (t.segment) [[unlikely]]
+        return resolve_segment<D, DepthWrite>(t, tile, buffers, id);
+    EdgeRect r;
+    if (!edge_rect(t, tile, r)) return false;
+    return resolve_rect<D, DepthWrite>(t, tile, buffers, id, r);
 }
 
 template <DepthTest D, bool DepthWrite>

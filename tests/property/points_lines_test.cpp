@@ -271,6 +271,49 @@ TEST(Lines, LoopsCloseWithAJoinWithoutGapsOrDoubleHits) {
     EXPECT_GT(covered, 5000);
 }
 
+// Each segment is one record (raster/segment.hpp), binned to the tiles it crosses, and both drawing
+// orders cover the same pixels with it: the one-pass order (CountingShader, the coverage kernel) and
+// the visible-only order (the depth pass), over tile sizes, with segments of 0.5 to 12 pixels' width
+// from within a pixel to past the target.
+TEST(Lines, EachSegmentIsOneRecordCoveringTheSamePixelsInBothOrders) {
+    std::mt19937 rng(32);
+    std::uniform_int_distribution<std::int32_t> coordinate(-16 * 256, 80 * 256), near(-3 * 256, 3 * 256);
+    std::uniform_real_distribution<float> width(0.5f, 12.0f);
+    std::vector<Vec4> pos;
+    for (int k = 0; k < 60; ++k) {
+        const std::int32_t X = coordinate(rng), Y = coordinate(rng);
+        const bool short_one = k % 3 == 0;
+        std::int32_t X1 = short_one ? X + near(rng) : coordinate(rng), Y1 = short_one ? Y + near(rng) : coordinate(rng);
+        if (X1 == X && Y1 == Y) ++X1;
+        pos.push_back(clip_at(X, Y)), pos.push_back(clip_at(X1, Y1));
+    }
+    const auto shader = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return pos[i]; },
+                                       [](const FragmentIn<0>&) { return Vec4{1, 1, 1, 1}; });
+    for (int trial = 0; trial < 10; ++trial) {
+        const PrimitiveStyle style{.line_width = width(rng)};
+        for (int tile : {8, 16, 64}) {
+            const RendererConfig config{.threads = 2, .tile_size = tile};
+            const Hits hits = draw_counting(pos, {}, Topology::lines, style, config);
+            Renderer renderer(config);
+            Framebuffer fb(k_size, k_size);
+            DrawState state;
+            state.clear = ClearValues{};
+            const DrawStats stats = renderer.draw(fb, state, {static_cast<std::uint32_t>(pos.size()), {}, Topology::lines, style}, shader);
+            // One record per segment that reaches the target (over 30 of the 60 do): two triangles each would pass 60.
+            EXPECT_EQ(stats.triangles_rasterized, hits.stats.triangles_rasterized);
+            EXPECT_LE(stats.triangles_rasterized, 60u);
+            EXPECT_GT(stats.triangles_rasterized, 30u);
+            int covered = 0;
+            for (int i = 0; i < k_size * k_size; ++i) {
+                covered += hits.count[i] > 0;
+                ASSERT_EQ(fb.colour_data()[i].r == 255, hits.count[i] > 0)
+                    << "pixel " << i % k_size << "," << i / k_size << ", tiles " << tile << ", width " << style.line_width;
+            }
+            EXPECT_GT(covered, 300);
+        }
+    }
+}
+
 // A point or a line on a surface's depth: in front of the surface it wins, behind it loses.
 TEST(PointsAndLines, AreDepthTestedAgainstTriangles) {
     std::vector<Vec4> pos = {{-1, -1, 0, 1}, {1, -1, 0, 1}, {1, 1, 0, 1}, {-1, 1, 0, 1}};  // z set below

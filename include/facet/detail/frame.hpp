@@ -74,6 +74,7 @@ struct alignas(64) TriangleSetup {
     std::uint32_t vertex[3];         // varyings: ClipVertices index, or k_clipped_bit | index into the clip extras
     bool front_facing;
     bool small_edges;                // edges_fit_32_bits: set by setup, so pass one need not test it per tile
+    bool segment;                    // a line segment's quad (raster/segment.hpp): a, b and e0 hold four edges
 };
 
 static_assert(sizeof(TriangleSetup) == 128);
