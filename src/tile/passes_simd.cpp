@@ -4,7 +4,8 @@
 // lane performs write_pass_pixel's operations in the same order with the same rounding (no FMA,
 // correctly rounded sqrt and division), so the bytes are the specification's; what has no exact
 // vector form goes through it pixel by pixel: the rare normals of normalize_rare and the columns
-// past the last whole vector. Does not decide visibility nor store the row to the targets.
+// past the last whole vector. Does not decide visibility; streams the row to the targets only
+// when asked to (whole aligned cache lines), else leaves it in the row buffer.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "tile/passes_simd.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -120,8 +121,45 @@ HWY_INLINE PassLanes pass_lanes(const PassDraw& d, const Setup& setup, const Fie
     return o;
 }
 
+// A whole vector of 4-byte values to `to` (its lanes' place in a row); streamed with kStream (`to`
+// then starts a cache line or a vector's part of one).
+template <bool kStream, class D>
+HWY_INLINE void put(D d, hn::Vec<D> v, hn::TFromD<D>* to) {
+    if constexpr (kStream) hn::Stream(v, d, to);
+    else hn::StoreU(v, d, to);
+}
+
+// Interleaved Vec3 or Vec2 lanes to `to`: streamed with kStream, through a vector's worth of pixels
+// on the stack (Highway's interleaving stores do not stream).
+template <bool kStream>
+HWY_INLINE void put3(VF x, VF y, VF z, float* to) {
+    const DF df;
+    if constexpr (kStream) {
+        constexpr std::size_t lanes = hn::MaxLanes(DF());
+        HWY_ALIGN float v[3 * lanes];
+        hn::StoreInterleaved3(x, y, z, df, v);
+        for (std::size_t k = 0; k < 3; ++k) hn::Stream(hn::Load(df, v + k * lanes), df, to + k * lanes);
+    } else {
+        hn::StoreInterleaved3(x, y, z, df, to);
+    }
+}
+template <bool kStream>
+HWY_INLINE void put2(VF u, VF v, float* to) {
+    const DF df;
+    if constexpr (kStream) {
+        constexpr std::size_t lanes = hn::MaxLanes(DF());
+        HWY_ALIGN float uv[2 * lanes];
+        hn::StoreInterleaved2(u, v, df, uv);
+        for (std::size_t k = 0; k < 2; ++k) hn::Stream(hn::Load(df, uv + k * lanes), df, to + k * lanes);
+    } else {
+        hn::StoreInterleaved2(u, v, df, to);
+    }
+}
+
 // The lanes of `o` into [i, i + lanes) of `out`: with `whole` every lane (the background where not
-// visible), else the visible lanes only.
+// visible), else the visible lanes only; with kStream (and `whole`), streamed to `out`, the targets'
+// row of whole aligned cache lines.
+template <bool kStream = false>
 HWY_INLINE void store_pass_lanes(const PassDraw& d, const PassLanes& o, MF visible, bool whole, const PassOut& out,
                                  int i) {
     const DF df;
@@ -131,11 +169,11 @@ HWY_INLINE void store_pass_lanes(const PassDraw& d, const PassLanes& o, MF visib
     const VF inf = hn::Set(df, std::numeric_limits<float>::infinity());
     constexpr std::size_t lanes = hn::MaxLanes(DF());
     auto store = [&](VF v, VF background, float* to) {
-        if (whole) hn::StoreU(hn::IfThenElse(visible, v, background), df, to + i);
+        if (whole) put<kStream>(df, hn::IfThenElse(visible, v, background), to + i);
         else hn::BlendedStore(v, visible, df, to + i);
     };
     auto store_u = [&](VU v, std::uint32_t* to) {
-        if (whole) hn::StoreU(hn::IfThenElseZero(visible_u, v), du, to + i);
+        if (whole) put<kStream>(du, hn::IfThenElseZero(visible_u, v), to + i);
         else hn::BlendedStore(v, visible_u, du, to + i);
     };
     // Vec3 and Vec2 rows as floats (Highway's stores may alias): interleaved whole when every lane is
@@ -149,7 +187,7 @@ HWY_INLINE void store_pass_lanes(const PassDraw& d, const PassLanes& o, MF visib
         const VF x = hn::IfThenElseZero(visible, o.nx), y = hn::IfThenElseZero(visible, o.ny),
                  z = hn::IfThenElseZero(visible, o.nz);
         if (all) {
-            hn::StoreInterleaved3(x, y, z, df, reinterpret_cast<float*>(out.normal + i));
+            put3<kStream>(x, y, z, reinterpret_cast<float*>(out.normal + i));
         } else {
             HWY_ALIGN Vec3 normals[lanes];
             hn::StoreInterleaved3(x, y, z, df, reinterpret_cast<float*>(normals));
@@ -162,7 +200,7 @@ HWY_INLINE void store_pass_lanes(const PassDraw& d, const PassLanes& o, MF visib
     if (out.uv) {
         const VF u = hn::IfThenElseZero(visible, o.u), v = hn::IfThenElseZero(visible, o.v);
         if (all) {
-            hn::StoreInterleaved2(u, v, df, reinterpret_cast<float*>(out.uv + i));
+            put2<kStream>(u, v, reinterpret_cast<float*>(out.uv + i));
         } else {
             HWY_ALIGN Vec2 uvs[lanes];
             hn::StoreInterleaved2(u, v, df, reinterpret_cast<float*>(uvs));
@@ -171,19 +209,20 @@ HWY_INLINE void store_pass_lanes(const PassDraw& d, const PassLanes& o, MF visib
     }
 }
 
-// The background into [i, i + lanes) of `out`.
+// The background into [i, i + lanes) of `out` (streamed with kStream, as store_pass_lanes).
+template <bool kStream = false>
 HWY_INLINE void store_pass_background(const PassOut& out, int i) {
     const DF df;
     const DU du;
     const VF zero = hn::Zero(df), inf = hn::Set(df, std::numeric_limits<float>::infinity());
-    if (out.alpha) hn::StoreU(zero, df, out.alpha + i);
-    if (out.depth) hn::StoreU(inf, df, out.depth + i);
-    if (out.range) hn::StoreU(inf, df, out.range + i);
-    if (out.normal) hn::StoreInterleaved3(zero, zero, zero, df, reinterpret_cast<float*>(out.normal + i));
-    if (out.instance) hn::StoreU(hn::Zero(du), du, out.instance + i);
-    if (out.material) hn::StoreU(hn::Zero(du), du, out.material + i);
-    if (out.primitive) hn::StoreU(hn::Zero(du), du, out.primitive + i);
-    if (out.uv) hn::StoreInterleaved2(zero, zero, df, reinterpret_cast<float*>(out.uv + i));
+    if (out.alpha) put<kStream>(df, zero, out.alpha + i);
+    if (out.depth) put<kStream>(df, inf, out.depth + i);
+    if (out.range) put<kStream>(df, inf, out.range + i);
+    if (out.normal) put3<kStream>(zero, zero, zero, reinterpret_cast<float*>(out.normal + i));
+    if (out.instance) put<kStream>(du, hn::Zero(du), out.instance + i);
+    if (out.material) put<kStream>(du, hn::Zero(du), out.material + i);
+    if (out.primitive) put<kStream>(du, hn::Zero(du), out.primitive + i);
+    if (out.uv) put2<kStream>(zero, zero, reinterpret_cast<float*>(out.uv + i));
 }
 
 // Whether every pass of `to` (a row of the targets) starts on a cache line and is whole cache lines
@@ -218,8 +257,8 @@ bool WritePassRow(const VisibleTile& tile, const float* records, int record_stri
     constexpr int lanes = static_cast<int>(hn::MaxLanes(DF()));
     constexpr std::uint64_t lane_bits = lanes >= 64 ? ~0ull : (1ull << lanes) - 1;
     const int width = tile.rect.x1 - tile.rect.x0, simd_width = width / lanes * lanes;
-    // Straight to the targets: each vector through `out` at its place (in the caches) and streamed
-    // from there, so that the specification can still mend its lanes first.
+    // Straight to the targets: each vector streamed from the registers, or, when the specification
+    // must mend some of its lanes first, through `out` at its place (in the caches).
     const bool direct = whole && stream && simd_width == width && whole_lines(*stream, width);
     const std::uint32_t* owner_row = tile.owner + r * VisibleTile::k_row;
     const VF py = hn::Set(df, static_cast<float>(tile.rect.y0 + r) + 0.5f);
@@ -233,8 +272,8 @@ bool WritePassRow(const VisibleTile& tile, const float* records, int record_stri
     for (int i = 0; i < simd_width; i += lanes) {
         const std::uint64_t bits = (pixels >> i) & lane_bits;
         if (!bits) {
-            if (whole) store_pass_background(out, i);
-            if (direct) stream_pass_lanes(out, *stream, i);
+            if (direct) store_pass_background<true>(*stream, i);
+            else if (whole) store_pass_background(out, i);
             continue;
         }
         std::uint8_t bytes[8];
@@ -301,8 +340,12 @@ bool WritePassRow(const VisibleTile& tile, const float* records, int record_stri
             };
             o = pass_lanes(d, setup, field, field_u, px, py, scalar);
         }
-        store_pass_lanes(d, o, visible, whole, out, i);
         const std::uint64_t rare = mask_bits(hn::And(scalar, visible)) & bits;
+        if (direct && !rare) {
+            store_pass_lanes<true>(d, o, visible, true, *stream, i);
+            continue;
+        }
+        store_pass_lanes(d, o, visible, whole, out, i);
         if (direct) {
             for (std::uint64_t b = rare; b; b &= b - 1)
                 write_pass_pixel(tile, records, record_stride, d, r, i + std::countr_zero(b), out);
