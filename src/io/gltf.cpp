@@ -299,11 +299,14 @@ private:
             for (const Value& e : list->GetArray()) {
                 GLTF_REQUIRE(e.IsString());
                 const std::string_view name = e.GetString();
-                GLTF_REQUIRE(name == "KHR_texture_transform" || name == "KHR_materials_unlit");
+                // KHR_materials_emissive_strength: unknown to assimp 5.2.5, which reads the file without
+                // it (the emissive colour unscaled); so does this reader, unless the file requires it.
+                GLTF_REQUIRE(name == "KHR_texture_transform" || name == "KHR_materials_unlit" ||
+                             (name == "KHR_materials_emissive_strength" && std::string_view(key) == "extensionsUsed"));
                 if (name == "KHR_texture_transform" && std::string_view(key) == "extensionsUsed") texture_transform_ = true;
             }
         }
-        for (const char* key : {"skins", "animations"}) GLTF_REQUIRE(!find(doc_, key));
+        GLTF_REQUIRE(!find(doc_, "skins"));
         for (const char* key : {"nodes", "meshes", "materials", "textures", "images", "samplers", "accessors", "bufferViews",
                                 "buffers", "scenes"})
             if (const Value* list = find(doc_, key)) GLTF_REQUIRE(list->IsArray());
@@ -325,6 +328,36 @@ private:
         sampler_read_.assign(count("samplers"), false);
         buffers_.resize(count("buffers"));
         buffer_read_.assign(count("buffers"), false);
+        // Animations move nodes over time; the scene is the nodes' own pose, as assimp's is. Their
+        // samplers' accessors are read (assimp refuses a file whose accessors are broken).
+        if (const Value* animations = find(doc_, "animations")) {
+            GLTF_REQUIRE(animations->IsArray());
+            for (const Value& a : animations->GetArray()) {
+                GLTF_REQUIRE(a.IsObject());
+                const Value* samplers = find(a, "samplers");
+                GLTF_REQUIRE(samplers && samplers->IsArray());
+                for (const Value& sampler : samplers->GetArray()) {
+                    GLTF_REQUIRE(sampler.IsObject());
+                    for (const char* k : {"input", "output"}) {
+                        const std::optional<std::uint32_t> at = uint_member(sampler, k);
+                        GLTF_REQUIRE(at);
+                        accessor(*at);
+                    }
+                }
+                const Value* nodes = find(doc_, "nodes");
+                const Value* channels = find(a, "channels");
+                GLTF_REQUIRE(channels && channels->IsArray());
+                for (const Value& channel : channels->GetArray()) {
+                    GLTF_REQUIRE(channel.IsObject());
+                    const std::optional<std::uint32_t> sampler = uint_member(channel, "sampler");
+                    GLTF_REQUIRE(sampler && *sampler < samplers->Size());
+                    const Value* target = find(channel, "target");
+                    GLTF_REQUIRE(target && target->IsObject());
+                    const std::optional<std::uint32_t> node = uint_member(*target, "node");
+                    GLTF_REQUIRE(node && nodes && nodes->IsArray() && *node < nodes->Size());
+                }
+            }
+        }
     }
 
     // Node::Read: children first, then the transform, then the mesh.
@@ -473,8 +506,9 @@ private:
         if (const Value* extensions = find(obj, "extensions")) {
             GLTF_REQUIRE(extensions->IsObject());
             for (const auto& e : extensions->GetObject()) {
-                GLTF_REQUIRE(std::string_view(e.name.GetString()) == "KHR_materials_unlit" && e.value.IsObject());
-                m.unlit = true;
+                const std::string_view name = e.name.GetString();
+                GLTF_REQUIRE((name == "KHR_materials_unlit" || name == "KHR_materials_emissive_strength") && e.value.IsObject());
+                m.unlit = m.unlit || name == "KHR_materials_unlit";
             }
         }
         materials_[index] = std::move(m);
