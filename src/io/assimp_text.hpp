@@ -2,13 +2,18 @@
 // readers (plain_off.cpp, stl.cpp) use to read text exactly as assimp's readers do.
 #pragma once
 
-// fast_atof logs a warning through assimp's logger when a number overflows; facet keeps none of
-// assimp's warnings (assimp_import.cpp's ErrorCollector keeps errors only), and without the call
-// the readers of OFF, STL and PLY need nothing of libassimp, which is then loaded only for the
-// files that need it (assimp_module.hpp).
+// The readers of OFF, STL and PLY need nothing of libassimp, which is then loaded only for the
+// files that need it (assimp_module.hpp): fast_atof's two calls into it go. It logs a warning
+// through assimp's logger when a number overflows (facet keeps none of assimp's warnings:
+// assimp_import.cpp's ErrorCollector keeps errors only), and builds without NDEBUG (the sanitizer
+// presets) check ASSIMP_strincmp's arguments against null with ai_assert (they are string
+// literals and a pointer into the text here).
 #include <assimp/DefaultLogger.hpp>
+#include <assimp/ai_assert.h>
 #undef ASSIMP_LOG_WARN
 #define ASSIMP_LOG_WARN(...) ((void)0)
+#undef ai_assert
+#define ai_assert(expression) ((void)0)
 #include <assimp/fast_atof.h>
 
 #include <exception>
