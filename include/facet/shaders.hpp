@@ -14,7 +14,8 @@
 //   Pbr           glTF's metallic-roughness under an environment light (the lit mode): base colour,
 //                 metallic-roughness, occlusion and emissive maps, image-based lighting, exposure,
 //                 tone mapping and sRGB encoding; PbrNormalMapped adds the tangent-space normal map
-//                 (both also as ...Masked, which discard below the alpha cutoff)
+//                 (both also as ...Masked, which discard below the alpha cutoff); PbrUnlitBlended is
+//                 its colour for alpha-blended unlit materials, with fewer varyings
 #pragma once
 
 #include <algorithm>
@@ -24,6 +25,7 @@
 
 #include "facet/api.hpp"
 #include "facet/defaults.hpp"
+#include "facet/detail/blend_pass.hpp"
 #include "facet/detail/vertex_stage.hpp"
 #include "facet/environment.hpp"
 #include "facet/detail/visible_pass.hpp"
@@ -453,6 +455,29 @@ using PbrMasked = PbrShader<false, true>;
 using PbrNormalMapped = PbrShader<true, false>;
 using PbrNormalMappedMasked = PbrShader<true, true>;
 
+// The lit mode's alpha-blended unlit materials (KHR_materials_unlit with alpha blending, e.g. the
+// contact shadow's quad, facet/contact_shadow.hpp): PbrShader's colour for them, the display transform
+// of the base colour (material x vertex colour x the decoded map) and its alpha, without the varyings
+// and derivatives of the lit path, which unlit does not read. Only for maps not filtered trilinearly
+// (the one filter that reads the derivatives). Its blended draws have a SIMD kernel
+// (CompiledBlendPass, src/shade/blend_simd.cpp).
+struct PbrUnlitBlended {
+    using Layout = VaryingLayout<Varying::uv, Varying::colour>;
+    static constexpr int k_varyings = Layout::count;
+    MeshArrays mesh;
+    ShadingUniforms u;
+    PbrUniforms pbr;
+    Vec4 vertex(std::uint32_t i, Varyings<k_varyings>& out) const { return Layout::vertex(mesh, u, i, out); }
+    Vec4 fragment(const FragmentIn<k_varyings>& in) const {
+        Vec4 base = Layout::of<Varying::colour>(in.v);
+        if (pbr.base_colour.texture) {
+            const Vec4 t = detail::sample_map(pbr.base_colour, Layout::of<Varying::uv>(in.v), {}, {});
+            base = {base.x * srgb_to_linear(t.x), base.y * srgb_to_linear(t.y), base.z * srgb_to_linear(t.z), base.w * t.w};
+        }
+        return Vec4(detail::display(base.xyz(), pbr), base.w);
+    }
+};
+
 struct Normals {
     using Layout = VaryingLayout<Varying::normal>;
     static constexpr int k_varyings = Layout::count;
@@ -495,6 +520,14 @@ FACET_COMPILED_VISIBLE_PASS(Flat)
 FACET_COMPILED_VISIBLE_PASS(Pbr)
 FACET_COMPILED_VISIBLE_PASS(PbrNormalMapped)
 #undef FACET_COMPILED_VISIBLE_PASS
+
+template <>
+struct CompiledBlendPass<shaders::PbrUnlitBlended> {
+    static constexpr bool available = true;
+    static void run(const void* shader, const TriangleSetup& t, const TileCoverage& coverage, PixelRect tile,
+                    const float* const (&var)[3], TargetView target, DepthTest test, std::uint32_t* owner,
+                    std::uint32_t id);
+};
 
 // The built-in shaders whose vertex() is the clip position plus the world normal and/or the vertex
 // colour: their vertex stage in SIMD (src/vertex/transform_simd.cpp), the same bytes as vertex().

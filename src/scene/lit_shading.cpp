@@ -44,6 +44,10 @@ DrawStats draw_lit(Renderer& r, Framebuffer& target, const DrawState& state, con
     if (!arrays.normals) return draw_with(r, target, state, o, shaders::Flat{arrays, u}, passes);
     const PbrUniforms p = pbr_uniforms(*o.material, arrays.uvs != nullptr, settings);
     const bool masked = o.material->alpha_mode == AlphaMode::mask;
+    // Blended and unlit (the contact shadow): the same colours from fewer varyings, and a SIMD kernel.
+    if (state.blend == Blend::alpha && p.unlit && !masked &&
+        (!p.base_colour.texture || p.base_colour.sampler.filter != Filter::trilinear))
+        return draw_with(r, target, state, o, shaders::PbrUnlitBlended{arrays, u, p}, passes);
     if (p.normal.texture && arrays.tangents) {
         if (masked) return draw_with(r, target, state, o, shaders::PbrNormalMappedMasked{arrays, u, p}, passes);
         return draw_with(r, target, state, o, shaders::PbrNormalMapped{arrays, u, p}, passes);

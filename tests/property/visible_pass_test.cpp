@@ -21,6 +21,7 @@
 #include "facet/isa.hpp"
 #include "facet/renderer.hpp"
 #include "facet/shaders.hpp"
+#include "support/pixels.hpp"
 
 namespace {
 
@@ -126,21 +127,6 @@ std::vector<Rgba8> render(const Mesh& mesh, RendererConfig config, float shinine
     return render(mesh, config, S{MeshArrays::of(mesh), uniforms(k_width, k_height, shininess, lights)});
 }
 
-// Where two images first differ, for the failure message.
-std::string first_difference(const std::vector<Rgba8>& a, const std::vector<Rgba8>& b) {
-    for (std::size_t i = 0; i < a.size(); ++i)
-        if (a[i] != b[i])
-            return "pixel (" + std::to_string(i % k_width) + ", " + std::to_string(i / k_width) + "): " +
-                   std::to_string(a[i].r) + "," + std::to_string(a[i].g) + "," + std::to_string(a[i].b) + "," +
-                   std::to_string(a[i].a) + " vs " + std::to_string(b[i].r) + "," + std::to_string(b[i].g) + "," +
-                   std::to_string(b[i].b) + "," + std::to_string(b[i].a);
-    return "identical";
-}
-
-struct IsaGuard {
-    ~IsaGuard() { select_isa("best"); }
-};
-
 template <class S>
 struct Wrapped : S {};
 
@@ -148,7 +134,7 @@ struct Wrapped : S {};
 template <class S, class Make>
 void expect_every_isa_draws_what_scalar_draws(const char* name, const Make& make) {
     static_assert(detail::CompiledVisiblePass<S>::available);
-    IsaGuard guard;
+    facet_test::IsaGuard guard;
     const Mesh mesh = adversarial_mesh(7, 1500);
     const S shader = make(mesh);
     // The specification: "scalar" runs detail::shade_visible, fragment() once per visible pixel.
@@ -164,7 +150,7 @@ void expect_every_isa_draws_what_scalar_draws(const char* name, const Make& make
         for (int tile : {8, 16, 64}) {
             const std::vector<Rgba8> out = render(mesh, {.threads = 2, .tile_size = tile}, shader);
             EXPECT_TRUE(out == reference) << name << " on " << isa << ", tile " << tile << ": "
-                                          << first_difference(out, reference);
+                                          << facet_test::first_difference(out, reference, k_width);
         }
     }
 }

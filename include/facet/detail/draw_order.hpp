@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "facet/api.hpp"
+#include "facet/detail/blend_pass.hpp"
 #include "facet/detail/fragment.hpp"
 #include "facet/detail/visible_pass.hpp"
 
@@ -75,9 +76,11 @@ TileShading tile_shading(const S& shader, const DrawState& state, std::size_t tr
     } else {
         s.order = DrawOrder::one_pass;
         const bool w = state.depth_write;
-        if (state.blend == Blend::alpha)
+        if (state.blend == Blend::alpha) {
             s.shade_covered = w ? &shade_covered<S, true, Blend::alpha> : &shade_covered<S, false, Blend::alpha>;
-        else if constexpr (!can_skip_hidden)
+            if constexpr (CompiledBlendPass<S>::available)
+                if (!w) s.shade_covered = &CompiledBlendPass<S>::run;
+        } else if constexpr (!can_skip_hidden)
             s.shade_covered = w ? &shade_covered<S, true, Blend::none> : &shade_covered<S, false, Blend::none>;
     }
     return s;
