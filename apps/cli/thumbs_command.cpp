@@ -280,6 +280,7 @@ void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
             const ViewsStaging* staging = staged[i] ? &*staged[i] : nullptr;
             std::optional<Worker> w = start_worker(
                 [&, i, output, staging](const WorkerReport& report) {
+                    keep_freed_memory_for_reuse();  // the worker renders one object and exits
                     return run_thumbnail_job({jobs[i].entry.path, object_plan(plan, jobs[i]), output, staging}, report);
                 },
                 limits, running, failed);
