@@ -17,6 +17,8 @@ f3d's time on those files.
     build/release/tests/python/venv/bin/python bench/collection_bench.py --data /tmp/facet-collection \
         --node-modules /tmp/mv                  # 3 rounds at 256 and 512: about 1.5 h on 2 busy cores
     python3 bench/collection_bench.py --rounds 1 --sizes 256 --skip dask --limit 40   # a quick check
+    python3 bench/collection_bench.py --data /tmp/facet-collection --rounds 2 --limit 60 \
+        --skip dask,model-viewer,formats        # the f3d ratio on a fixed sample: about 3 min when quiet
 
 The Dask rows need the facet package importable (the test venv has it: `ctest -R Python.InstallWheel`);
 without it, or without Dask, they are left out, saying so. <model-viewer> needs Debian's chromium and
@@ -408,7 +410,8 @@ def main():
     parser.add_argument("--node-modules", help="a folder with node_modules/@google/model-viewer and puppeteer-core: "
                                                "measures <model-viewer> on the glTF files")
     parser.add_argument("--limit", type=int, help="every k-th file only, about this many (a quick check)")
-    parser.add_argument("--skip", default="", help="comma-separated: f3d, dask, model-viewer")
+    parser.add_argument("--skip", default="", help="comma-separated: f3d, dask, model-viewer, formats (facet on each "
+                                                   "format alone)")
     parser.add_argument("--markdown", help="also write the tables here")
     args = parser.parse_args()
     sizes = [int(s) for s in args.sizes.split(",")]
@@ -426,7 +429,8 @@ def main():
         groups = {"all": files}
         for f in files:
             kind = "gltf" if f.suffix.lower() in (".gltf", ".glb") else f.suffix.lower()[1:]
-            groups.setdefault(kind, []).append(f)
+            if "formats" not in skip or (kind == "gltf" and "model-viewer" not in skip):
+                groups.setdefault(kind, []).append(f)
         manifests = {}
         for name, group in groups.items():
             manifests[name] = tmp / f"{name}.jsonl"
@@ -495,7 +499,7 @@ def main():
                 lines.append(f"| {LABELS[name]} | {size} | {first['ok']} | {first['failed']} | "
                              f"{median('wall', name, group, size):.1f} | {cpu:.1f} | {rate(len(files), cpu):,.0f} | {ratio} |")
         # By format: facet run on each format alone against f3d's own CPU on those files (its X server left out).
-        if ("f3d", "all") in runs:
+        if ("f3d", "all") in runs and len(groups) > 1:
             lines += ["", "By format (CPU ms per file; f3d's X server left out here):", "",
                       "| format | files | size | facet | f3d | f3d / facet |", "|---|---|---|---|---|---|"]
             for size in sizes:
