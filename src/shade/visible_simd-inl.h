@@ -56,6 +56,7 @@
 #include "facet/detail/fragment.hpp"
 #include "facet/shaders.hpp"
 #include "tile/stream_fill-inl.h"
+#include "simd/mask_bits-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
@@ -73,15 +74,6 @@ struct Vec3Lanes {
 struct ColourLanes {
     VF r, g, b, a;
 };
-
-// The lanes of a mask as bits, lane i at bit i.
-HWY_INLINE std::uint64_t mask_bits(MF m) {
-    std::uint8_t bytes[8] = {};
-    hn::StoreMaskBits(DF(), m, bytes);
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, bytes, sizeof(bits));
-    return bits;
-}
 
 HWY_INLINE Vec3Lanes splat(Vec3 v) {
     const DF df;

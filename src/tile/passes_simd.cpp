@@ -19,6 +19,7 @@
 #include <limits>
 
 #include "tile/passes.hpp"
+#include "simd/mask_bits-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
@@ -30,15 +31,6 @@ using VF = hn::Vec<DF>;
 using VU = hn::Vec<DU>;
 using MF = hn::Mask<DF>;
 using MU = hn::Mask<DU>;
-
-// The lanes of a mask as bits, lane i at bit i.
-HWY_INLINE std::uint64_t mask_bits(MF m) {
-    std::uint8_t bytes[8] = {};
-    hn::StoreMaskBits(DF(), m, bytes);
-    std::uint64_t bits = 0;
-    std::memcpy(&bits, bytes, sizeof(bits));
-    return bits;
-}
 
 // One vector of pixels of every pass (those the targets do not want are left unset).
 struct PassLanes {
