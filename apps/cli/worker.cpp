@@ -352,6 +352,11 @@ void keep_freed_memory_for_reuse() {
     // glibc's largest mmap threshold (32 MiB on 64-bit); larger blocks are still mapped.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
+    // One heap for all threads: each thread would otherwise get an arena of its own, mapped anew,
+    // grown by an mprotect call at a time and faulted in 4 KiB pages (the render's bins: 700
+    // faults for the bunny), outside the heap that use_huge_pages_for_heap prepares. A job's
+    // threads allocate their scratch once, so they hardly contend for the one lock.
+    mallopt(M_ARENA_MAX, 1);
 }
 
 void use_huge_pages_for_heap(std::uint64_t max_memory_bytes) {

@@ -135,7 +135,8 @@ void remove_temporaries(const std::filesystem::path& dir, const std::unordered_s
 
 // Lets glibc's malloc serve large buffers (the model, the framebuffers) from its heap and keep what
 // is freed instead of mapping and unmapping each one: a job's memory freed after loading is reused
-// by the render without new page faults. For a process that does one job and exits.
+// by the render without new page faults; and serve every thread from that one heap. For a process
+// that does one job and exits.
 void keep_freed_memory_for_reuse();
 
 // After keep_freed_memory_for_reuse, in the process that does the job (the worker, once its memory

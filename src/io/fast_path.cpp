@@ -3,8 +3,10 @@
 // own_scene.cpp, in the assimp module.)
 #include "io/fast_path.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
-#include <fstream>
 #include <string_view>
 #include <utility>
 
@@ -31,12 +33,27 @@ Material own_format_material(bool off) {
 
 }  // namespace
 
-std::optional<std::string> read_whole_file(const std::string& path, std::uint64_t size) {
-    std::ifstream in(path, std::ios::binary);
-    std::string text(static_cast<std::size_t>(size), '\0');
-    if (!in.read(text.data(), static_cast<std::streamsize>(text.size())) || in.peek() != std::char_traits<char>::eof())
-        return std::nullopt;  // changed while being read: assimp reads it again and decides
-    return text;
+std::optional<FileBytes> read_whole_file(const std::string& path, std::uint64_t size) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return std::nullopt;
+    std::optional<FileBytes> bytes(std::in_place, static_cast<std::size_t>(size));
+    // The bytes, then one more: a file that still has one has grown since its size was taken.
+    char extra;
+    std::size_t done = 0;
+    bool whole = false;
+    for (;;) {
+        const bool body = done < bytes->size();
+        const ssize_t n = ::read(fd, body ? bytes->data() + done : &extra, body ? bytes->size() - done : 1);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0 || !body) {
+            whole = n == 0 && !body;
+            break;
+        }
+        done += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+    if (!whole) return std::nullopt;  // changed while being read: assimp reads it again and decides
+    return bytes;
 }
 
 std::optional<OwnFormatHeader> OwnFormatHeader::parse(const std::string& ext, std::string_view head, std::uint64_t size) {
@@ -57,17 +74,17 @@ std::optional<Result<LoadedModel>> OwnFormatHeader::load_point_cloud(const std::
                                                                      std::uint64_t size, const LoadOptions& options) const {
     const PlyHeader* ply = std::get_if<PlyHeader>(&header_);
     if (!ply || !is_ply_point_cloud(*ply)) return std::nullopt;
-    const std::optional<std::string> bytes = read_whole_file(path, size);
-    if (!bytes || std::string_view(*bytes).substr(0, head.size()) != head)
+    const std::optional<FileBytes> bytes = read_whole_file(path, size);
+    if (!bytes || bytes->view().substr(0, head.size()) != head)
         return fail(ErrorCode::io, path, "changed while it was being read");
     return read_ply_point_cloud(path, *bytes, *ply, options);
 }
 
 std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::string_view head, std::uint64_t size,
                                                  const LoadOptions& options) const {
-    const std::optional<std::string> bytes = read_whole_file(path, size);
+    const std::optional<FileBytes> bytes = read_whole_file(path, size);
     // A file changed since its header was read goes to assimp, which reads it again.
-    if (!bytes || std::string_view(*bytes).substr(0, head.size()) != head) return std::nullopt;
+    if (!bytes || bytes->view().substr(0, head.size()) != head) return std::nullopt;
     std::optional<JoinedMesh> mesh =
         std::visit(Overloaded{[&](const OffHeader& h) { return read_plain_off_with_header(*bytes, h); },
                               [&](const StlHeader& h) { return read_stl_with_header(*bytes, h); },

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "facet/model.hpp"
+#include "io/fast_path.hpp"
 #include "io/load_paths.hpp"
 #include "io/plain_off.hpp"
 #include "support/same_scene.hpp"
@@ -182,6 +183,26 @@ TEST(PlainOff, DamagedFilesMatchAssimp) {
         const std::string path = write_file(dir / ("damaged_" + std::to_string(i) + ".off"), bad);
         expect_same_as_assimp(path);
     }
+}
+
+// The readers' input: the file's bytes exactly, a NUL after them; nothing when the file is not
+// (any longer) the size its check found.
+TEST(ReadWholeFile, TheBytesAndANulOrNothing) {
+    const fs::path dir = temp_dir();
+    std::string text;
+    for (int i = 0; i < 70000; ++i) text += static_cast<char>('a' + i % 26);
+    const std::string path = write_file(dir / "whole.txt", text);
+    const std::optional<io_detail::FileBytes> bytes = io_detail::read_whole_file(path, text.size());
+    ASSERT_TRUE(bytes.has_value());
+    EXPECT_EQ(bytes->view(), text);
+    EXPECT_EQ(bytes->data()[bytes->size()], '\0');
+    EXPECT_FALSE(io_detail::read_whole_file(path, text.size() - 1).has_value());  // grew since
+    EXPECT_FALSE(io_detail::read_whole_file(path, text.size() + 1).has_value());  // shrank since
+    EXPECT_FALSE(io_detail::read_whole_file((dir / "missing.txt").string(), 1).has_value());
+    const std::optional<io_detail::FileBytes> empty = io_detail::read_whole_file(write_file(dir / "empty.txt", ""), 0);
+    ASSERT_TRUE(empty.has_value());
+    EXPECT_EQ(empty->size(), 0u);
+    EXPECT_EQ(empty->data()[0], '\0');
 }
 
 }  // namespace
