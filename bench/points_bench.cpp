@@ -3,10 +3,11 @@
 // shader per GL_POINTS fragment), and M line segments (random short chords around the sphere, GL_LINES),
 // at one size and thread count per process (llvmpipe reads LP_NUM_THREADS once per process):
 //   facet_bench_points --threads T [--points N] [--segments M] [--size WxH] [--frames F]
-//                      [--point-size PX] [--line-width PX]
+//                      [--point-size PX] [--line-width PX] [--facet-only 1]
 // Each frame is a whole render_scene (clear, draw) against glClear + glDrawElements + glFinish;
 // facet and llvmpipe alternate frame by frame after a warm-up of each, and the medians are printed
 // with their ratio as one Markdown table row per workload. Square points (GL_POINTS are squares).
+// --facet-only 1 draws facet's frames alone (for profilers: callgrind on llvmpipe takes minutes).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,11 +30,12 @@ struct Options {
     int threads = 1, width = 1920, height = 1080, frames = 7;
     std::size_t points = 10'000'000, segments = 1'000'000;
     float point_size = 2, line_width = 1;
+    bool facet_only = false;
 };
 
 [[noreturn]] void usage(const std::string& why) {
     std::fprintf(stderr, "facet_bench_points: %s\nusage: facet_bench_points --threads T [--points N] [--segments M] "
-                         "[--size WxH] [--frames F] [--point-size PX] [--line-width PX]\n", why.c_str());
+                         "[--size WxH] [--frames F] [--point-size PX] [--line-width PX] [--facet-only 1]\n", why.c_str());
     std::exit(2);
 }
 
@@ -50,6 +52,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--frames") o.frames = std::stoi(v);
         else if (a == "--point-size") o.point_size = std::stof(v);
         else if (a == "--line-width") o.line_width = std::stof(v);
+        else if (a == "--facet-only") o.facet_only = v == "1";
         else if (a == "--size") {
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2) usage("--size must be WxH");
         } else usage("unknown option " + a);
@@ -104,7 +107,7 @@ double median(std::vector<double> v) {
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-void run(const char* name, const Scene& scene, const Options& o, GlOracle& gl) {
+void run(const char* name, const Scene& scene, const Options& o, GlOracle* gl) {
     Renderer renderer({.threads = o.threads});
     Framebuffer target(o.width, o.height);
     const float aspect = static_cast<float>(o.width) / static_cast<float>(o.height);
@@ -114,9 +117,11 @@ void run(const char* name, const Scene& scene, const Options& o, GlOracle& gl) {
     settings.primitives.point_size = o.point_size;
     settings.primitives.point_shape = PointShape::square;
     settings.primitives.line_width = o.line_width;
-    if (Status s = gl.load(scene); !s) usage(s.error().message);
-    if (Status s = gl.resize(o.width, o.height); !s) usage(s.error().message);
-    gl.set_primitive_style(o.point_size, o.line_width);
+    if (gl) {
+        if (Status s = gl->load(scene); !s) usage(s.error().message);
+        if (Status s = gl->resize(o.width, o.height); !s) usage(s.error().message);
+        gl->set_primitive_style(o.point_size, o.line_width);
+    }
     const auto facet_frame = [&] {
         const Clock::time_point t = Clock::now();
         render_scene(renderer, target, scene, camera, settings);
@@ -124,14 +129,20 @@ void run(const char* name, const Scene& scene, const Options& o, GlOracle& gl) {
     };
     const auto gl_frame = [&] {
         const Clock::time_point t = Clock::now();
-        gl.draw(camera, settings.background);
-        gl.finish();
+        gl->draw(camera, settings.background);
+        gl->finish();
         return ms_since(t);
     };
-    facet_frame(), gl_frame();  // warm-up
     std::vector<double> facet_ms, gl_ms;
+    if (!gl) {
+        facet_frame();  // warm-up
+        for (int f = 0; f < o.frames; ++f) facet_ms.push_back(facet_frame());
+        std::printf("| %s | %dx%d | %d | %.1f | - | - | - |\n", name, o.width, o.height, o.threads, median(facet_ms));
+        return;
+    }
+    facet_frame(), gl_frame();  // warm-up
     for (int f = 0; f < o.frames; ++f) facet_ms.push_back(facet_frame()), gl_ms.push_back(gl_frame());
-    const GlFrame frame = gl.read();
+    const GlFrame frame = gl->read();
     const Agreement agree = compare(target.colour_data(), target.depth_data(), frame);
     const double fm = median(facet_ms), gm = median(gl_ms);
     std::printf("| %s | %dx%d | %d | %.1f | %.1f | %.2fx | %.3f |\n", name, o.width, o.height, o.threads, fm, gm, gm / fm,
@@ -143,13 +154,17 @@ void run(const char* name, const Scene& scene, const Options& o, GlOracle& gl) {
 
 int main(int argc, char** argv) {
     const Options o = parse(argc, argv);
-    Result<std::unique_ptr<GlOracle>> gl = GlOracle::create({.llvmpipe_threads = llvmpipe_threads_for(o.threads)});
-    if (!gl) usage(gl.error().message);
-    std::printf("<!-- %s, %s; point size %g, line width %g, %d frames (median) -->\n", (*gl)->renderer().c_str(),
-                (*gl)->version().c_str(), o.point_size, o.line_width, o.frames);
+    std::unique_ptr<GlOracle> gl;
+    if (!o.facet_only) {
+        Result<std::unique_ptr<GlOracle>> made = GlOracle::create({.llvmpipe_threads = llvmpipe_threads_for(o.threads)});
+        if (!made) usage(made.error().message);
+        gl = std::move(*made);
+        std::printf("<!-- %s, %s; point size %g, line width %g, %d frames (median) -->\n", gl->renderer().c_str(),
+                    gl->version().c_str(), o.point_size, o.line_width, o.frames);
+    }
     std::printf("| workload | size | threads | facet ms | llvmpipe ms | llvmpipe / facet | coverage agreement |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
-    if (o.points) run((std::to_string(o.points) + " points").c_str(), point_cloud(o.points), o, **gl);
-    if (o.segments) run((std::to_string(o.segments) + " segments").c_str(), line_set(o.segments), o, **gl);
+    if (o.points) run((std::to_string(o.points) + " points").c_str(), point_cloud(o.points), o, gl.get());
+    if (o.segments) run((std::to_string(o.segments) + " segments").c_str(), line_set(o.segments), o, gl.get());
     return 0;
 }

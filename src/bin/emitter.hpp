@@ -80,21 +80,18 @@ public:
         bin_across_tiles(scratch_[0], grid.tiles_of(r.x0, max_x, r.y0, max_y), primitive);
     }
 
-    // A line segment's record (raster/segment.hpp) of primitive `primitive`, with these inclusive
-    // pixel bounds: begin_segment hands out the record to write (in its tile's bin when the bounds
-    // are in one tile), end_segment bins it. The pending batch goes first.
-    TriangleSetup& begin_segment(int min_x, int max_x, int min_y, int max_y, std::uint32_t primitive) {
+    // A line segment's record (raster/segment.hpp) of primitive `primitive`, made by segment_record.
+    // The pending batch goes first.
+    void add_segment(const TriangleSetup& t, std::uint32_t primitive) {
         flush();
         ++set_up_;
-        const BinGrid grid = grid_of();
-        segment_in_scratch_ = !grid.one_tile(min_x, max_x, min_y, max_y);
-        if (segment_in_scratch_) return scratch_[0];
-        return slot(grid, grid.tile_of_pixel(min_x, min_y), primitive);
+        bin(t, primitive);
     }
-    void end_segment(std::uint32_t primitive) {
-        if (!segment_in_scratch_) return;
-        const TriangleSetup& t = scratch_[0];
-        bin_across_tiles(t, grid_of().tiles_of(t.min_x, t.max_x, t.min_y, t.max_y), primitive);
+    // Segment i of a batch made by setup_segment_lanes (a bit of lanes.keep), likewise.
+    void add_segment(const SetupLanes& lanes, int i, std::uint32_t primitive) {
+        flush();
+        ++set_up_;
+        bin_lanes_record(grid_of(), lanes, i, primitive);
     }
 
     // A triangle made by clipping triangle `triangle`: the pending batch goes first, so records keep
@@ -130,14 +127,7 @@ private:
         const BinGrid grid = grid_of();
         for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
             const int i = std::countr_zero(keep);
-            const std::int32_t* bounds = lanes_.bounds(i);
-            if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
-                write_record(lanes_, i, slot(grid, grid.tile_of_pixel(bounds[0], bounds[1]), Primitives ? primitive_[i] : 0));
-                continue;
-            }
-            write_record(lanes_, i, scratch_[0]);
-            bin_across_tiles(scratch_[0], grid.tiles_of(bounds[0], bounds[2], bounds[1], bounds[3]),
-                             Primitives ? primitive_[i] : 0);
+            bin_lanes_record(grid, lanes_, i, Primitives ? primitive_[i] : 0);
         }
         batch_.count = 0;
     }
@@ -181,6 +171,18 @@ private:
     BinGrid grid_of() const {
         return {std::countr_zero(static_cast<unsigned>(p_.tile_size)), static_cast<std::size_t>(p_.tiles_x),
                 out_.bins.data(), out_.primitives.data()};
+    }
+
+    // Record i of `lanes` into the bin of every tile it reaches: a record that goes to one tile
+    // (most) is written straight into its bin.
+    [[gnu::always_inline]] void bin_lanes_record(const BinGrid& grid, const SetupLanes& lanes, int i, std::uint32_t primitive) {
+        const std::int32_t* bounds = lanes.bounds(i);
+        if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
+            write_record(lanes, i, slot(grid, grid.tile_of_pixel(bounds[0], bounds[1]), primitive));
+            return;
+        }
+        write_record(lanes, i, scratch_[0]);
+        bin_across_tiles(scratch_[0], grid.tiles_of(bounds[0], bounds[2], bounds[1], bounds[3]), primitive);
     }
 
     static void write_rect(const PixelRect& r, const ScreenVertex& c, std::uint32_t ref, TriangleSetup& t) {
@@ -239,7 +241,6 @@ private:
     const FrontEndParams& p_;
     FrontEndChunk& out_;
     std::uint64_t set_up_ = 0, culled_ = 0;
-    bool segment_in_scratch_ = false;
     SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
     SetupLanes lanes_;
     TriangleSetup scratch_[SetupBatch::k_capacity];

@@ -6,7 +6,7 @@
 #include "bin/points_lines.hpp"
 
 #include <algorithm>
-#include <climits>
+#include <bit>
 #include <cmath>
 
 namespace facet::detail {
@@ -47,98 +47,92 @@ void emit_quad(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex&
     emit_triangle(a, c, d, r1, primitive, emitter);
 }
 
-// std::llround (halves away from zero) for |x| < 2^52 without the library call (a tenth of a
-// segment's front end): x - trunc(x) is exact, and the cast truncates.
-std::int64_t round_half_away(double x) {
-    const auto i = static_cast<std::int64_t>(x);
-    const double f = x - static_cast<double>(i);
-    return i + (f >= 0.5) - (f <= -0.5);
+// Segment a -> b with ends e0, e1 (raster/segment.hpp's segment_record) as emit_quad's two
+// triangles: the quad a + e0, a - e0, b - e1, b + e1.
+template <bool Primitives>
+void emit_segment_quad(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, SegmentEnd e1, std::uint32_t ref_a,
+                       std::uint32_t ref_b, std::uint32_t primitive, Emitter<Primitives>& emitter) {
+    const auto corner = [](const ScreenVertex& v, std::int32_t x, std::int32_t y) { return ScreenVertex{x, y, v.z, v.q}; };
+    emit_quad(corner(a, a.x + e0.ox, a.y + e0.oy), corner(a, a.x - e0.ox, a.y - e0.oy),
+              corner(b, b.x - e1.ox, b.y - e1.oy), corner(b, b.x + e1.ox, b.y + e1.oy), ref_a, ref_b, primitive, emitter);
 }
 
-// A segment's end at screen vertex v: its corners left and right of the segment, v +- offset.
-struct SegmentEnd {
-    std::int32_t ox, oy;
-    bool operator==(const SegmentEnd&) const = default;
-};
-
-// Segment a -> b as one record (raster/segment.hpp): the quad a + e0, a - e0, b - e1, b + e1 by its
-// four edges, depth and attributes interpolated along the segment. A quad that is not strictly
-// convex (a short segment between sharp mitres, or one too thin to have an inside) or whose edges do
-// not fit the record's 32 bits (segments tens of thousands of pixels long) goes as emit_quad's two
-// triangles instead; a strictly convex quad covers the same pixels either way (its outer edges are
-// the triangles', and the top-left rule gives the diagonal's pixels to one of them), but for pixel
-// centres exactly on a corner.
+// Segment a -> b as one record (segment_record), or as two triangles when it says so.
 template <bool Primitives>
 void emit_segment(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, SegmentEnd e1, std::uint32_t ref_a,
                   std::uint32_t ref_b, std::uint32_t primitive, const PixelRect& scissor, Emitter<Primitives>& emitter) {
-    const std::int32_t cx[4] = {a.x + e0.ox, a.x - e0.ox, b.x - e1.ox, b.x + e1.ox};
-    const std::int32_t cy[4] = {a.y + e0.oy, a.y - e0.oy, b.y - e1.oy, b.y + e1.oy};
-    // The turn at each corner: all > 0 or all < 0 when strictly convex. Square ends (e0 = e1) make a
-    // parallelogram, whose four turns are one. Bitwise and selected rather than branched on: a
-    // segment's direction, hence its quad's winding, is as good as random.
-    const auto turn = [&](int k) {
-        const int q = (k + 1) % 4, r = (k + 2) % 4;
-        return std::int64_t{cx[q] - cx[k]} * (cy[r] - cy[q]) - std::int64_t{cy[q] - cy[k]} * (cx[r] - cx[q]);
-    };
-    bool positive = turn(0) > 0, negative = turn(0) < 0;
-    if (!(e0 == e1)) {
-        for (int k = 1; k < 4; ++k) {
-            const std::int64_t t = turn(k);
-            positive &= t > 0;
-            negative &= t < 0;
-        }
+    TriangleSetup t{};
+    switch (segment_record(a, b, e0, e1, ref_a, ref_b, scissor, t)) {
+        case SegmentResult::record: emitter.add_segment(t, primitive); break;
+        case SegmentResult::triangles: emit_segment_quad(a, b, e0, e1, ref_a, ref_b, primitive, emitter); break;
+        case SegmentResult::empty: break;
     }
-    const auto as_triangles = [&] {
-        const auto corner = [](const ScreenVertex& v, std::int32_t x, std::int32_t y) { return ScreenVertex{x, y, v.z, v.q}; };
-        emit_quad(corner(a, cx[0], cy[0]), corner(a, cx[1], cy[1]), corner(b, cx[2], cy[2]), corner(b, cx[3], cy[3]), ref_a,
-                  ref_b, primitive, emitter);
-    };
-    if (!(positive | negative)) [[unlikely]]
-        return as_triangles();
-    // Counter-clockwise as setup_triangle orients triangles, so that every edge is >= 0 inside.
-    const std::int32_t vx[4] = {cx[0], positive ? cx[1] : cx[3], cx[2], positive ? cx[3] : cx[1]};
-    const std::int32_t vy[4] = {cy[0], positive ? cy[1] : cy[3], cy[2], positive ? cy[3] : cy[1]};
-    const int min_x = std::max(first_centre(std::min(std::min(vx[0], vx[1]), std::min(vx[2], vx[3]))), scissor.x0);
-    const int max_x = std::min(last_centre(std::max(std::max(vx[0], vx[1]), std::max(vx[2], vx[3]))), scissor.x1 - 1);
-    const int min_y = std::max(first_centre(std::min(std::min(vy[0], vy[1]), std::min(vy[2], vy[3]))), scissor.y0);
-    const int max_y = std::min(last_centre(std::max(std::max(vy[0], vy[1]), std::max(vy[2], vy[3]))), scissor.y1 - 1);
-    if (min_x > max_x || min_y > max_y) return;
-    // Edges relative to the pixel of a, the planes' origin (segment_origin). They fit the lanes' 32
-    // bits over the whole bounds (small_edges) when the largest value there does.
-    const int ox = a.x >> k_subpixel_bits, oy = a.y >> k_subpixel_bits;
-    const std::int64_t reach = std::max(std::max(ox - min_x, max_x - ox), std::max(oy - min_y, max_y - oy));
-    SegmentEdges edges;
-    bool fits = true, small = true;
-    for (int k = 0; k < 4; ++k) {
-        const int n = (k + 1) % 4;
-        const PixelEdge e = pixel_edge(vx[k], vy[k], vx[n], vy[n], ox, oy);
-        fits &= e.at >= INT32_MIN && e.at <= INT32_MAX;
-        small &= std::abs(e.at) + (std::abs(std::int64_t{e.a}) + std::abs(std::int64_t{e.b})) * reach <= INT32_MAX;
-        edges.a[k] = e.a, edges.b[k] = e.b, edges.e[k] = static_cast<std::int32_t>(e.at);
-    }
-    if (!fits) [[unlikely]]
-        return as_triangles();
-    TriangleSetup& t = emitter.begin_segment(min_x, max_x, min_y, max_y, primitive);
-    set_segment_edges(t, edges);
-    t.min_x = min_x, t.max_x = max_x, t.min_y = min_y, t.max_y = max_y;
-    // The planes: f(p) = f(a) + (f(b) - f(a)) s(p), s the screen-space position along a -> b (0 at a,
-    // 1 at b: the projection of p on the segment). Depth and q = 1/w are linear in s; b1 q, the
-    // perspective-correct weight of b times q, is q(b) s, and vertex 2 has weight 0.
-    const double dx = b.x - a.x, dy = b.y - a.y, per_length2 = k_subpixel_one / (dx * dx + dy * dy);
-    const double sx = dx * per_length2, sy = dy * per_length2;  // ds per pixel
-    const double dz = static_cast<double>(b.z) - a.z, dq = static_cast<double>(b.q) - a.q, qb = b.q;
-    constexpr double scale = 1.0 / k_subpixel_one;
-    t.x0 = static_cast<float>(a.x * scale), t.y0 = static_cast<float>(a.y * scale);
-    t.z0 = a.z, t.dzdx = static_cast<float>(dz * sx), t.dzdy = static_cast<float>(dz * sy);
-    t.q0 = a.q, t.dqdx = static_cast<float>(dq * sx), t.dqdy = static_cast<float>(dq * sy);
-    t.dl1dx = static_cast<float>(qb * sx), t.dl1dy = static_cast<float>(qb * sy);
-    t.dl2dx = 0, t.dl2dy = 0;
-    t.vertex[0] = ref_a, t.vertex[1] = ref_b, t.vertex[2] = ref_b;
-    t.front_facing = true;
-    t.small_edges = small;
-    t.segment = true;
-    emitter.end_segment(primitive);
 }
+
+// Unclipped segments queued in submission order and made into records a batch at a time by the SIMD
+// kernel (setup_segment_lanes: segment_record's bytes), or one by one when it declines the batch.
+template <bool Primitives>
+class SegmentQueue {
+public:
+    SegmentQueue(const PixelRect& scissor, double half_width, Emitter<Primitives>& emitter)
+        : scissor_(scissor), emitter_(emitter) {
+        batch_.half_width = half_width;
+    }
+
+    // Segment a -> b (a != b) with these ends.
+    void add(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, SegmentEnd e1, std::uint32_t ref_a,
+             std::uint32_t ref_b, std::uint32_t primitive) {
+        const int i = batch_.count;
+        batch_.ox0[i] = e0.ox, batch_.oy0[i] = e0.oy, batch_.ox1[i] = e1.ox, batch_.oy1[i] = e1.oy;
+        batch_.square[i] = 0;
+        push(a, b, ref_a, ref_b, primitive);
+    }
+    // Segment a -> b (a != b) with square ends, which the kernel computes.
+    void add_square(const ScreenVertex& a, const ScreenVertex& b, std::uint32_t ref_a, std::uint32_t ref_b,
+                    std::uint32_t primitive) {
+        const int i = batch_.count;
+        batch_.ox0[i] = 0, batch_.oy0[i] = 0, batch_.ox1[i] = 0, batch_.oy1[i] = 0;
+        batch_.square[i] = 1;
+        push(a, b, ref_a, ref_b, primitive);
+    }
+
+    void flush() {
+        if (batch_.count == 0) return;
+        const auto end = [&](int i, bool first) {
+            if (batch_.square[i]) return square_end(batch_.a[i], batch_.b[i], batch_.half_width);
+            return first ? SegmentEnd{batch_.ox0[i], batch_.oy0[i]} : SegmentEnd{batch_.ox1[i], batch_.oy1[i]};
+        };
+        if (!setup_segment_lanes(batch_, scissor_, lanes_)) {
+            for (int i = 0; i < batch_.count; ++i)
+                emit_segment(batch_.a[i], batch_.b[i], end(i, true), end(i, false), batch_.ref_a[i], batch_.ref_b[i],
+                             primitive_[i], scissor_, emitter_);
+        } else {
+            for (std::uint32_t bits = lanes_.keep | lanes_.culled; bits != 0; bits &= bits - 1) {
+                const int i = std::countr_zero(bits);
+                if (lanes_.keep >> i & 1) emitter_.add_segment(lanes_, i, primitive_[i]);
+                else emit_segment_quad(batch_.a[i], batch_.b[i], end(i, true), end(i, false), batch_.ref_a[i],
+                                       batch_.ref_b[i], primitive_[i], emitter_);
+            }
+        }
+        batch_.count = 0;
+    }
+
+private:
+    void push(const ScreenVertex& a, const ScreenVertex& b, std::uint32_t ref_a, std::uint32_t ref_b,
+              std::uint32_t primitive) {
+        const int i = batch_.count;
+        batch_.a[i] = a, batch_.b[i] = b;
+        batch_.ref_a[i] = ref_a, batch_.ref_b[i] = ref_b;
+        primitive_[i] = primitive;
+        if (++batch_.count == SegmentBatch::k_capacity) flush();
+    }
+
+    const PixelRect& scissor_;
+    Emitter<Primitives>& emitter_;
+    SegmentBatch batch_{};  // zeroed once: lanes past the count then always hold coordinates in range
+    std::uint32_t primitive_[SegmentBatch::k_capacity];
+    SetupLanes lanes_;
+};
 
 // Pixels [x0, x1) x [y0, y1) (inside the scissor) with point c's depth and varyings.
 template <bool Primitives>
@@ -239,12 +233,6 @@ bool join_offset(Vec2d na, Vec2d nb, double h, std::int32_t& ox, std::int32_t& o
     return true;
 }
 
-// A square end: the corners at half-width h (pixels) on either side along unit normal n.
-SegmentEnd square_end(Vec2d n, double h) {
-    return {static_cast<std::int32_t>(round_half_away(n.x * h * k_subpixel_one)),
-            static_cast<std::int32_t>(round_half_away(n.y * h * k_subpixel_one))};
-}
-
 }  // namespace
 
 template <bool Primitives>
@@ -304,6 +292,7 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
         while (s > 0 && joins_next(s - 1)) --s;
         return s;
     };
+    SegmentQueue<Primitives> queue(p.scissor, h, emitter);
     for (std::size_t s = first; s < end; ++s) {
         std::uint32_t i0 = index_of(2 * s), i1 = index_of(2 * s + 1);
         if (i0 >= vertex_count || i1 >= vertex_count || vertices.outcode[i0] == k_outcode_invalid ||
@@ -315,27 +304,34 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
         if (vertices.outcode[i0] & vertices.outcode[i1]) continue;  // wholly outside one plane
         ScreenVertex a, b;
         ClipVertex ca{vertices.pos[i0], i0}, cb{vertices.pos[i1], i1};
-        Vec2d n;
+        Vec2d n{};
         SegmentEnd e0{}, e1{};
         if (codes == 0) {
             a = vertices.screen[i0], b = vertices.screen[i1];
-            if (!segment_normal(a, b, n)) continue;
-            const SegmentEnd square = square_end(n, h);
+            if (a.x == b.x && a.y == b.y) continue;  // no direction (segment_normal)
+            const bool joined_before = s > 0 && joins_next(s - 1), joined_after = joins_next(s);
+            if (!joined_before && !joined_after) {  // a lone segment (most of a line list's)
+                queue.add_square(a, b, i0, i1, static_cast<std::uint32_t>(s));
+                continue;
+            }
+            segment_normal(a, b, n);
             std::uint32_t j0, j1;
             Vec2d m;
             // The join before: with the previous segment, or for the first segment of a run that
             // closes (a loop) with the run's last one.
             bool mitred = false;
-            if (s > 0 && joins_next(s - 1)) mitred = unclipped(s - 1, j0, j1, m) && join_offset(m, n, h, e0.ox, e0.oy);
-            else if (const std::size_t e = run_last(s); e != s && unclipped(e, j0, j1, m) && j1 == i0)
+            if (joined_before) mitred = unclipped(s - 1, j0, j1, m) && join_offset(m, n, h, e0.ox, e0.oy);
+            else if (const std::size_t e = run_last(s); unclipped(e, j0, j1, m) && j1 == i0)
                 mitred = join_offset(m, n, h, e0.ox, e0.oy);
-            if (!mitred) e0 = square;
+            if (!mitred) e0 = square_end(a, b, h);
             mitred = false;
-            if (joins_next(s)) mitred = unclipped(s + 1, j0, j1, m) && join_offset(n, m, h, e1.ox, e1.oy);
-            else if (const std::size_t f = run_first(s); f != s && unclipped(f, j0, j1, m) && j0 == i1)
+            if (joined_after) mitred = unclipped(s + 1, j0, j1, m) && join_offset(n, m, h, e1.ox, e1.oy);
+            else if (const std::size_t f = run_first(s); unclipped(f, j0, j1, m) && j0 == i1)
                 mitred = join_offset(n, m, h, e1.ox, e1.oy);
-            if (!mitred) e1 = square;
+            if (!mitred) e1 = square_end(a, b, h);
+            queue.add(a, b, e0, e1, i0, i1, static_cast<std::uint32_t>(s));
         } else {
+            queue.flush();  // records keep submission order
             ++out.stats.triangles_clipped;
             if (!clip_segment(ca, cb, codes, guard, vertices, out.extras, passes)) continue;
             if (!is_finite(ca.pos) || !is_finite(cb.pos) || !(ca.pos.w > 0) || !(cb.pos.w > 0)) {
@@ -343,11 +339,12 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
                 continue;
             }
             a = project(ca.pos, p), b = project(cb.pos, p);
-            if (!segment_normal(a, b, n)) continue;
-            e0 = e1 = square_end(n, h);
+            if (a.x == b.x && a.y == b.y) continue;
+            e0 = e1 = square_end(a, b, h);
+            emit_segment(a, b, e0, e1, ca.ref, cb.ref, static_cast<std::uint32_t>(s), p.scissor, emitter);
         }
-        emit_segment(a, b, e0, e1, ca.ref, cb.ref, static_cast<std::uint32_t>(s), p.scissor, emitter);
     }
+    queue.flush();
 }
 
 template void assemble_points<false>(const ClipVertices&, const DrawInput&, std::size_t, std::size_t,

@@ -28,17 +28,11 @@
 
 #include <hwy/highway.h>
 
+#include "setup/record_lanes-inl.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-using D = hn::ScalableTag<double>;
-using DI = hn::Rebind<std::int32_t, D>;
-using DU = hn::Rebind<std::uint32_t, D>;
-using DF = hn::Rebind<float, D>;
-using V = hn::Vec<D>;
-using VU = hn::Vec<DU>;
-using M = hn::Mask<D>;
 
 // Coordinates at or above this magnitude could make an edge constant inexact in double.
 constexpr double k_exact_limit = 16777216.0;  // 2^24
@@ -72,16 +66,6 @@ bool coordinates_exact(const Corner& a, const Corner& b, const Corner& c) {
     return hn::AllTrue(d, hn::Lt(m, hn::Set(d, k_exact_limit)));
 }
 
-std::uint32_t mask_bits(M m) {
-    std::uint8_t bits[8] = {};
-    hn::StoreMaskBits(D(), m, bits);
-    return bits[0];  // at most 8 double lanes
-}
-
-// An integer-valued double lane as the 32-bit word a record stores (|v| < 2^31).
-VU word_of_integer(V v) { return hn::BitCast(DU(), hn::DemoteTo(DI(), v)); }
-VU word_of_float(V v) { return hn::BitCast(DU(), hn::DemoteTo(DF(), v)); }
-
 // The low and high words of an integer-valued double lane as an int64 (|v| < 2^52, two's
 // complement, little-endian): high = floor(v / 2^32) and low = v - high 2^32 in [0, 2^32), all exact.
 HWY_INLINE void int64_words(V v, VU& low, VU& high) {
@@ -91,12 +75,6 @@ HWY_INLINE void int64_words(V v, VU& low, VU& high) {
     low = hn::Xor(word_of_integer(l), hn::Set(DU(), 0x80000000u));  // l + 2^31, modulo 2^32
     high = word_of_integer(h);
 }
-
-// A mask of double lanes as one of 32-bit lanes (RebindMask needs lanes of one size).
-hn::Mask<DU> word_mask(M m) { return hn::MaskFromVec(word_of_integer(hn::IfThenElseZero(m, hn::Set(D(), -1.0)))); }
-
-// first_centre and last_centre of setup.cpp: floor(v / 256) is the arithmetic shift by 8.
-V floor_div_256(V v) { return hn::Floor(hn::Mul(v, hn::Set(D(), 1.0 / k_subpixel_one))); }
 
 struct Edge {
     VU a, b, e0_low, e0_high;
@@ -157,11 +135,6 @@ hn::Mask<Tag> culled_lanes(Tag t, hn::Vec<Tag> signed_area, hn::Mask<Tag> front,
         case CullMode::none: break;
     }
     return zero_area;
-}
-
-// Words 4g..4g+3 of the records of triangles i0.. (see SetupLanes).
-HWY_INLINE void store_unit(SetupLanes& out, int g, int i0, VU w0, VU w1, VU w2, VU w3) {
-    hn::StoreInterleaved4(w0, w1, w2, w3, DU(), out.unit[g][i0].word);
 }
 
 // Triangles i0 .. i0 + Lanes(D) - 1 of the batch in double lanes, exact for every coordinate below
