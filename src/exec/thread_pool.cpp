@@ -107,6 +107,10 @@ ThreadPool::~ThreadPool() {
     {
         std::lock_guard lock(state_->mutex);
         state_->stopping = true;
+        // Ends the workers' spin at once: they would otherwise spin out k_spin_time before they
+        // see `stopping`, and the caller wait for them in join (a pool that ends with its call,
+        // as the loaders' and the PNG encoder's do, paid it each time).
+        state_->generation.fetch_add(1, std::memory_order_relaxed);
     }
     state_->wake.notify_all();
     for (std::thread& t : state_->threads) t.join();

@@ -10,8 +10,10 @@
 #include <string_view>
 #include <utility>
 
+#include "facet/detail/thread_pool.hpp"
 #include "facet/mesh.hpp"
 #include "io/load_common.hpp"
+#include "scene/creased_normals.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -22,6 +24,8 @@ struct Overloaded : F... {
 };
 template <class... F>
 Overloaded(F...) -> Overloaded<F...>;
+
+constexpr std::uint64_t k_file_bytes_for_threads = 256 * 1024;
 
 // The material assimp's reader gives such a file, as the assimp path converts it: grey for OFF,
 // white for STL and PLY (the files the readers take have no colours); two-sided.
@@ -85,8 +89,13 @@ std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::s
     const std::optional<FileBytes> bytes = read_whole_file(path, size);
     // A file changed since its header was read goes to assimp, which reads it again.
     if (!bytes || bytes->view().substr(0, head.size()) != head) return std::nullopt;
+    // One pool for the reading and the normals, for files large enough to share (a thread costs
+    // about 0.1 ms to start): the threads are started once.
+    std::optional<detail::ThreadPool> pool;
+    if (options.threads != 1 && size >= k_file_bytes_for_threads) pool.emplace(options.threads <= 0 ? 0 : options.threads);
+    detail::ThreadPool* workers = pool && pool->size() > 1 ? &*pool : nullptr;
     std::optional<JoinedMesh> mesh =
-        std::visit(Overloaded{[&](const OffHeader& h) { return read_plain_off_with_header(*bytes, h); },
+        std::visit(Overloaded{[&](const OffHeader& h) { return read_plain_off_with_header(*bytes, h, workers); },
                               [&](const StlHeader& h) { return read_stl_with_header(*bytes, h); },
                               [&](const PlyHeader& h) { return read_plain_ply_with_header(*bytes, h); }},
                    header_);
@@ -99,7 +108,9 @@ std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::s
     SceneObject object;
     object.mesh.positions = std::move(mesh->positions);
     object.mesh.indices = std::move(mesh->indices);
-    compute_creased_normals(object.mesh, radians(options.crease_angle_degrees), options.threads);
+    // The readers joined the vertices by position: nothing to weld.
+    detail::compute_creased_normals_on(object.mesh, radians(options.crease_angle_degrees), workers,
+                                       /*distinct_positions=*/true);
     // The root node's identity transform under the up-axis root, composed as the assimp path's node walk does.
     object.model = up_axis_root(options.up_axis) * Mat4::identity();
     object.material = own_format_material(std::holds_alternative<OffHeader>(header_));

@@ -10,8 +10,11 @@
 #include "io/plain_off.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
+#include "facet/detail/thread_pool.hpp"
 #include "io/assimp_text.hpp"
 #include "io/joined_mesh.hpp"
 #include "io/load_common.hpp"
@@ -22,38 +25,97 @@ namespace {
 // assimp copies each line into a 4096-byte buffer; a longer line would be read differently.
 constexpr std::ptrdiff_t k_max_line = 4000;
 
-// The text's non-empty lines, as assimp's GetNextLine returns them. A line's reader stops at or
-// before its end (numbers and spaces never take a line-end character), and the line is skipped
-// from there: each character is looked at once, by the reader or here (measured: scanning each
-// line again from its start was a third of the reading of a bunny).
-class Lines {
-public:
-    explicit Lines(const char* at) : begin_(at) {}
-    // The start of the first line, or nullptr when there is none or it is too long.
-    const char* first() { return start_next(begin_); }
-    // The start of the line after the current one, whose reader stopped at `stopped`; nullptr at
-    // the end of the text or when the current line or the next is too long.
-    const char* next(const char* stopped) {
-        const char* end = end_of_current(stopped);
-        return end ? start_next(end) : nullptr;
-    }
-    // Whether the current line, whose reader stopped at `stopped`, is short enough.
-    bool finish(const char* stopped) const { return end_of_current(stopped) != nullptr; }
+// Threads share the body in pieces of about this many bytes, each beginning where a line does:
+// first the lines of every piece are counted (2 instructions a byte), then every piece's lines are
+// read knowing their numbers. The mesh does not depend on where the pieces are cut, nor on the
+// threads; one thread reads the body as one piece.
+constexpr std::size_t k_piece_bytes = 64 * 1024;
 
-private:
-    // The end of the current line, or nullptr when it is too long.
-    const char* end_of_current(const char* c) const {
-        while (*c != '\0' && !is_line_end(*c)) ++c;
-        return c - begin_ < k_max_line ? c : nullptr;
+// Where the next line after `c` begins (or `end`): past the rest of the line and the line ends.
+const char* next_line_start(const char* c, const char* end) {
+    while (c < end && !is_line_end(*c)) ++c;
+    while (c < end && is_line_end(*c)) ++c;
+    return c;
+}
+
+// Sixteen bytes at a time (GCC's and Clang's generic vectors: SSE2, NEON, or plain code): a
+// comparison gives 0xFF in the bytes where it holds.
+using Bytes16 = unsigned char __attribute__((vector_size(16)));
+Bytes16 load16(const char* c) {
+    Bytes16 v;
+    std::memcpy(&v, c, sizeof v);
+    return v;
+}
+Bytes16 line_ends(Bytes16 v) { return reinterpret_cast<Bytes16>((v == '\n') | (v == '\r') | (v == '\f')); }
+
+// The lines beginning in [begin, end), as assimp's GetNextLine returns them: empty lines do not
+// count (a line of spaces is not empty), and a line begins at a byte that is not a line end after
+// one that is. The byte before `begin` is in the text: a line end (the previous piece's), or the
+// header's last (where `begin` is the header's line end, no line's start). `nul` is set if the
+// piece has a NUL byte (assimp stops reading there).
+std::size_t count_lines(const char* begin, const char* end, bool& nul) {
+    std::size_t lines = 0;
+    const char* c = begin;
+    Bytes16 zeros{}, counts{};
+    for (int in_counts = 0; end - c >= 16; c += 16) {
+        const Bytes16 v = load16(c);
+        counts -= line_ends(load16(c - 1)) & ~line_ends(v);  // + 1 where a line begins
+        zeros |= reinterpret_cast<Bytes16>(v == 0);
+        if (++in_counts == 255 || end - c < 32) {  // before a byte of `counts` could overflow
+            for (int i = 0; i < 16; ++i) lines += counts[i];
+            counts = Bytes16{}, in_counts = 0;
+        }
     }
-    const char* start_next(const char* c) {
-        while (is_line_end(*c)) ++c;
-        if (*c == '\0') return nullptr;
-        begin_ = c;
-        return c;
+    bool zero = false;
+    for (int i = 0; i < 16; ++i) zero |= zeros[i] != 0;
+    for (; c < end; ++c) {
+        lines += is_line_end(c[-1]) && !is_line_end(*c);
+        zero |= *c == '\0';
     }
-    const char* begin_;  // of the current line
+    nul = zero;
+    return lines;
+}
+
+// Where the readers of the lines write: the vertex lines come first, then the triangle lines; the
+// lines after them are not read.
+struct OffTarget {
+    std::uint32_t vertex_count, face_count;
+    Vec3* positions;
+    std::uint32_t* indices;
 };
+
+// Reads the lines of the piece [begin, end), the first of them line number `line` of the body;
+// returns the number after the last line read, or nullopt where assimp's reader would read the
+// file differently. A line's reader stops at or before its end (numbers and spaces never take a
+// line-end character), and the line is skipped from there.
+std::optional<std::size_t> read_piece(const char* begin, const char* end, std::size_t line, const OffTarget& to) {
+    const std::size_t last = std::size_t{to.vertex_count} + to.face_count;
+    for (const char* c = begin; line < last; ++line) {
+        while (c < end && is_line_end(*c)) ++c;
+        if (c >= end) break;
+        const char* const start = c;
+        if (line < to.vertex_count) {
+            Vec3& p = to.positions[line];
+            for (std::size_t dim = 0; dim < 3; ++dim) {
+                c = skip_spaces(c);
+                c = read_float(c, p[dim]);  // throws where assimp's reader fails
+                if (!std::isfinite(p[dim])) return std::nullopt;
+            }
+        } else {
+            std::uint32_t* index = to.indices + 3 * (line - to.vertex_count);
+            c = skip_spaces(c);
+            if (Assimp::strtoul10(c, &c) != 3) return std::nullopt;  // polygons: assimp triangulates them
+            for (std::size_t k = 0; k < 3; ++k) {
+                c = skip_spaces(c);
+                index[k] = Assimp::strtoul10(c, &c);
+                if (index[k] >= to.vertex_count) return std::nullopt;  // assimp clamps it and logs an error
+            }
+        }
+        while (*c != '\0' && !is_line_end(*c)) ++c;
+        if (c - start >= k_max_line) return std::nullopt;
+    }
+    return line;
+}
 
 // A whole decimal count of at most 9 digits, then spaces; nullopt otherwise.
 std::optional<std::uint32_t> parse_small_count(const char*& c) {
@@ -77,42 +139,6 @@ std::optional<OffHeader::Plain> parse_plain_header(const char* text) {
     c = skip_spaces(c);
     if (!is_line_end(*c)) return std::nullopt;
     return OffHeader::Plain{*vertices, *faces, static_cast<std::size_t>(c - text)};
-}
-
-// Reads `count` vertex lines, the first at `c`; returns where the reader stopped in the last one,
-// or nullptr.
-const char* read_vertices(Lines& lines, const char* c, std::uint32_t count, std::vector<Vec3>& out) {
-    out.resize(count);
-    for (std::uint32_t i = 0; i < count; ++i) {
-        if (i > 0) c = lines.next(c);
-        if (!c) return nullptr;
-        for (std::size_t dim = 0; dim < 3; ++dim) {
-            c = skip_spaces(c);
-            c = read_float(c, out[i][dim]);  // throws where assimp's reader fails
-            if (!std::isfinite(out[i][dim])) return nullptr;
-        }
-    }
-    return c;
-}
-
-// Reads `count` triangle lines, the first after the line where the vertex reader stopped at `c`;
-// returns where the reader stopped in the last one, or nullptr.
-const char* read_triangles(Lines& lines, const char* c, std::uint32_t count, std::uint32_t vertex_count,
-                           std::vector<std::uint32_t>& out) {
-    out.resize(std::size_t{3} * count);
-    for (std::size_t f = 0; f < count; ++f) {
-        c = lines.next(c);
-        if (!c) return nullptr;
-        c = skip_spaces(c);
-        if (Assimp::strtoul10(c, &c) != 3) return nullptr;  // polygons: assimp triangulates them
-        for (std::size_t k = 0; k < 3; ++k) {
-            c = skip_spaces(c);
-            const unsigned index = Assimp::strtoul10(c, &c);
-            if (index >= vertex_count) return nullptr;  // assimp clamps it and logs an error
-            out[3 * f + k] = index;
-        }
-    }
-    return c;
 }
 
 }  // namespace
@@ -147,24 +173,60 @@ Status check_off_header(const std::string& path, const OffHeader& header, std::u
     return Ok{};
 }
 
-std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, const OffHeader& header) {
-    if (text.find('\0') != std::string_view::npos) return std::nullopt;  // assimp stops reading there
+std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, const OffHeader& header,
+                                                       detail::ThreadPool* pool) {
     const std::optional<OffHeader::Plain>& plain = header.plain;
     // A vertex line takes at least 6 bytes ("0 0 0\n"), a triangle 8: more would be a damaged
     // header, and must not allocate what it claims.
     if (!plain || plain->body > text.size() || std::uint64_t{plain->vertices} * 6 + std::uint64_t{plain->faces} * 8 > text.size())
         return std::nullopt;
-    std::vector<Vec3> positions;
-    std::vector<std::uint32_t> indices;
-    Lines lines(text.data() + plain->body);
-    const char* stopped = nullptr;
-    try {
-        stopped = read_vertices(lines, lines.first(), plain->vertices, positions);
-    } catch (const NotANumber&) {
-        return std::nullopt;
+    if (text.substr(0, plain->body).find('\0') != std::string_view::npos) return std::nullopt;
+    const char* const body = text.data() + plain->body;
+    const char* const end = text.data() + text.size();
+    const std::size_t lines = std::size_t{plain->vertices} + plain->faces;
+    // One thread reads the body as one piece, numbering the lines as it goes; threads share it in
+    // pieces whose lines they count first.
+    std::vector<const char*> piece{body};
+    std::vector<std::size_t> first_line{0};
+    if (pool) {
+        for (const char* c = body; c < end;) {
+            c = next_line_start(std::min(c + k_piece_bytes, end), end);
+            piece.push_back(c);
+        }
+        first_line.assign(piece.size(), 0);  // each piece's count first, then their running sums
+        std::vector<char> has_nul(piece.size() - 1, 0);
+        pool->parallel_for(piece.size() - 1, [&](std::size_t k) {
+            bool nul = false;
+            first_line[k + 1] = count_lines(piece[k], piece[k + 1], nul);
+            has_nul[k] = nul;
+        });
+        for (std::size_t k = 1; k < first_line.size(); ++k) first_line[k] += first_line[k - 1];
+        if (std::find(has_nul.begin(), has_nul.end(), 1) != has_nul.end() || first_line.back() < lines) return std::nullopt;
+    } else {
+        piece.push_back(end);
+        if (std::memchr(body, 0, static_cast<std::size_t>(end - body))) return std::nullopt;
     }
-    if (stopped) stopped = read_triangles(lines, stopped, plain->faces, plain->vertices, indices);
-    if (!stopped || !lines.finish(stopped)) return std::nullopt;
+
+    std::vector<Vec3> positions(plain->vertices);
+    std::vector<std::uint32_t> indices(std::size_t{3} * plain->faces);
+    const OffTarget target{plain->vertices, plain->faces, positions.data(), indices.data()};
+    std::vector<std::size_t> stopped(piece.size() - 1, 0);
+    std::vector<char> declined(piece.size() - 1, 0);
+    auto read = [&](std::size_t k) {
+        try {
+            const std::optional<std::size_t> read_to = read_piece(piece[k], piece[k + 1], first_line[k], target);
+            declined[k] = !read_to;
+            stopped[k] = read_to.value_or(0);
+        } catch (const NotANumber&) {
+            declined[k] = 1;
+        }
+    };
+    if (pool)
+        pool->parallel_for(stopped.size(), read);
+    else
+        read(0);
+    if (std::find(declined.begin(), declined.end(), 1) != declined.end()) return std::nullopt;
+    if (!pool && stopped[0] < lines) return std::nullopt;  // threads: the lines were counted before
     return join_identical_vertices(positions, indices);
 }
 

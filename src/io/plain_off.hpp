@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "facet/detail/thread_pool.hpp"
 #include "facet/error.hpp"
 #include "facet/model.hpp"
 #include "io/joined_mesh.hpp"
@@ -53,7 +54,9 @@ Status check_off_header(const std::string& path, const OffHeader& header, std::u
 
 // `text` is the whole file, whose header `header` is, and must be followed by a NUL character (as
 // std::string's data is): the parser relies on it to stop. The one-argument form parses the header.
-std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, const OffHeader& header);
+// With a pool, its threads share the lines (the mesh is the same).
+std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, const OffHeader& header,
+                                                       detail::ThreadPool* pool = nullptr);
 std::optional<PlainOffMesh> read_plain_off(std::string_view text);
 
 }  // namespace facet::io_detail

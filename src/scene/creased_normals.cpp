@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "facet/detail/thread_pool.hpp"
+#include "scene/creased_normals.hpp"
 #include "scene/triangle_shapes.hpp"
 
 namespace facet {
@@ -744,21 +745,34 @@ void creased_normals_in_order(Mesh& mesh, const std::vector<std::uint32_t>& weld
 }  // namespace
 
 void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads) {
-    const std::size_t vertex_count = mesh.positions.size();
-    const std::size_t triangles = mesh.indices.size() / 3;
     // Threads only for meshes that have a block for each; they end before this returns.
     std::optional<detail::ThreadPool> pool;
-    if (threads != 1 && triangles >= 2 * k_block) pool.emplace(threads <= 0 ? 0 : threads);
-    detail::ThreadPool* workers = pool && pool->size() > 1 ? &*pool : nullptr;
+    if (threads != 1 && mesh.indices.size() / 3 >= 2 * k_block) pool.emplace(threads <= 0 ? 0 : threads);
+    detail::compute_creased_normals_on(mesh, crease_angle_radians, pool ? &*pool : nullptr, false);
+}
 
-    const Weld welded = weld_by_position(mesh.positions);
+void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, ThreadPool* pool,
+                                        bool distinct_positions) {
+    const std::size_t vertex_count = mesh.positions.size();
+    const std::size_t triangles = mesh.indices.size() / 3;
+    detail::ThreadPool* workers = pool && pool->size() > 1 && triangles >= 2 * k_block ? pool : nullptr;
+
+    Weld welded;
+    std::size_t positions = vertex_count;
+    if (distinct_positions) {  // each vertex is its own welded position, in order
+        welded.id.resize(vertex_count);
+        std::iota(welded.id.begin(), welded.id.end(), 0u);
+    } else {
+        welded = weld_by_position(mesh.positions);
+        positions = positions;
+    }
     // Decided once: the copies below rewrite indices to vertices beyond vertex_count.
     std::vector<bool> in_range(triangles);
     for (std::size_t t = 0; t < triangles; ++t)
         in_range[t] = mesh.indices[3 * t] < vertex_count && mesh.indices[3 * t + 1] < vertex_count &&
                       mesh.indices[3 * t + 2] < vertex_count;
     if (!workers) {
-        creased_normals_in_order(mesh, welded.id, welded.key.size(), in_range, crease_angle_radians);
+        creased_normals_in_order(mesh, welded.id, positions, in_range, crease_angle_radians);
         return;
     }
 
@@ -769,7 +783,7 @@ void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads
     std::vector<FanScratch> scratch(workers->size());
     CornersByPosition by_position;
     const auto facts = std::make_unique_for_overwrite<TriangleFacts[]>(triangles);
-    describe_triangles(mesh, welded.id, welded.key.size(), in_range, workers, facts.get(), by_position);
+    describe_triangles(mesh, welded.id, positions, in_range, workers, facts.get(), by_position);
     const std::vector<Vec3> around = split_fans(by_position, facts.get(), std::cos(crease_angle_radians), workers,
                                                 scratch, {vertex_set, mesh.normals});
     copy_vertices(scratch, mesh);

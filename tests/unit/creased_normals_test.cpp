@@ -7,12 +7,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <limits>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -20,6 +22,8 @@
 #include "facet/isa.hpp"
 #include "facet/mesh.hpp"
 #include "facet/model.hpp"
+#include "facet/detail/thread_pool.hpp"
+#include "scene/creased_normals.hpp"
 #include "scene/triangle_shapes.hpp"
 #include "support/reference_creased_normals.hpp"
 #include "support/test_data.hpp"
@@ -114,6 +118,54 @@ TEST(CreasedNormals, SharedBetweenThreadsMatchesTheReference) {
     Mesh sphere = make_icosphere(1, 5);  // 20,480 triangles
     sphere.normals.clear();
     expect_same_as_reference(sphere, radians(40), "icosphere", 2);
+}
+
+// The mesh with the vertices at equal positions (by bits, -0 as +0) made one, the first of them
+// kept: what facet's own readers give compute_creased_normals_on.
+Mesh joined_by_position(const Mesh& m) {
+    auto key = [](Vec3 p) {
+        auto bits = [](float f) { return std::bit_cast<std::uint32_t>(f == 0.0f ? 0.0f : f); };
+        return std::array<std::uint32_t, 3>{bits(p.x), bits(p.y), bits(p.z)};
+    };
+    std::map<std::array<std::uint32_t, 3>, std::uint32_t> first;
+    std::vector<std::uint32_t> to(m.positions.size());
+    Mesh out;
+    for (std::size_t v = 0; v < m.positions.size(); ++v) {
+        const auto [at, added] = first.emplace(key(m.positions[v]), static_cast<std::uint32_t>(out.positions.size()));
+        if (added) out.positions.push_back(m.positions[v]);
+        to[v] = at->second;
+    }
+    for (std::uint32_t i : m.indices) out.indices.push_back(i < to.size() ? to[i] : i);
+    return out;
+}
+
+// facet's own readers join the vertices by position and start their threads once: the normals
+// leave the welding out then (compute_creased_normals_on), and must give the same bits.
+TEST(CreasedNormals, DistinctPositionsWithoutWeldingMatchTheReference) {
+    std::mt19937 rng(11);
+    std::vector<std::pair<std::string, Mesh>> meshes{{"icosphere", make_icosphere(1, 5)},
+                                                     {"uv sphere", make_uv_sphere(1, 48, 24)},
+                                                     {"torus", make_torus(1, 0.3f, 32, 16)}};
+    for (int i = 0; i < 40; ++i) meshes.emplace_back("random mesh " + std::to_string(i), random_mesh(rng, i));
+    Mesh large = random_mesh(rng, 3);
+    const Mesh part = large;
+    while (large.indices.size() < 3 * 10'000) large.append(part);
+    meshes.emplace_back("large random mesh", large);
+    detail::ThreadPool two(2);
+    for (auto& [name, mesh] : meshes) {
+        const Mesh m = joined_by_position(mesh);
+        for (float crease : {radians(20), radians(40), k_pi})
+            for (detail::ThreadPool* pool : {static_cast<detail::ThreadPool*>(nullptr), &two}) {
+                SCOPED_TRACE(name + ", crease " + std::to_string(crease) + (pool ? ", 2 threads" : ", 1 thread"));
+                Mesh want = m, got = m;
+                facet_test::reference_creased_normals(want, crease);
+                detail::compute_creased_normals_on(got, crease, pool, /*distinct_positions=*/true);
+                EXPECT_EQ(bits_of(got.positions), bits_of(want.positions));
+                EXPECT_EQ(bits_of(got.normals), bits_of(want.normals));
+                EXPECT_EQ(got.indices, want.indices);
+            }
+        if (HasFailure()) return;
+    }
 }
 
 // Nothing but degenerate triangles: no triangle has an edge, so every vertex's list of edge sides is

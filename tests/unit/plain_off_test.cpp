@@ -19,6 +19,7 @@
 #include "facet/model.hpp"
 #include "io/fast_path.hpp"
 #include "io/load_paths.hpp"
+#include "facet/detail/thread_pool.hpp"
 #include "io/plain_off.hpp"
 #include "support/same_scene.hpp"
 #include "support/test_data.hpp"
@@ -182,6 +183,59 @@ TEST(PlainOff, DamagedFilesMatchAssimp) {
         }
         const std::string path = write_file(dir / ("damaged_" + std::to_string(i) + ".off"), bad);
         expect_same_as_assimp(path);
+    }
+}
+
+// Files large enough to be read in several pieces and by two threads (plain_off.cpp cuts the body
+// every 64 KB at a line start): the threads must give the one-thread mesh, and both assimp's, with
+// what declines a file (a NUL, a long line, a bad number, an index out of range, lines missing)
+// placed deep in the body, past the first pieces.
+TEST(PlainOff, LargeFilesReadInPiecesByThreadsMatchAssimp) {
+    std::mt19937 rng(41);
+    auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<std::uint32_t>(n)); };
+    const int vertices = 6000, faces = 9000;
+    std::string body;
+    std::vector<std::size_t> line_at;  // where each vertex and face line begins in `body`
+    for (int v = 0; v < vertices; ++v) {
+        body += pick(50) == 0 ? "\r\n\n" : "";
+        line_at.push_back(body.size());
+        body += facet_test::random_number_text(rng) + " " + facet_test::random_number_text(rng) + "\t" +
+                facet_test::random_number_text(rng) + (pick(20) == 0 ? " 0.5" : "") + "\n";
+    }
+    for (int f = 0; f < faces; ++f) {
+        line_at.push_back(body.size());
+        body += "3 " + std::to_string(pick(vertices)) + " " + std::to_string(pick(vertices)) + "  " +
+                std::to_string(pick(vertices)) + (pick(30) == 0 ? std::string(300, ' ') : "") + "\n";
+    }
+    const std::string header = "OFF\n" + std::to_string(vertices) + " " + std::to_string(faces) + " 0\n";
+    ASSERT_GT(body.size(), 300'000u);
+    auto with = [&](std::size_t line, const std::string& replacement) {
+        return header + body.substr(0, line_at[line]) + replacement + body.substr(line_at[line + 1]);
+    };
+    const std::vector<std::pair<std::string, std::string>> files = {
+        {"good", header + body},
+        {"nul", with(vertices + 5000, std::string("3 1 2 3\n\0\n", 10))},
+        {"long_line", with(vertices + 4000, "3 1 2 3" + std::string(5000, ' ') + "\n")},
+        {"not_a_number", with(5000, "1 x 2\n")},
+        {"index_out_of_range", with(vertices + 8000, "3 1 2 " + std::to_string(vertices) + "\n")},
+        {"lines_missing", header + body.substr(0, line_at[vertices + faces - 3])},
+    };
+    detail::ThreadPool two(2);
+    LoadOptions threads;
+    threads.threads = 2;
+    for (const auto& [name, text] : files) {
+        SCOPED_TRACE(name);
+        const std::optional<io_detail::PlainOffMesh> alone = io_detail::read_plain_off(text);
+        const std::optional<io_detail::PlainOffMesh> shared =
+            io_detail::read_plain_off_with_header(text, io_detail::parse_off_header(text), &two);
+        EXPECT_EQ(alone.has_value(), name == "good");
+        ASSERT_EQ(shared.has_value(), alone.has_value());
+        if (alone) {
+            EXPECT_EQ(facet_test::bits_of(shared->positions), facet_test::bits_of(alone->positions));
+            EXPECT_EQ(shared->indices, alone->indices);
+        }
+        const std::string path = write_file(temp_dir() / ("large_" + name + ".off"), text);
+        expect_same_as_assimp(path, threads);
     }
 }
 
