@@ -3,7 +3,8 @@
 // Usage: facet_bench_load FILE [ROUNDS] [THREADS]  (defaults 5 rounds, 1 thread)
 // Prints per path the median wall time of load_model (file to Scene, normals included) and the ratio,
 // and the same of the process's CPU time (user + system of all its threads: on a shared machine it
-// moves far less with the load than wall time).
+// moves far less with the load than wall time). FACET_BENCH_LOAD_OWN_ONLY=1 runs the own reader alone
+// (for profilers: callgrind, perf).
 #include <time.h>
 
 #include <algorithm>
@@ -46,8 +47,10 @@ int main(int argc, char** argv) {
     options.threads = argc > 3 ? std::atoi(argv[3]) : 1;
     std::vector<double> own, assimp, own_cpu, assimp_cpu;
     std::size_t triangles = 0;
+    const char* own_only_env = std::getenv("FACET_BENCH_LOAD_OWN_ONLY");
+    const bool own_only = own_only_env && std::string(own_only_env) == "1";
     for (int r = 0; r < rounds; ++r) {
-        for (int which = 0; which < 2; ++which) {
+        for (int which = 0; which < (own_only ? 1 : 2); ++which) {
             const Clock::time_point start = Clock::now();
             const double cpu_start = process_cpu_ms();
             facet::Result<facet::LoadedModel> model =
@@ -61,6 +64,11 @@ int main(int argc, char** argv) {
             triangles = model->scene.triangle_count();
             (which == 0 ? own : assimp).push_back(ms);
         }
+    }
+    if (own_only) {
+        std::printf("{\"file\":\"%s\",\"triangles\":%zu,\"threads\":%d,\"rounds\":%d,\"own_ms\":%.1f,\"own_cpu_ms\":%.1f}\n", path.c_str(),
+                    triangles, options.threads, rounds, median(own), median(own_cpu));
+        return 0;
     }
     const double a = median(assimp), o = median(own), a_cpu = median(assimp_cpu), o_cpu = median(own_cpu);
     std::printf("{\"file\":\"%s\",\"triangles\":%zu,\"threads\":%d,\"rounds\":%d,\"own_ms\":%.1f,\"assimp_ms\":%.1f,\"ratio\":%.2f,"

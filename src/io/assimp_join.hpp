@@ -102,15 +102,16 @@ Join exact_join(std::size_t count, Value&& value) {
 
 // Whether assimp's join of a mesh of `vertex_count` vertices is the exact `join` (value as above):
 // no two of its unique vertices in one of assimp's buckets compare equal, with twice the margin.
-// The buckets are too many to hold lists: a bit per bucket finds those holding two or more unique
-// vertices, and only their vertices are compared.
-template <class Value>
-bool exact_join_is_assimps(const Join& join, Value&& value, std::size_t vertex_count) {
+// position(u) is unique vertex u's (the callers have them gathered in order, as their meshes'
+// positions). The buckets are too many to hold lists: a bit per bucket finds those holding two or
+// more unique vertices, and only their vertices are compared.
+template <class Value, class Position>
+bool exact_join_is_assimps(const Join& join, Value&& value, Position&& position, std::size_t vertex_count) {
     const std::size_t buckets = reserved_buckets(vertex_count);
     std::vector<std::uint64_t> seen((buckets + 63) / 64), shared((buckets + 63) / 64);
     std::vector<std::size_t> bucket_of(join.first.size());
     for (std::size_t u = 0; u < join.first.size(); ++u) {
-        const std::size_t b = assimp_position_hash(value(join.first[u]).position) % buckets;
+        const std::size_t b = assimp_position_hash(position(u)) % buckets;
         bucket_of[u] = b;
         const std::uint64_t bit = std::uint64_t{1} << (b % 64);
         if (seen[b / 64] & bit) shared[b / 64] |= bit;

@@ -137,13 +137,13 @@ struct ObjMaterial {
     std::optional<aiColor3D> sheen_colour;
 };
 
-// A mesh's faces: per corner its vertex, and (when some face of the mesh has them) its texture
-// coordinate and normal or k_absent; per face its corner count.
+// A mesh's faces, which are consecutive in the file (faces go to the current mesh, and a mesh
+// once left is never current again): their corners and corner counts are ObjModel's from
+// first_corner and first_face on.
 struct ObjMesh {
     std::string name;
     unsigned material = k_no_material;
-    std::vector<std::uint32_t> v, vt, vn;
-    std::vector<std::uint32_t> corners;
+    std::size_t first_corner = 0, first_face = 0, corners = 0;
     std::size_t faces = 0, triangles = 0;  // triangles: as Triangulate makes them of simple polygons
     bool has_normals = false;  // some face gave normal indices
     std::size_t uv_count = 0;  // texture coordinate indices given, in all
@@ -156,6 +156,9 @@ struct ObjObject {
 
 struct ObjModel {
     std::vector<aiVector3D> vertices, colours, texcoords, normals;
+    // Per face corner, all meshes': its vertex, and (for the corners of a mesh some face of which
+    // has them) its texture coordinate and normal or k_absent; per face its corner count.
+    std::vector<std::uint32_t> corner_v, corner_vt, corner_vn, face_corners;
     unsigned texcoord_dim = 0;
     std::vector<ObjMesh> meshes;
     std::vector<ObjObject> objects;
@@ -186,6 +189,8 @@ struct ObjModel {
     void create_mesh(const std::string& name, ImportNotes& notes) {
         meshes.push_back({});
         meshes.back().name = name;
+        meshes.back().first_corner = corner_v.size();
+        meshes.back().first_face = face_corners.size();
         current_mesh = static_cast<int>(meshes.size() - 1);
         if (current_object >= 0)
             objects[static_cast<std::size_t>(current_object)].meshes.push_back(static_cast<unsigned>(current_mesh));
@@ -486,32 +491,69 @@ public:
         // In a file read in more than one block, a last line without a line end is lost.
         if (text.size() > k_stream_block && !ends_line(text.back()))
             while (end > 0 && !ends_line(text[end - 1])) --end;
+        reserve(text);
         bool in_cstype = false;
         for (std::size_t begin = 0; begin < end;) {
             const char* line = text.data() + begin;
-            const char* stop = line;
-            while (!ends_line(*stop)) ++stop;
+            const char* stop = nullptr;
+            if (!in_cstype)
+                stop = read_line(line, in_cstype);
+            else if (*line == 'e' && word_at(line) == "end")
+                in_cstype = false;
+            if (!stop)
+                for (stop = line; !ends_line(*stop);) ++stop;
             begin = static_cast<std::size_t>(stop - text.data()) + 1;
-            if (in_cstype) {
-                if (*line == 'e' && word_at(line) == "end") in_cstype = false;
-                continue;
-            }
-            read_line(line, in_cstype);
         }
     }
 
 private:
-    void read_line(const char* line, bool& in_cstype) {
+    // The arrays sized once for the vertices and faces the file's lines announce (lines starting
+    // "v " and "f"; three corners a face), so that they are not grown and copied while read.
+    void reserve(std::string_view text) {
+        std::size_t v = 0, f = 0;
+        const std::size_t n = text.size();
+        const unsigned char* t = reinterpret_cast<const unsigned char*>(text.data());
+        // 16 bytes at a time in byte-wide counters (added up every 255 steps, before they overflow).
+        using Bytes = unsigned char __attribute__((vector_size(16)));
+        const auto load = [](const unsigned char* p) {
+            Bytes b;
+            std::memcpy(&b, p, sizeof b);
+            return b;
+        };
+        std::size_t i = 0;
+        while (i + 18 <= n) {
+            Bytes vs{}, fs{};
+            for (int k = 0; k < 255 && i + 18 <= n; ++k, i += 16) {
+                const Bytes line = reinterpret_cast<Bytes>(load(t + i) == '\n'), next = load(t + i + 1);
+                vs -= line & reinterpret_cast<Bytes>(next == 'v') & reinterpret_cast<Bytes>(load(t + i + 2) == ' ');
+                fs -= line & reinterpret_cast<Bytes>(next == 'f');
+            }
+            for (int k = 0; k < 16; ++k) v += vs[k], f += fs[k];
+        }
+        for (; i + 2 < n; ++i) {
+            v += t[i] == '\n' && t[i + 1] == 'v' && t[i + 2] == ' ';
+            f += t[i] == '\n' && t[i + 1] == 'f';
+        }
+        v += n > 0 && t[0] == 'v';
+        f += n > 0 && t[0] == 'f';
+        f = std::min(f, options_.max_triangles);
+        model_.vertices.reserve(v);
+        model_.corner_v.reserve(3 * f);
+        model_.face_corners.reserve(f);
+    }
+
+    // A line's statement; the line's end when the statement found it.
+    const char* read_line(const char* line, bool& in_cstype) {
         switch (line[0]) {
             case 'v':
                 if (is_space(line[1]))
-                    vertex(line + 1);
+                    return vertex(line + 1);
                 else if (line[1] == 't')
                     texcoord(line + 2);
                 else if (line[1] == 'n')
                     normal(line + 2);
                 break;
-            case 'f': face(line); break;
+            case 'f': return face(line);
             case 'p':
             case 'l': throw Decline{__LINE__};  // points and lines: meshes sorted by primitive type
             case 'u':
@@ -527,11 +569,12 @@ private:
             case 'c': in_cstype = word_at(line) == "cstype"; break;
             default: break;  // comments, 's', 'mg', indented lines, anything else
         }
+        return nullptr;
     }
 
     // "v x y z", "v x y z w" (divided by w) or "v x y z r g b"; other counts of numeric-looking
-    // tokens are ignored, as assimp ignores them.
-    void vertex(const char* c) {
+    // tokens are ignored, as assimp ignores them. Returns the line's end for the common form.
+    const char* vertex(const char* c) {
         // The common "v x y z": three numbers and the line end.
         const char* p = c;
         aiVector3D v;
@@ -554,9 +597,9 @@ private:
                 break;
             }
         }
-        if (plain && ends_line(*skip_blanks(p))) {
+        if (plain && ends_line(*(p = skip_blanks(p)))) {
             add_position(v);
-            return;
+            return p;
         }
         const std::size_t n = numeric_tokens(c);
         p = c;
@@ -570,6 +613,7 @@ private:
             add_position({next_float(p), next_float(p), next_float(p)});
             model_.colours.push_back({next_float(p), next_float(p), next_float(p)});
         }
+        return nullptr;
     }
 
     void add_position(const aiVector3D& v) {
@@ -613,7 +657,25 @@ private:
     }
 
     // getFace: indices separated by '/' (vertex, texture coordinate, normal) and corners by spaces.
-    void face(const char* line) {
+    // Returns the line's end.
+    const char* face(const char* line) {
+        // The common "f 1 2 3": vertex indices alone, each plain (see below), up to 8 corners.
+        if (is_space(line[1])) {
+            std::uint32_t v[8];
+            std::size_t corners = 0;
+            const char* p = skip_blanks(line + 1);
+            for (; corners < 8 && *p >= '1' && *p <= '9'; p = skip_blanks(p)) {
+                std::uint32_t value = 0;
+                const char* const d = p;
+                while (*p >= '0' && *p <= '9') value = value * 10 + static_cast<std::uint32_t>(*p++ - '0');
+                if (p - d > 9 || !is_blank(*p)) break;
+                v[corners++] = value - 1;
+            }
+            if (ends_line(*p)) {
+                add_face(v, corners, nullptr, 0, nullptr, 0);
+                return p;
+            }
+        }
         const char* p = next_token(line);
         for (std::vector<std::uint32_t>& l : lists_) l.clear();
         const std::int64_t sizes[3] = {static_cast<std::int64_t>(model_.vertices.size()),
@@ -647,7 +709,14 @@ private:
             const std::int64_t index = negative ? sizes[position] - value : value - 1;
             lists_[position].push_back(index < 0 || index >= 0x7fffffff ? k_out_of_range : static_cast<std::uint32_t>(index));
         }
-        const std::size_t corners = lists_[0].size();
+        add_face(lists_[0].data(), lists_[0].size(), lists_[1].data(), lists_[1].size(), lists_[2].data(), lists_[2].size());
+        return p;
+    }
+
+    // A face's corners (vertex indices, and the texture coordinate and normal indices given) into
+    // the current mesh.
+    void add_face(const std::uint32_t* v, std::size_t corners, const std::uint32_t* vt, std::size_t vts, const std::uint32_t* vn,
+                  std::size_t vns) {
         // Empty faces are logged and skipped, faces of 1 or 2 corners are lines in all but name,
         // faces past AI_MAX_FACE_INDICES fail validation.
         if (corners < 3 || corners > 0x7fff) throw Decline{__LINE__};
@@ -658,22 +727,26 @@ private:
         mesh.triangles += corners - 2;
         model_.total_triangles += corners - 2;
         model_.has_polygons = model_.has_polygons || corners > 4;
-        mesh.uv_count += lists_[1].size();
-        mesh.has_normals = mesh.has_normals || !lists_[2].empty();
-        for (std::uint32_t v : lists_[0]) model_.largest_vertex = std::max(model_.largest_vertex, v);
+        mesh.uv_count += vts;
+        mesh.has_normals = mesh.has_normals || vns > 0;
+        for (std::size_t k = 0; k < corners; ++k) model_.largest_vertex = std::max(model_.largest_vertex, v[k]);
         if (model_.total_triangles > options_.max_triangles) model_.counting_only = true;
         if (model_.counting_only) return;
-        mesh.corners.push_back(static_cast<std::uint32_t>(corners));
-        const std::size_t before = mesh.v.size();
-        mesh.v.insert(mesh.v.end(), lists_[0].begin(), lists_[0].end());
-        // Texture coordinates and normals per corner, when some face of the mesh has them.
-        std::vector<std::uint32_t>* attributes[2] = {&mesh.vt, &mesh.vn};
-        for (int a = 0; a < 2; ++a) {
-            std::vector<std::uint32_t>& out = *attributes[a];
-            const std::vector<std::uint32_t>& given = lists_[a + 1];
-            if (given.empty() && out.empty()) continue;
-            if (out.size() < before) out.resize(before, k_absent);
-            for (std::size_t k = 0; k < corners; ++k) out.push_back(k < given.size() ? given[k] : k_absent);
+        model_.face_corners.push_back(static_cast<std::uint32_t>(corners));
+        const std::size_t before = model_.corner_v.size();
+        for (std::size_t k = 0; k < corners; ++k) model_.corner_v.push_back(v[k]);
+        mesh.corners += corners;
+        // Texture coordinates and normals per corner, once some face of the mesh has them.
+        const struct {
+            std::vector<std::uint32_t>& out;
+            const std::uint32_t* given;
+            std::size_t count;
+            bool mesh_has;
+        } attributes[2] = {{model_.corner_vt, vt, vts, mesh.uv_count > 0}, {model_.corner_vn, vn, vns, mesh.has_normals}};
+        for (const auto& a : attributes) {
+            if (!a.mesh_has) continue;
+            if (a.out.size() < before) a.out.resize(before, k_absent);
+            for (std::size_t k = 0; k < corners; ++k) a.out.push_back(k < a.count ? a.given[k] : k_absent);
         }
     }
 
@@ -883,22 +956,27 @@ public:
     MeshBuilder(const ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes), by_vertex_(model.vertices.size()) {}
 
     OwnMesh build(const ObjMesh& mesh, unsigned material) {
-        const std::size_t corners = mesh.v.size();
-        const bool has_vt = !mesh.vt.empty(), has_vn = !mesh.vn.empty();
+        const std::size_t corners = mesh.corners;
+        const bool has_vt = mesh.uv_count > 0, has_vn = mesh.has_normals;
+        // The mesh's corners: vertex, texture coordinate and normal indices (these two when has_vt,
+        // has_vn).
+        const std::uint32_t* const mesh_v = model_.corner_v.data() + mesh.first_corner;
+        const std::uint32_t* const mesh_vt = has_vt ? model_.corner_vt.data() + mesh.first_corner : nullptr;
+        const std::uint32_t* const mesh_vn = has_vn ? model_.corner_vn.data() + mesh.first_corner : nullptr;
         // createVertexArray's arrays, and whether every index reaches its array.
         bool normals = !model_.normals.empty() && mesh.has_normals;
         bool uvs = !model_.texcoords.empty() && mesh.uv_count > 0;
         const bool colours = !model_.colours.empty();
         for (std::size_t c = 0; normals && has_vn && c < corners; ++c)
-            normals = mesh.vn[c] == k_absent || mesh.vn[c] < model_.normals.size();
-        for (std::size_t c = 0; uvs && has_vt && c < corners; ++c) uvs = mesh.vt[c] == k_absent || mesh.vt[c] < model_.texcoords.size();
+            normals = mesh_vn[c] == k_absent || mesh_vn[c] < model_.normals.size();
+        for (std::size_t c = 0; uvs && has_vt && c < corners; ++c) uvs = mesh_vt[c] == k_absent || mesh_vt[c] < model_.texcoords.size();
         const bool with_vn = normals && has_vn, with_vt = uvs && has_vt;
         // A corner's attributes as JoinIdenticalVertices sees them: uvs flipped by FlipUVs.
         auto value_of = [&](std::size_t c) {
-            JoinVertex v{model_.vertices[mesh.v[c]], {}, {}, {}, {}};
-            if (with_vn && mesh.vn[c] != k_absent) v.normal = model_.normals[mesh.vn[c]];
+            JoinVertex v{model_.vertices[mesh_v[c]], {}, {}, {}, {}};
+            if (with_vn && mesh_vn[c] != k_absent) v.normal = model_.normals[mesh_vn[c]];
             if (uvs) {
-                if (with_vt && mesh.vt[c] != k_absent) v.uv = model_.texcoords[mesh.vt[c]];
+                if (with_vt && mesh_vt[c] != k_absent) v.uv = model_.texcoords[mesh_vt[c]];
                 v.uv.y = 1.0f - v.uv.y;
             }
             return v;
@@ -909,9 +987,19 @@ public:
         std::vector<std::uint32_t> group_of(corners), group_corner;
         ++stamp_;
         indices_.clear();
-        for (std::size_t c = 0; c < corners; ++c) {
-            const std::uint32_t vt = with_vt ? mesh.vt[c] : k_absent, vn = with_vn ? mesh.vn[c] : k_absent;
-            Stamped& s = by_vertex_[mesh.v[c]];
+        if (!with_vt && !with_vn) {  // a group per vertex
+            for (std::size_t c = 0; c < corners; ++c) {
+                Stamped& s = by_vertex_[mesh_v[c]];
+                if (s.stamp != stamp_) {
+                    s = {stamp_, static_cast<std::uint32_t>(group_corner.size())};
+                    group_corner.push_back(static_cast<std::uint32_t>(c));
+                }
+                group_of[c] = s.head;
+            }
+        }
+        for (std::size_t c = 0; (with_vt || with_vn) && c < corners; ++c) {
+            const std::uint32_t vt = with_vt ? mesh_vt[c] : k_absent, vn = with_vn ? mesh_vn[c] : k_absent;
+            Stamped& s = by_vertex_[mesh_v[c]];
             if (s.stamp != stamp_) s = {stamp_, k_absent};
             std::uint32_t e = s.head;
             while (e != k_absent && (indices_[e].vt != vt || indices_[e].vn != vn)) e = indices_[e].next;
@@ -924,29 +1012,33 @@ public:
         }
         const auto group_value = [&](std::size_t g) { return value_of(group_corner[g]); };
         Join join = exact_join(group_corner.size(), group_value);
+        for (std::uint32_t& f : join.first) f = group_corner[f];
+        OwnMesh out;
+        out.material = material;
+        // The unique vertices' positions, gathered once in order: the check hashes them.
+        out.positions.reserve(join.first.size());
+        for (std::uint32_t c : join.first) out.positions.push_back(model_.vertices[mesh_v[c]]);
         std::vector<std::uint32_t> unique_of_corner = std::move(group_of);
-        if (exact_join_is_assimps(join, group_value, corners)) {
+        if (exact_join_is_assimps(join, value_of, [&](std::size_t u) { return out.positions[u]; }, corners)) {
             for (std::uint32_t& u : unique_of_corner) u = join.unique[u];
-            for (std::uint32_t& f : join.first) f = group_corner[f];
         } else {
             join = assimp_join(corners, value_of, [](std::size_t) { return true; });
             unique_of_corner = join.unique;
+            out.positions.clear();
+            for (std::uint32_t c : join.first) out.positions.push_back(model_.vertices[mesh_v[c]]);
         }
 
-        OwnMesh out;
-        out.material = material;
-        out.positions.reserve(join.first.size());
         if (normals) out.normals.reserve(join.first.size());
         if (uvs) out.uvs.reserve(join.first.size());
         if (colours) out.colours.reserve(join.first.size());
-        for (std::uint32_t c : join.first) {
+        for (std::size_t u = 0; (normals || uvs || colours) && u < join.first.size(); ++u) {
+            const std::uint32_t c = join.first[u];
             const JoinVertex v = value_of(c);
-            out.positions.push_back(v.position);
             if (normals) out.normals.push_back(v.normal);
             if (uvs) out.uvs.push_back(v.uv);
-            if (colours) out.colours.push_back(colour_of(mesh.v[c]));
+            if (colours) out.colours.push_back(colour_of(mesh_v[c]));
         }
-        triangulate(mesh, unique_of_corner, out.triangles);
+        triangulate(mesh, mesh_v, unique_of_corner, out.triangles);
         return out;
     }
 
@@ -968,7 +1060,8 @@ private:
     // Triangulate: triangles as they are, quads split at their concave corner, larger polygons cut
     // into ears; each triangle's corners rotated as NGONEncoder rotates them (a triangle starting
     // where the last one did would read as part of its polygon).
-    void triangulate(const ObjMesh& mesh, const std::vector<std::uint32_t>& unique_of_corner, std::vector<std::uint32_t>& out) {
+    void triangulate(const ObjMesh& mesh, const std::uint32_t* mesh_v, const std::vector<std::uint32_t>& unique_of_corner,
+                     std::vector<std::uint32_t>& out) {
         out.reserve(3 * mesh.triangles);
         std::uint32_t last_first = ~0u;  // corner
         auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
@@ -976,9 +1069,10 @@ private:
             last_first = a;
             out.insert(out.end(), {unique_of_corner[a], unique_of_corner[b], unique_of_corner[c]});
         };
-        const auto position = [&](std::size_t c) -> const aiVector3D& { return model_.vertices[mesh.v[c]]; };
+        const auto position = [&](std::size_t c) -> const aiVector3D& { return model_.vertices[mesh_v[c]]; };
         std::uint32_t c = 0;
-        for (std::uint32_t n : mesh.corners) {
+        for (std::size_t face = mesh.first_face; face < mesh.first_face + mesh.faces; ++face) {
+            const std::uint32_t n = model_.face_corners[face];
             if (n == 3) {
                 emit(c, c + 1, c + 2);
             } else if (n == 4) {

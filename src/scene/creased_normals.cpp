@@ -7,8 +7,6 @@
 // version in tests/support/reference_creased_normals.cpp.
 #include "facet/mesh.hpp"
 
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -24,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "exec/fresh_pages.hpp"
 #include "facet/detail/thread_pool.hpp"
 #include "scene/creased_normals.hpp"
 #include "scene/triangle_shapes.hpp"
@@ -52,48 +51,7 @@ std::uint64_t hash_of(const PositionKey& k) {
     return h ^ (h >> 29);
 }
 
-// Large scratch arrays that start as zeros: fresh pages from the system (zero already, not
-// written again as value-initializing does), of 2 MB where the system grants them (a fault and a
-// page cleared per 2 MB rather than per 4 KB: the 1M sphere's 32 MB of sums by position took 20 ms
-// less to fault in). Small ones from calloc. Aligned to cache lines. For types whose zero bits are
-// their zero value.
-template <class T>
-class ZeroedArray {
-public:
-    explicit ZeroedArray(std::size_t n) : bytes_(n * sizeof(T) + k_huge) {
-        if (bytes_ < 2 * k_huge) {
-            raw_ = std::calloc(bytes_, 1);
-            bytes_ = 0;  // not mapped here
-            if (!raw_) throw std::bad_alloc();
-            data_ = reinterpret_cast<T*>(align(raw_, 64));
-            return;
-        }
-        raw_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-        if (raw_ == MAP_FAILED) throw std::bad_alloc();
-        const std::uintptr_t start = align(raw_, k_huge);
-        madvise(reinterpret_cast<void*>(start), bytes_ - (start - reinterpret_cast<std::uintptr_t>(raw_)), MADV_HUGEPAGE);
-        data_ = reinterpret_cast<T*>(start);
-    }
-    ~ZeroedArray() {
-        if (bytes_)
-            munmap(raw_, bytes_);
-        else
-            std::free(raw_);
-    }
-    ZeroedArray(const ZeroedArray&) = delete;
-    ZeroedArray& operator=(const ZeroedArray&) = delete;
-    T& operator[](std::size_t i) const { return data_[i]; }
-    T* data() const { return data_; }
-
-private:
-    static constexpr std::uintptr_t k_huge = 2 << 20;
-    static std::uintptr_t align(void* p, std::uintptr_t to) {
-        return (reinterpret_cast<std::uintptr_t>(p) + to - 1) & ~(to - 1);
-    }
-    std::size_t bytes_;
-    void* raw_;
-    T* data_;
-};
+using detail::ZeroedArray;
 
 // An id per distinct position (in order of first appearance), and each id's key.
 struct Weld {

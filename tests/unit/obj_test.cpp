@@ -118,6 +118,10 @@ TEST(Obj, AcceptedFormsMatchAssimp) {
         {"no_final_newline.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3"},
         // Normals within assimp's join tolerance: joined as its hash table joins them.
         {"near_normals.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0.000001 1\nf 1//1 2//1 3//1\nf 1//2 3//2 2//2\n"},
+        // Meshes whose faces give texture coordinates or normals from some face on (the corners'
+        // arrays are the model's, in ranges per mesh), tabs, and faces of more than 8 corners.
+        {"mixed_meshes.obj", quads + "g a\nf 1 2 3\nf 1/1 2/2 3/3\ng b\nf 2 3 4\ng c\nf 3 4 5\nf 1//1 2//1 3//1\nf 3 4 5\n"
+                             "f\t1\t2  3 \ng d\nf 1 2 3 4 5 1 2 3 4\nusemtl x\nf 5 4 3\n"},
         {"pentagon.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 0.2 0\nv 0 1 0\nf 1 2 3 4 5\nf 5 4 3 2 1\nf 1 2 3 4 5 1 2 3 4 5\n"},
     };
     for (const auto& [name, bytes] : files) expect_taken_and_same(write_file(dir / name, bytes));

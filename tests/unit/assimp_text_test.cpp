@@ -1,0 +1,71 @@
+// assimp_text.hpp's read_float: its own reading of the common "[-]D[.F]" form must give
+// fast_atoreal_move's bits and stop where it stops, for every string, and leave every other form
+// to fast_atoreal_move (the same result, or NotANumber where that throws).
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cstdint>
+#include <random>
+#include <string>
+
+#include "io/assimp_text.hpp"
+
+namespace {
+
+using facet::io_detail::NotANumber;
+
+// Both readings of `text`: the same bits and the same end, or both throwing.
+void expect_as_fast_atof(const std::string& text) {
+    float ours = 0, theirs = 0;
+    const char* our_end = nullptr;
+    const char* their_end = nullptr;
+    bool our_throw = false, their_throw = false;
+    try {
+        our_end = facet::io_detail::read_float(text.c_str(), ours);
+    } catch (const NotANumber&) {
+        our_throw = true;
+    }
+    try {
+        their_end = Assimp::fast_atoreal_move<float, NotANumber>(text.c_str(), theirs);
+    } catch (const NotANumber&) {
+        their_throw = true;
+    }
+    ASSERT_EQ(our_throw, their_throw) << text;
+    if (our_throw) return;
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(ours), std::bit_cast<std::uint32_t>(theirs)) << text;
+    ASSERT_EQ(our_end, their_end) << text;
+}
+
+TEST(AssimpText, ReadFloatIsFastAtofOnRandomStrings) {
+    std::mt19937_64 rng(21);
+    const char* const suffixes[] = {"", " ", "\n", "\r\n", "e5", "E-3", ",5", ".", "..", "x", "/", "\t1"};
+    std::string s;
+    // Half a million strings: integer parts of 0-20 digits, fractions of 0-17, leading zeros, the
+    // forms OBJ exporters write ("%.6f") and whatever follows a number.
+    for (int i = 0; i < 500000; ++i) {
+        s.clear();
+        const std::uint64_t r = rng();
+        if (r % 3 == 0) s += '-';
+        if (r % 97 == 0) s += '+';
+        const int whole = (r >> 8) % 4 == 0 ? static_cast<int>((r >> 10) % 21) : 1 + static_cast<int>((r >> 10) % 3);
+        for (int k = 0; k < whole; ++k) s += static_cast<char>('0' + rng() % 10);
+        if ((r >> 16) % 8 != 0) {
+            s += (r >> 20) % 50 == 0 ? ',' : '.';
+            const int fraction = (r >> 24) % 4 == 0 ? static_cast<int>((r >> 26) % 18) : 6;
+            for (int k = 0; k < fraction; ++k) s += static_cast<char>('0' + rng() % 10);
+        }
+        s += suffixes[(r >> 32) % std::size(suffixes)];
+        expect_as_fast_atof(s);
+        if (HasFatalFailure()) return;
+    }
+}
+
+TEST(AssimpText, ReadFloatEdgeForms) {
+    for (const char* s : {"0", "-0", "0.0", "-0.000000", "1.", "-1.", ".5", "-.5", "1,5", "1e3", "1.5e-3", "nan", "-inf", "+1.5",
+                          "999999999999999999", "9999999999999999999", "18446744073709551616", "1.123456789012345",
+                          "1.1234567890123456", "0.000000000000001", "16777217", "16777217.5", "-", "", "x", "1.5.5",
+                          "0.1000000000000000000001"})
+        expect_as_fast_atof(s);
+}
+
+}  // namespace
