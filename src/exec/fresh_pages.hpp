@@ -19,9 +19,10 @@ namespace facet::detail {
 template <class T>
 class ZeroedArray {
 public:
+    ZeroedArray() = default;  // empty
     explicit ZeroedArray(std::size_t n) : bytes_(n * sizeof(T) + k_huge) {
         if (bytes_ < 2 * k_huge) {
-            raw_ = std::calloc(bytes_, 1);
+            raw_ = std::calloc(n * sizeof(T) + 64, 1);
             bytes_ = 0;  // not mapped here
             if (!raw_) throw std::bad_alloc();
             data_ = reinterpret_cast<T*>(align(raw_, 64));
@@ -61,9 +62,28 @@ private:
         else
             std::free(raw_);  // null after a move
     }
-    std::size_t bytes_;
-    void* raw_;
-    T* data_;
+    std::size_t bytes_ = 0;
+    void* raw_ = nullptr;
+    T* data_ = nullptr;
 };
+
+// Advises the system to back the whole 2 MiB pages inside [data, data + bytes) with 2 MiB pages
+// when they are first touched: for a large array reserved once and filled (a std::vector's
+// storage, which glibc maps fresh at these sizes), so that it is faulted in per 2 MiB, not per
+// 4 KiB. Nothing for arrays under 4 MiB. Contents and results are unchanged either way.
+inline void advise_huge_pages(const void* data, std::size_t bytes) {
+    constexpr std::uintptr_t huge = 2 << 20;
+    if (bytes < 2 * huge) return;
+    const std::uintptr_t begin = (reinterpret_cast<std::uintptr_t>(data) + huge - 1) & ~(huge - 1);
+    const std::uintptr_t end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(huge - 1);
+    if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+}
+
+// A vector's capacity reserved for `n` elements, and advised as above.
+template <class Vector>
+void reserve_in_huge_pages(Vector& v, std::size_t n) {
+    v.reserve(n);
+    advise_huge_pages(v.data(), v.capacity() * sizeof(*v.data()));
+}
 
 }  // namespace facet::detail

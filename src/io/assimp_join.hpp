@@ -20,6 +20,8 @@
 #include <utility>
 #include <vector>
 
+#include "exec/fresh_pages.hpp"
+
 namespace facet::io_detail {
 
 // What JoinIdenticalVertices compares of a vertex (zeros for what the mesh lacks).
@@ -61,18 +63,20 @@ inline std::uint64_t hash(const aiVector3D& p) {
 }  // namespace join_detail
 
 // Items 0..count-1 (value(i) -> JoinVertex) joined when exactly equal (-0 as +0), numbered in order
-// of their first item. The table holds each unique vertex with 32 bits of its hash, so that a probe
+// of their first item. The table holds each unique vertex (plus one: a slot of zeros is free, so
+// that the table is fresh pages, not written before use) with 32 bits of its hash, so that a probe
 // past another vertex rarely reads that vertex's values.
 template <class Value>
 Join exact_join(std::size_t count, Value&& value) {
-    constexpr std::uint64_t none = ~std::uint64_t{0};
+    constexpr std::uint64_t none = 0;
     // The table is far larger than the caches and each item probes a random slot: the slots are
     // fetched this many items ahead (the hashes in a ring), so that the misses overlap.
     constexpr std::size_t ahead = 16;
     Join out;
     out.unique.resize(count);
-    std::vector<std::uint64_t> table(std::bit_ceil(std::max<std::size_t>(16, 2 * count)), none);  // tag << 32 | unique
-    const std::size_t mask = table.size() - 1;
+    const std::size_t slots = std::bit_ceil(std::max<std::size_t>(16, 2 * count));
+    const detail::ZeroedArray<std::uint64_t> table(slots);  // tag << 32 | unique + 1
+    const std::size_t mask = slots - 1;
     std::uint64_t ring[ahead];
     for (std::size_t i = 0; i < std::min(count, ahead); ++i) {
         ring[i] = join_detail::hash(value(i).position);
@@ -89,45 +93,45 @@ Join exact_join(std::size_t count, Value&& value) {
         std::size_t slot = h & mask;
         for (; table[slot] != none; slot = (slot + 1) & mask)
             if ((table[slot] & ~0xFFFFFFFFull) == tag &&
-                join_detail::same(value(out.first[static_cast<std::uint32_t>(table[slot])]), v))
+                join_detail::same(value(out.first[static_cast<std::uint32_t>(table[slot]) - 1]), v))
                 break;
         if (table[slot] == none) {
-            table[slot] = tag | out.first.size();
             out.first.push_back(static_cast<std::uint32_t>(i));
+            table[slot] = tag | out.first.size();
         }
-        out.unique[i] = static_cast<std::uint32_t>(table[slot]);
+        out.unique[i] = static_cast<std::uint32_t>(table[slot]) - 1;
     }
     return out;
 }
 
-// Whether assimp's join of a mesh of `vertex_count` vertices is the exact `join` (value as above):
-// no two of its unique vertices in one of assimp's buckets compare equal, with twice the margin.
-// position(u) is unique vertex u's (the callers have them gathered in order, as their meshes'
-// positions). The buckets are too many to hold lists: a bit per bucket finds those holding two or
-// more unique vertices, and only their vertices are compared.
+// Whether assimp's join of a mesh of `vertex_count` vertices is the exact `join`: no two of its
+// unique vertices in one of assimp's buckets compare equal, with twice the margin. unique_value(u)
+// is unique vertex u's JoinVertex, position(u) its position (the callers have them gathered in
+// order, as their meshes' positions). The buckets are too many to hold lists: a bit per bucket
+// finds those holding two or more unique vertices, and only their vertices are compared.
 template <class Value, class Position>
-bool exact_join_is_assimps(const Join& join, Value&& value, Position&& position, std::size_t vertex_count) {
+bool exact_join_is_assimps(const Join& join, Value&& unique_value, Position&& position, std::size_t vertex_count) {
     const std::size_t buckets = reserved_buckets(vertex_count);
     std::vector<std::uint64_t> seen((buckets + 63) / 64), shared((buckets + 63) / 64);
-    std::vector<std::size_t> bucket_of(join.first.size());
+    std::vector<std::uint32_t> bucket_of(join.first.size());  // buckets: fewer than 2^32 (reserved for a mesh's vertices)
     for (std::size_t u = 0; u < join.first.size(); ++u) {
         const std::size_t b = assimp_position_hash(position(u)) % buckets;
-        bucket_of[u] = b;
+        bucket_of[u] = static_cast<std::uint32_t>(b);
         const std::uint64_t bit = std::uint64_t{1} << (b % 64);
         if (seen[b / 64] & bit) shared[b / 64] |= bit;
         seen[b / 64] |= bit;
     }
-    std::vector<std::pair<std::size_t, std::uint32_t>> crowded;  // (bucket, unique vertex)
+    std::vector<std::uint64_t> crowded;  // bucket << 32 | unique vertex
     for (std::size_t u = 0; u < join.first.size(); ++u)
         if (shared[bucket_of[u] / 64] & (std::uint64_t{1} << (bucket_of[u] % 64)))
-            crowded.emplace_back(bucket_of[u], static_cast<std::uint32_t>(u));
+            crowded.push_back(std::uint64_t{bucket_of[u]} << 32 | u);
     std::sort(crowded.begin(), crowded.end());
     // Each crowded vertex's values fetched once, in bucket order (the pairs then read them in order).
     std::vector<JoinVertex> values;
     values.reserve(crowded.size());
-    for (const auto& c : crowded) values.push_back(value(join.first[c.second]));
+    for (const std::uint64_t c : crowded) values.push_back(unique_value(static_cast<std::uint32_t>(c)));
     for (std::size_t a = 0; a < crowded.size(); ++a)
-        for (std::size_t b = a + 1; b < crowded.size() && crowded[b].first == crowded[a].first; ++b)
+        for (std::size_t b = a + 1; b < crowded.size() && crowded[b] >> 32 == crowded[a] >> 32; ++b)
             if (assimp_equal(values[a], values[b], 2e-10f)) return false;
     return true;
 }

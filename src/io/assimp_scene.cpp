@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "exec/fresh_pages.hpp"
 #include "facet/detail/thread_pool.hpp"
 #include "facet/mesh.hpp"
 #include "io/load_common.hpp"
@@ -147,7 +148,7 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         const aiVector3D& p = in.positions[i];
         return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
     };
-    if (in.triangles) out.mesh.indices.reserve(3 * in.triangle_count);
+    if (in.triangles) detail::reserve_in_huge_pages(out.mesh.indices, 3 * in.triangle_count);
     for_each_face(in, [&](const unsigned* corner, unsigned n) {
         bool ok = true;
         for (unsigned k = 0; k < n; ++k) ok = ok && corner[k] < in.vertex_count && finite(corner[k]);
@@ -170,7 +171,7 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         }
     });
     Mesh& m = out.mesh;
-    m.positions.reserve(used.size());
+    detail::reserve_in_huge_pages(m.positions, used.size());
     for (std::uint32_t i : used) m.positions.push_back({in.positions[i].x, in.positions[i].y, in.positions[i].z});
     if (in.colours) {
         m.colours.reserve(used.size());

@@ -757,7 +757,8 @@ private:
         const auto item_value = [&](std::size_t i) { return value_of(used_list[i]); };
         Join join = exact_join(used_list.size(), item_value);
         std::vector<std::uint32_t> unique_of(n, ~0u);
-        if (exact_join_is_assimps(join, item_value, [&](std::size_t u) { return positions[used_list[join.first[u]]]; }, n)) {
+        if (exact_join_is_assimps(join, [&](std::size_t u) { return item_value(join.first[u]); },
+                                  [&](std::size_t u) { return positions[used_list[join.first[u]]]; }, n)) {
             for (std::size_t i = 0; i < used_list.size(); ++i) unique_of[used_list[i]] = join.unique[i];
             for (std::uint32_t& f : join.first) f = used_list[f];
         } else {

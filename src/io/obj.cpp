@@ -38,6 +38,7 @@
 #include <utility>
 #include <vector>
 
+#include "exec/fresh_pages.hpp"
 #include "io/assimp_join.hpp"
 #include "io/assimp_text.hpp"
 #include "io/import_notes.hpp"
@@ -158,7 +159,8 @@ struct ObjModel {
     std::vector<aiVector3D> vertices, colours, texcoords, normals;
     // Per face corner, all meshes': its vertex, and (for the corners of a mesh some face of which
     // has them) its texture coordinate and normal or k_absent; per face its corner count.
-    std::vector<std::uint32_t> corner_v, corner_vt, corner_vn, face_corners;
+    std::vector<std::uint32_t> corner_v, corner_vt, corner_vn;
+    std::vector<std::uint16_t> face_corners;  // at most 0x7fff
     unsigned texcoord_dim = 0;
     std::vector<ObjMesh> meshes;
     std::vector<ObjObject> objects;
@@ -537,9 +539,9 @@ private:
         v += n > 0 && t[0] == 'v';
         f += n > 0 && t[0] == 'f';
         f = std::min(f, options_.max_triangles);
-        model_.vertices.reserve(v);
-        model_.corner_v.reserve(3 * f);
-        model_.face_corners.reserve(f);
+        detail::reserve_in_huge_pages(model_.vertices, v);
+        detail::reserve_in_huge_pages(model_.corner_v, 3 * f);
+        detail::reserve_in_huge_pages(model_.face_corners, f);
     }
 
     // A line's statement; the line's end when the statement found it.
@@ -732,7 +734,7 @@ private:
         for (std::size_t k = 0; k < corners; ++k) model_.largest_vertex = std::max(model_.largest_vertex, v[k]);
         if (model_.total_triangles > options_.max_triangles) model_.counting_only = true;
         if (model_.counting_only) return;
-        model_.face_corners.push_back(static_cast<std::uint32_t>(corners));
+        model_.face_corners.push_back(static_cast<std::uint16_t>(corners));
         const std::size_t before = model_.corner_v.size();
         for (std::size_t k = 0; k < corners; ++k) model_.corner_v.push_back(v[k]);
         mesh.corners += corners;
@@ -984,20 +986,20 @@ public:
 
         // Corners with the same indices have the same values: the join looks at the first corner
         // of each such group (JoinIdenticalVertices keeps a group's first corner).
-        std::vector<std::uint32_t> group_of(corners), group_corner;
+        // Without texture coordinates and normals a group is a vertex, its number by_vertex_'s head
+        // (no array per corner).
+        const bool by_vertex = !with_vt && !with_vn;
+        std::vector<std::uint32_t> group_of(by_vertex ? 0 : corners), group_corner;
         ++stamp_;
         indices_.clear();
-        if (!with_vt && !with_vn) {  // a group per vertex
-            for (std::size_t c = 0; c < corners; ++c) {
-                Stamped& s = by_vertex_[mesh_v[c]];
-                if (s.stamp != stamp_) {
-                    s = {stamp_, static_cast<std::uint32_t>(group_corner.size())};
-                    group_corner.push_back(static_cast<std::uint32_t>(c));
-                }
-                group_of[c] = s.head;
+        for (std::size_t c = 0; by_vertex && c < corners; ++c) {
+            Stamped& s = by_vertex_[mesh_v[c]];
+            if (s.stamp != stamp_) {
+                s = {stamp_, static_cast<std::uint32_t>(group_corner.size())};
+                group_corner.push_back(static_cast<std::uint32_t>(c));
             }
         }
-        for (std::size_t c = 0; (with_vt || with_vn) && c < corners; ++c) {
+        for (std::size_t c = 0; !by_vertex && c < corners; ++c) {
             const std::uint32_t vt = with_vt ? mesh_vt[c] : k_absent, vn = with_vn ? mesh_vn[c] : k_absent;
             Stamped& s = by_vertex_[mesh_v[c]];
             if (s.stamp != stamp_) s = {stamp_, k_absent};
@@ -1016,10 +1018,16 @@ public:
         OwnMesh out;
         out.material = material;
         // The unique vertices' positions, gathered once in order: the check hashes them.
-        out.positions.reserve(join.first.size());
+        detail::reserve_in_huge_pages(out.positions, join.first.size());
         for (std::uint32_t c : join.first) out.positions.push_back(model_.vertices[mesh_v[c]]);
         std::vector<std::uint32_t> unique_of_corner = std::move(group_of);
-        if (exact_join_is_assimps(join, value_of, [&](std::size_t u) { return out.positions[u]; }, corners)) {
+        // A unique vertex's values: its position alone for a mesh without texture coordinates and
+        // normals (what value_of gives then).
+        const auto unique_value = [&](std::size_t u) {
+            return by_vertex ? JoinVertex{out.positions[u], {}, {}, {}, {}} : value_of(join.first[u]);
+        };
+        const bool exact = exact_join_is_assimps(join, unique_value, [&](std::size_t u) { return out.positions[u]; }, corners);
+        if (exact) {
             for (std::uint32_t& u : unique_of_corner) u = join.unique[u];
         } else {
             join = assimp_join(corners, value_of, [](std::size_t) { return true; });
@@ -1038,7 +1046,10 @@ public:
             if (uvs) out.uvs.push_back(v.uv);
             if (colours) out.colours.push_back(colour_of(mesh_v[c]));
         }
-        triangulate(mesh, mesh_v, unique_of_corner, out.triangles);
+        if (exact && by_vertex)
+            triangulate(mesh, mesh_v, [&](std::uint32_t c) { return join.unique[by_vertex_[mesh_v[c]].head]; }, out.triangles);
+        else
+            triangulate(mesh, mesh_v, [&](std::uint32_t c) { return unique_of_corner[c]; }, out.triangles);
         return out;
     }
 
@@ -1060,14 +1071,15 @@ private:
     // Triangulate: triangles as they are, quads split at their concave corner, larger polygons cut
     // into ears; each triangle's corners rotated as NGONEncoder rotates them (a triangle starting
     // where the last one did would read as part of its polygon).
-    void triangulate(const ObjMesh& mesh, const std::uint32_t* mesh_v, const std::vector<std::uint32_t>& unique_of_corner,
+    template <class UniqueOf>
+    void triangulate(const ObjMesh& mesh, const std::uint32_t* mesh_v, const UniqueOf& unique_of_corner,
                      std::vector<std::uint32_t>& out) {
-        out.reserve(3 * mesh.triangles);
+        detail::reserve_in_huge_pages(out, 3 * mesh.triangles);
         std::uint32_t last_first = ~0u;  // corner
         auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
             if (a == last_first) std::swap(a, c), std::swap(b, c);
             last_first = a;
-            out.insert(out.end(), {unique_of_corner[a], unique_of_corner[b], unique_of_corner[c]});
+            out.insert(out.end(), {unique_of_corner(a), unique_of_corner(b), unique_of_corner(c)});
         };
         const auto position = [&](std::size_t c) -> const aiVector3D& { return model_.vertices[mesh_v[c]]; };
         std::uint32_t c = 0;
@@ -1087,8 +1099,8 @@ private:
                     std::swap(t2[1], t2[2]), std::swap(t2[0], t2[2]);
                 }
                 last_first = t1[0];
-                for (std::uint32_t k : t1) out.push_back(unique_of_corner[k]);
-                for (std::uint32_t k : t2) out.push_back(unique_of_corner[k]);
+                for (std::uint32_t k : t1) out.push_back(unique_of_corner(k));
+                for (std::uint32_t k : t2) out.push_back(unique_of_corner(k));
             } else {
                 polygon_.clear();
                 for (std::uint32_t k = 0; k < n; ++k) polygon_.push_back(position(c + k));
@@ -1103,7 +1115,7 @@ private:
 
     const ObjModel& model_;
     ImportNotes& notes_;
-    std::vector<Stamped> by_vertex_;  // stamped by mesh
+    detail::ZeroedArray<Stamped> by_vertex_;  // stamped by mesh (stamp 0: none)
     std::vector<ByIndices> indices_;
     std::uint32_t stamp_ = 0;
     std::vector<aiVector3D> polygon_;

@@ -648,6 +648,7 @@ void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, const s
 void creased_normals_in_order(Mesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t positions,
                               const std::vector<bool>& in_range, float crease) {
     std::vector<std::uint32_t> vertex_set(mesh.positions.size(), k_no_set);
+    detail::reserve_in_huge_pages(mesh.normals, mesh.positions.size());
     mesh.normals.assign(mesh.positions.size(), Vec3{});
     std::vector<FanScratch> scratch(1);
     const ZeroedArray<PositionSums> sums(positions);
@@ -737,6 +738,7 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
     // Each welded position's corners split into sets; corners of invalid triangles are in no set
     // and left alone.
     std::vector<std::uint32_t> vertex_set(vertex_count, k_no_set);
+    detail::reserve_in_huge_pages(mesh.normals, vertex_count);
     mesh.normals.assign(vertex_count, Vec3{});
     std::vector<FanScratch> scratch(workers->size());
     CornersByPosition by_position;
