@@ -33,6 +33,7 @@
 #include "io/load_common.hpp"
 #include "io/resources.hpp"
 #include "math/portable_trig.hpp"
+#include "scene/creased_normals.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -192,7 +193,8 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         m.normals.reserve(used.size());
         for (std::uint32_t i : used) m.normals.push_back(normalize(Vec3{in.normals[i].x, in.normals[i].y, in.normals[i].z}));
     } else if (!m.indices.empty()) {
-        compute_creased_normals(m, crease_angle_radians, threads);
+        // Positions known distinct (and so the used ones, renumbered): no welding.
+        detail::compute_creased_normals_with(m, crease_angle_radians, threads, in.distinct_positions);
     }
     if (!tangents || m.uvs.empty()) return out;
     bool file_tangents = normals_ok && in.tangents && in.bitangents;
@@ -561,6 +563,7 @@ SourceScene OwnScene::view() const {
         s.material = m.material;
         s.triangles = m.triangles.data();
         s.triangle_count = m.triangles.size() / 3;
+        s.distinct_positions = m.distinct_positions;
         s.drawn_mesh = s.triangle_count > 0;
         out.meshes.push_back(s);
     }

@@ -46,6 +46,7 @@ struct SourceMesh {
     std::uint32_t face_count = 0;
     const std::uint32_t* triangles = nullptr;  // facet's readers'
     std::size_t triangle_count = 0;
+    bool distinct_positions = false;  // facet's readers': positions pairwise distinct (creased normals need not weld)
 };
 
 // A node of facet's readers' trees (assimp's are aiNodes): transform relative to the parent, the
@@ -77,6 +78,7 @@ struct OwnMesh {
     std::vector<aiVector3D> tangents, bitangents;     // both empty, or one each per position (glTF's TANGENT)
     std::vector<std::uint32_t> triangles;             // three per triangle, each < positions.size()
     unsigned material = 0;
+    bool distinct_positions = false;  // known to be pairwise distinct (by bits, -0 as +0)
 };
 
 struct OwnScene {

@@ -16,8 +16,10 @@
 #define ai_assert(expression) ((void)0)
 #include <assimp/fast_atof.h>
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <exception>
 
 namespace facet::io_detail {
@@ -39,27 +41,72 @@ inline const char* skip_spaces(const char* c) {
     return c;
 }
 
+namespace text_detail {
+
+inline bool digit(char d) { return static_cast<unsigned>(static_cast<unsigned char>(d) - '0') <= 9u; }
+
+// Of 8 bytes (a little-endian word), how many before the first that is not a decimal digit. A byte
+// is flagged unless its high nibble is 3 and that of the byte plus 6 too ('0'..'9'); a carry out
+// of a byte of 0xFA or more reaches only bytes after a flagged one.
+inline unsigned leading_digits(std::uint64_t word) {
+    constexpr std::uint64_t high = 0xF0F0F0F0F0F0F0F0ull, threes = 0x3030303030303030ull;
+    const std::uint64_t flagged = ((word & high) ^ threes) | (((word + 0x0606060606060606ull) & high) ^ threes);
+    return flagged ? static_cast<unsigned>(std::countr_zero(flagged)) / 8 : 8;
+}
+
+// The value of the first n (1 to 8) digits of a word: shifted up so that they are the last of
+// eight, zeros before them, then added in pairs, fours and eights (as fast_float does).
+inline std::uint64_t digits_value(std::uint64_t word, unsigned n) {
+    std::uint64_t v = (word - 0x3030303030303030ull) << (8 * (8 - n));  // the bytes past the digits shifted out
+    v = v * 10 + (v >> 8);
+    return (((v & 0x000000FF000000FFull) * 0x000F424000000064ull) + (((v >> 16) & 0x000000FF000000FFull) * 0x0000271000000001ull)) >> 32;
+}
+
+// The run of decimal digits at p as an integer (modulo 2^64, as the digit-by-digit sum), and its
+// end. 8 bytes at a time while 8 bytes before `readable_end` remain, then one at a time.
+[[gnu::always_inline]] inline const char* read_digits(const char* p, const char* readable_end, std::uint64_t& value) {
+    static constexpr std::uint64_t scale[9] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000};
+    std::uint64_t v = 0;
+    while (readable_end - p >= 8) {
+        std::uint64_t word;
+        std::memcpy(&word, p, sizeof word);
+        const unsigned n = leading_digits(word);
+        if (n == 0) break;
+        v = v * scale[n] + digits_value(word, n);
+        p += n;
+        if (n < 8) {
+            value = v;
+            return p;
+        }
+    }
+    while (digit(*p)) v = v * 10 + static_cast<unsigned>(*p++ - '0');
+    value = v;
+    return p;
+}
+
+}  // namespace text_detail
+
 // A float as fast_atoreal_move reads it; throws NotANumber where assimp's reader would fail. The
 // common "[-]D[.F]" (1-18 integer digits, 1-15 fraction digits, no exponent, comma or trailing dot)
 // is read here with fast_atoreal_move's own arithmetic in its own order (the integer part as an
 // integer converted to float; the fraction as an integer converted to double, times
 // fast_atof_table[its digits], converted to float and added; then the sign), so the same bits
-// without its checks; every other form goes to fast_atoreal_move itself.
-inline const char* read_float(const char* c, float& out) {
-    const auto digit = [](char d) { return static_cast<unsigned>(static_cast<unsigned char>(d) - '0') <= 9u; };
+// without its checks; every other form goes to fast_atoreal_move itself. With `readable_end` (the
+// end of the bytes that may be read, past the text's NUL), digits are read 8 at a time.
+inline const char* read_float(const char* c, float& out, const char* readable_end) {
     const char* p = c;
     const bool negative = *p == '-';
     p += negative;
     const char* const whole_start = p;
     std::uint64_t whole = 0;
-    while (digit(*p)) whole = whole * 10 + static_cast<unsigned>(*p++ - '0');
+    p = text_detail::read_digits(p, readable_end, whole);
     if (static_cast<std::size_t>(p - whole_start) - 1 < 18) {  // 1 to 18 digits: no overflow
         float f = static_cast<float>(whole);
         bool plain = true;
         if (*p == '.') {
             const char* const fraction_start = ++p;
             std::uint64_t fraction = 0;
-            while (digit(*p)) fraction = fraction * 10 + static_cast<unsigned>(*p++ - '0');
+            p = text_detail::read_digits(p, readable_end, fraction);
             const std::size_t n = static_cast<std::size_t>(p - fraction_start);
             plain = n - 1 < 15;  // 1 to 15 digits
             if (plain) {
@@ -75,5 +122,6 @@ inline const char* read_float(const char* c, float& out) {
     }
     return Assimp::fast_atoreal_move<float, NotANumber>(c, out);
 }
+inline const char* read_float(const char* c, float& out) { return read_float(c, out, c); }
 
 }  // namespace facet::io_detail

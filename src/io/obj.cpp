@@ -494,6 +494,7 @@ public:
         if (text.size() > k_stream_block && !ends_line(text.back()))
             while (end > 0 && !ends_line(text[end - 1])) --end;
         reserve(text);
+        readable_end_ = text.data() + text.size() + 1;  // the NUL
         bool in_cstype = false;
         for (std::size_t begin = 0; begin < end;) {
             const char* line = text.data() + begin;
@@ -590,7 +591,7 @@ private:
             }
             const char* start = p;
             try {
-                p = read_float(p, *o);
+                p = read_float(p, *o, readable_end_);
             } catch (const NotANumber&) {
                 throw Decline{__LINE__};
             }
@@ -667,11 +668,11 @@ private:
             std::size_t corners = 0;
             const char* p = skip_blanks(line + 1);
             for (; corners < 8 && *p >= '1' && *p <= '9'; p = skip_blanks(p)) {
-                std::uint32_t value = 0;
+                std::uint64_t value = 0;
                 const char* const d = p;
-                while (*p >= '0' && *p <= '9') value = value * 10 + static_cast<std::uint32_t>(*p++ - '0');
+                p = text_detail::read_digits(p, readable_end_, value);
                 if (p - d > 9 || !is_blank(*p)) break;
-                v[corners++] = value - 1;
+                v[corners++] = static_cast<std::uint32_t>(value - 1);
             }
             if (ends_line(*p)) {
                 add_face(v, corners, nullptr, 0, nullptr, 0);
@@ -739,6 +740,7 @@ private:
         for (std::size_t k = 0; k < corners; ++k) model_.corner_v.push_back(v[k]);
         mesh.corners += corners;
         // Texture coordinates and normals per corner, once some face of the mesh has them.
+        if (mesh.uv_count == 0 && !mesh.has_normals) return;
         const struct {
             std::vector<std::uint32_t>& out;
             const std::uint32_t* given;
@@ -856,6 +858,7 @@ private:
     ImportNotes& notes_;
     ObjModel model_;
     std::vector<std::uint32_t> lists_[3];  // the face being read: vertex, texture coordinate, normal indices
+    const char* readable_end_ = nullptr;   // past the text's NUL
 };
 
 // ---- meshes: ObjFileImporter's vertex per corner, then the post-processing
@@ -1046,6 +1049,8 @@ public:
             if (uvs) out.uvs.push_back(v.uv);
             if (colours) out.colours.push_back(colour_of(mesh_v[c]));
         }
+        // Joined by position alone: no two positions are the same (the creased normals need not weld).
+        out.distinct_positions = by_vertex;
         if (exact && by_vertex)
             triangulate(mesh, mesh_v, [&](std::uint32_t c) { return join.unique[by_vertex_[mesh_v[c]].head]; }, out.triangles);
         else

@@ -704,10 +704,14 @@ void creased_normals_in_order(Mesh& mesh, const std::vector<std::uint32_t>& weld
 }  // namespace
 
 void compute_creased_normals(Mesh& mesh, float crease_angle_radians, int threads) {
+    detail::compute_creased_normals_with(mesh, crease_angle_radians, threads, false);
+}
+
+void detail::compute_creased_normals_with(Mesh& mesh, float crease_angle_radians, int threads, bool distinct_positions) {
     // Threads only for meshes that have a block for each; they end before this returns.
     std::optional<detail::ThreadPool> pool;
     if (threads != 1 && mesh.indices.size() / 3 >= 2 * k_block) pool.emplace(threads <= 0 ? 0 : threads);
-    detail::compute_creased_normals_on(mesh, crease_angle_radians, pool ? &*pool : nullptr, false);
+    detail::compute_creased_normals_on(mesh, crease_angle_radians, pool ? &*pool : nullptr, distinct_positions);
 }
 
 void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, ThreadPool* pool,
@@ -723,7 +727,7 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
         std::iota(welded.id.begin(), welded.id.end(), 0u);
     } else {
         welded = weld_by_position(mesh.positions);
-        positions = positions;
+        positions = welded.key.size();
     }
     // Decided once: the copies below rewrite indices to vertices beyond vertex_count.
     std::vector<bool> in_range(triangles);

@@ -12,5 +12,7 @@ namespace facet::detail {
 // join_identical_vertices: each vertex is then its own welded position and the welding is left
 // out. The result is compute_creased_normals's, bit for bit.
 void compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, ThreadPool* pool, bool distinct_positions);
+// The same with a pool of `threads` started for large meshes, as compute_creased_normals does.
+void compute_creased_normals_with(Mesh& mesh, float crease_angle_radians, int threads, bool distinct_positions);
 
 }  // namespace facet::detail

@@ -1,6 +1,7 @@
 // assimp_text.hpp's read_float: its own reading of the common "[-]D[.F]" form must give
-// fast_atoreal_move's bits and stop where it stops, for every string, and leave every other form
-// to fast_atoreal_move (the same result, or NotANumber where that throws).
+// fast_atoreal_move's bits and stop where it stops, for every string, digit by digit and 8 digits at
+// a time, and leave every other form to fast_atoreal_move (the same result, or NotANumber where
+// that throws).
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -25,15 +26,28 @@ void expect_as_fast_atof(const std::string& text) {
     } catch (const NotANumber&) {
         our_throw = true;
     }
+    // Digits 8 at a time: the text followed by its NUL and more that may be read (any bytes).
+    const std::string padded = text + std::string(1, '\0') + "9876543210 \xff\xfa.e";
+    float wide = 0;
+    const char* wide_end = nullptr;
+    bool wide_throw = false;
+    try {
+        wide_end = facet::io_detail::read_float(padded.c_str(), wide, padded.c_str() + padded.size());
+    } catch (const NotANumber&) {
+        wide_throw = true;
+    }
     try {
         their_end = Assimp::fast_atoreal_move<float, NotANumber>(text.c_str(), theirs);
     } catch (const NotANumber&) {
         their_throw = true;
     }
     ASSERT_EQ(our_throw, their_throw) << text;
+    ASSERT_EQ(wide_throw, their_throw) << text;
     if (our_throw) return;
     ASSERT_EQ(std::bit_cast<std::uint32_t>(ours), std::bit_cast<std::uint32_t>(theirs)) << text;
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(wide), std::bit_cast<std::uint32_t>(theirs)) << text;
     ASSERT_EQ(our_end, their_end) << text;
+    ASSERT_EQ(wide_end - padded.c_str(), their_end - text.c_str()) << text;
 }
 
 TEST(AssimpText, ReadFloatIsFastAtofOnRandomStrings) {
