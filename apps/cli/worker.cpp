@@ -368,18 +368,36 @@ void use_huge_pages_for_heap(std::uint64_t max_memory_bytes) {
     // (keep_freed_memory_for_reuse's trim threshold), and the job's buffers are carved from it.
     constexpr std::uintptr_t k_huge_page = 2 << 20;
     constexpr int k_default_top_pad = 128 << 10;  // glibc's M_TOP_PAD
-    // A block larger than the free top of the heap (keepcost) makes malloc grow it, by the block's
-    // excess plus the pad; below the mmap threshold, or it would be mapped on its own.
-    const std::size_t block = mallinfo2().keepcost + (1 << 20);
-    if (block >= (32 << 20)) return;
+    // The advised range begins at a 2 MiB boundary at least 64 KiB above the heap's end, and the
+    // block that grows the heap ends just under it: nothing in the range is touched before it is
+    // advised (a 4 KiB page touched first, as the header malloc writes after a block was when the
+    // heap ended less than 1 MiB under the boundary, leaves the rest of its 2 MiB to 4 KiB pages).
     const auto begin = reinterpret_cast<std::uintptr_t>(sbrk(0));
+    const std::uintptr_t first = (begin + (64 << 10) + k_huge_page - 1) & ~(k_huge_page - 1);
+    // A block larger than the free top of the heap (keepcost, which ends at `begin`) makes malloc
+    // grow it, by the block's excess plus the pad; below the mmap threshold, or it would be mapped
+    // on its own. Its chunk ends at most 23 bytes past the block, and malloc's next header follows.
+    const std::size_t block = mallinfo2().keepcost + (first - begin) - 64;
+    if (block >= (32 << 20)) return;
     mallopt(M_TOP_PAD, static_cast<int>(bytes));
     void* grow = std::malloc(block);
     mallopt(M_TOP_PAD, k_default_top_pad);
     const auto end = reinterpret_cast<std::uintptr_t>(sbrk(0));
-    const std::uintptr_t first = (begin + k_huge_page - 1) & ~(k_huge_page - 1), last = end & ~(k_huge_page - 1);
-    if (grow && last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+    const std::uintptr_t last = end & ~(k_huge_page - 1);
+    if (!grow || last <= first) {
+        std::free(grow);
+        return;
+    }
+    madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
     std::free(grow);
+    // Below `first` lies up to 2 MiB of the heap's free top, faulted in 4 KiB pages: the job's
+    // first buffers landed there (the bunny's file: up to 640 faults). A block that is never freed
+    // fills it (address space only: nothing in it is touched), so that they are carved from the
+    // advised range.
+    static void* volatile below_first = nullptr;  // volatile: a block never read could be left out
+    const std::uintptr_t top = end - mallinfo2().keepcost;  // where the heap's free top begins
+    if (first > top + (64 << 10)) below_first = std::malloc(first - top);
+    (void)below_first;
 #else
     (void)max_memory_bytes;
 #endif
