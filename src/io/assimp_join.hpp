@@ -20,8 +20,6 @@
 #include <utility>
 #include <vector>
 
-#include "exec/fresh_pages.hpp"
-
 namespace facet::io_detail {
 
 // What JoinIdenticalVertices compares of a vertex (zeros for what the mesh lacks).
@@ -63,9 +61,8 @@ inline std::uint64_t hash(const aiVector3D& p) {
 }  // namespace join_detail
 
 // Items 0..count-1 (value(i) -> JoinVertex) joined when exactly equal (-0 as +0), numbered in order
-// of their first item. The table holds each unique vertex (plus one: a slot of zeros is free, so
-// that the table is fresh pages, not written before use) with 32 bits of its hash, so that a probe
-// past another vertex rarely reads that vertex's values.
+// of their first item. The table holds each unique vertex (plus one: a slot of zeros is free) with
+// 32 bits of its hash, so that a probe past another vertex rarely reads that vertex's values.
 template <class Value>
 Join exact_join(std::size_t count, Value&& value) {
     constexpr std::uint64_t none = 0;
@@ -75,7 +72,7 @@ Join exact_join(std::size_t count, Value&& value) {
     Join out;
     out.unique.resize(count);
     const std::size_t slots = std::bit_ceil(std::max<std::size_t>(16, 2 * count));
-    const detail::ZeroedArray<std::uint64_t> table(slots);  // tag << 32 | unique + 1
+    std::vector<std::uint64_t> table(slots);  // tag << 32 | unique + 1 (the heap's memory, reused from mesh to mesh)
     const std::size_t mask = slots - 1;
     std::uint64_t ring[ahead];
     for (std::size_t i = 0; i < std::min(count, ahead); ++i) {

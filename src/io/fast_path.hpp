@@ -30,8 +30,10 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
 
 // A file's bytes, followed by a NUL (the text readers stop at it, as at std::string's), in memory
 // that is not cleared first: the read writes every byte, and clearing a large file's buffer before
-// it cost as much as the read (2.6 MB for the bunny). Files of 8 MiB and more go into fresh pages
-// of 2 MiB (exec/fresh_pages.hpp): the 1M-triangle OBJ's 38 MB faulted in 19 times, not 9,200.
+// it cost as much as the read (2.6 MB for the bunny). Files of 32 MiB and more (which glibc maps
+// fresh anyway, past its largest mmap threshold) go into fresh pages of 2 MiB
+// (exec/fresh_pages.hpp): the 1M-triangle OBJ's 38 MB faulted in 19 times, not 9,200; smaller ones
+// take the heap's memory, which a worker reuses from file to file.
 class FileBytes {
 public:
     explicit FileBytes(std::size_t size) : size_(size) {
@@ -51,7 +53,7 @@ public:
     operator std::string_view() const { return view(); }
 
 private:
-    static constexpr std::size_t k_fresh_from = std::size_t{8} << 20;
+    static constexpr std::size_t k_fresh_from = std::size_t{32} << 20;
     std::unique_ptr<char[]> bytes_;
     detail::ZeroedArray<char> fresh_;
     char* data_ = nullptr;

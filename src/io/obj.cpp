@@ -1120,7 +1120,7 @@ private:
 
     const ObjModel& model_;
     ImportNotes& notes_;
-    detail::ZeroedArray<Stamped> by_vertex_;  // stamped by mesh (stamp 0: none)
+    std::vector<Stamped> by_vertex_;  // stamped by mesh
     std::vector<ByIndices> indices_;
     std::uint32_t stamp_ = 0;
     std::vector<aiVector3D> polygon_;
