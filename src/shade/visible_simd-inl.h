@@ -108,12 +108,19 @@ HWY_INLINE VF less_or_second(VF a, VF b) {
 // std::max(v, 0.0f): v unless v < 0, i.e. unless 0 > v (so NaN stays NaN).
 HWY_INLINE VF max_zero(VF v) { return greater_or_second(hn::Zero(DF()), v); }
 
+// facet::dot(a, a) without the sum's leading 0 +, which changes no bit here: a square is never -0.
+HWY_INLINE VF dot_self(const Vec3Lanes& a) {
+    return hn::Add(hn::Add(hn::Mul(a.x, a.x), hn::Mul(a.y, a.y)), hn::Mul(a.z, a.z));
+}
+
 // facet::normalize's common case, a / length(a). Lanes where the length is zero, infinite or NaN
 // need normalize_rare: they are added to `scalar`, whose pixels are shaded again by the specification.
-HWY_INLINE Vec3Lanes normalize(const Vec3Lanes& a, MF& scalar) {
+// With `min_length`, lanes whose length is not above it are left to the specification too (exact
+// either way; a kernel may need the lengths it keeps to be in the normal range).
+HWY_INLINE Vec3Lanes normalize(const Vec3Lanes& a, MF& scalar, float min_length = 0.0f) {
     const DF df;
-    const VF l = hn::Sqrt(dot(a, a));
-    const MF ok = hn::And(hn::Gt(l, hn::Zero(df)), hn::Lt(l, hn::Set(df, std::numeric_limits<float>::infinity())));
+    const VF l = hn::Sqrt(dot_self(a));
+    const MF ok = hn::And(hn::Gt(l, hn::Set(df, min_length)), hn::Lt(l, hn::Set(df, std::numeric_limits<float>::infinity())));
     scalar = hn::Or(scalar, hn::Not(ok));
     return {hn::Div(a.x, l), hn::Div(a.y, l), hn::Div(a.z, l)};
 }
@@ -278,12 +285,17 @@ HWY_INLINE hn::Vec<DI> truncate_in_range(VF v) {
 #endif
 }
 
+// unorm8 (below) of lanes known to lie in [-0, 1), where its clamps change nothing (-0 and 0 both
+// give 0): scale and round. Other lanes get any value.
+HWY_INLINE hn::Vec<DU> unorm8_in_range(VF v) {
+    const DF df;
+    return hn::BitCast(DU(), truncate_in_range(hn::Add(hn::Mul(v, hn::Set(df, 255.0f)), hn::Set(df, 0.5f))));
+}
 // to_rgba8 of one channel, as an integer in [0, 255]: clamp to [0, 1] (NaN to 0), scale, round.
 HWY_INLINE hn::Vec<DU> unorm8(VF v) {
     const DF df;
     v = greater_or_second(v, hn::Zero(df));
-    v = less_or_second(v, hn::Set(df, 1.0f));
-    return hn::BitCast(DU(), truncate_in_range(hn::Add(hn::Mul(v, hn::Set(df, 255.0f)), hn::Set(df, 0.5f))));
+    return unorm8_in_range(less_or_second(v, hn::Set(df, 1.0f)));
 }
 
 // Rgba8 in memory order r, g, b, a: one little-endian 32-bit word per pixel.
@@ -291,10 +303,20 @@ HWY_INLINE hn::Vec<DU> to_rgba8(const ColourLanes& c) {
     return hn::Or(hn::Or(unorm8(c.r), hn::ShiftLeft<8>(unorm8(c.g))),
                   hn::Or(hn::ShiftLeft<16>(unorm8(c.b)), hn::ShiftLeft<24>(unorm8(c.a))));
 }
-// to_rgba8 of a grey colour: r, g and b all `grey`.
-HWY_INLINE hn::Vec<DU> grey_to_rgba8(VF grey, VF alpha) {
-    const auto c = unorm8(grey);
-    return hn::Or(hn::Or(c, hn::ShiftLeft<8>(c)), hn::Or(hn::ShiftLeft<16>(c), hn::ShiftLeft<24>(unorm8(alpha))));
+// to_rgba8 of a grey colour: r, g and b all the byte `grey` (unorm8 of the channel), alpha the byte
+// of `alpha_word` (its alpha byte in place, the others 0). The grey byte is copied to the other two
+// by one byte shuffle.
+HWY_INLINE hn::Vec<DU> grey_to_rgba8(hn::Vec<DU> grey, hn::Vec<DU> alpha_word) {
+#if HWY_TARGET == HWY_SCALAR  // (no byte vectors)
+    return hn::Or(hn::Or(grey, hn::ShiftLeft<8>(grey)), hn::Or(hn::ShiftLeft<16>(grey), alpha_word));
+#else
+    const hn::Repartition<std::uint8_t, DU> d8;
+    constexpr std::size_t bytes = hn::MaxLanes(d8);
+    HWY_ALIGN std::uint8_t spread[bytes];  // per 32-bit lane: its byte 0 three times, then zero
+    for (std::size_t b = 0; b < bytes; ++b) spread[b] = b % 4 < 3 ? static_cast<std::uint8_t>(b % 16 / 4 * 4) : 0x80;
+    const auto c = hn::BitCast(d8, grey);
+    return hn::Or(hn::BitCast(DU(), hn::TableLookupBytesOr0(c, hn::Load(d8, spread))), alpha_word);
+#endif
 }
 
 // How many varyings' derivatives a shader's lanes read: Lanes::D, or none.
@@ -304,10 +326,25 @@ constexpr int derivative_lanes() {
     else return 0;
 }
 
+// Whether a shader's lanes may see zeros of either sign where the specification has one sign
+// (Lanes::k_signed_zeros false: every value they compute goes to to_rgba8, which makes -0 and 0 the
+// same byte, through operations that keep a zero a zero), and whether they read front_facing.
+template <class Lanes>
+constexpr bool signed_zeros() {
+    if constexpr (requires { Lanes::k_signed_zeros; }) return Lanes::k_signed_zeros;
+    else return true;
+}
+template <class Lanes>
+constexpr bool reads_front_facing() {
+    if constexpr (requires { Lanes::k_front_facing; }) return Lanes::k_front_facing;
+    else return true;
+}
+
 // The inputs of the lanes in `active`, whose pixel centres are (centre_x, centre_y) (each x + 0.5
 // computed exactly as fragment_at does): interpolation (and derivatives) as in fragment_at, with
-// each triangle value read by field(j) (record offset j).
-template <int N, int D, class Field>
+// each triangle value read by field(j) (record offset j). Without SignedZeros the barycentric sums
+// leave out fragment_at's leading 0 +, which can change only the sign of a zero.
+template <int N, int D, bool SignedZeros = true, bool FrontFacing = true, class Field>
 HWY_INLINE void interpolate_lanes(const Field& field, VF centre_x, VF centre_y, MF active, LanesIn<N, D>& in) {
     const DF df;
     const VF dx = hn::Sub(centre_x, field(sh_x0));
@@ -316,8 +353,9 @@ HWY_INLINE void interpolate_lanes(const Field& field, VF centre_x, VF centre_y, 
     const VF w = hn::Div(hn::Set(df, 1.0f), q);
     // 0 + ..., as fragment_at: the planes are 0 at (x0, y0), and the sum keeps fragment_at's bits.
     const VF zero = hn::Zero(df);
-    const VF b1 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
-    const VF b2 = hn::Mul(hn::Add(hn::Add(zero, hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
+    auto from_zero = [&](VF v) { return SignedZeros ? hn::Add(zero, v) : v; };
+    const VF b1 = hn::Mul(hn::Add(from_zero(hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
+    const VF b2 = hn::Mul(hn::Add(from_zero(hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
     for (int k = 0; k < N; ++k)
         in.v[k] = hn::Add(hn::Add(field(k_shading_head + k), hn::Mul(b1, field(k_shading_head + N + k))),
                           hn::Mul(b2, field(k_shading_head + 2 * N + k)));
@@ -333,7 +371,7 @@ HWY_INLINE void interpolate_lanes(const Field& field, VF centre_x, VF centre_y, 
             in.ddy[k] = hn::Add(hn::Mul(b1y, d1), hn::Mul(b2y, d2));
         }
     }
-    in.front_facing = hn::Gt(field(sh_front), hn::Zero(df));
+    if constexpr (FrontFacing) in.front_facing = hn::Gt(field(sh_front), hn::Zero(df));
     in.visible = active;
     in.scalar = hn::FirstN(df, 0);
 }
@@ -409,6 +447,8 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
     const std::uint64_t tail_bits = simd_width >= 64 ? 0 : ~0ull << simd_width;
     const float* records = vis.records;
     const auto none = hn::Set(du, VisibleTile::k_no_owner);
+    constexpr std::uint64_t all_bits = lane_count >= 64 ? ~0ull : (1ull << lane_count) - 1;
+    const MF all_lanes = hn::FirstN(df, lane_count);
     // Lane l of a block is pixel (l % bw, l / bw) of it.
     HWY_ALIGN float column[lane_count], row[lane_count];
     for (int l = 0; l < lane_count; ++l) column[l] = static_cast<float>(l % bw), row[l] = static_cast<float>(l / bw);
@@ -443,6 +483,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
     // in a row for Lambert); in a loop of its own the core overlaps the chains of several blocks,
     // which it could not across the first step's scalar work and branches.
     constexpr int D = derivative_lanes<Lanes>();
+    constexpr bool Z = signed_zeros<Lanes>(), F = reads_front_facing<Lanes>();
     struct Block {
         LanesIn<N, D> in;
         int i;  // its first column in the tile
@@ -459,14 +500,28 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             std::uint64_t bits = 0;
             for (int r = 0; r < bh; ++r) bits |= ((vis.covered[r0 + r] >> i) & block_row_bits) << (r * bw);
             if (!bits) continue;
+            const auto owners = load_block(du, vis.owner + r0 * VisibleTile::k_row + i, VisibleTile::k_row);
+            const int x = tile.x0 + i;
+            const VF centre_x = hn::Add(hn::Add(hn::Set(df, static_cast<float>(x)), lane_column), half);
+            // A block whose every pixel one triangle owns (most blocks of large triangles): lane 0
+            // names it, and no lane needs a mask.
+            if (bits == all_bits) {
+                const std::uint32_t owner = hn::GetLane(owners);
+                if (owner < vis.count && hn::AllTrue(du, hn::Eq(owners, hn::Set(du, owner)))) {
+                    stream_fill_rows(*vis.idle, k_fill_rows_per_block);
+                    Block& block = blocks[count++];
+                    block.i = i;
+                    const float* record = records + static_cast<std::size_t>(owner) * vis.record_stride;
+                    auto field = [&](int j) { return hn::Set(df, record[j]); };
+                    interpolate_lanes<N, D, Z, F>(field, centre_x, centre_y, all_lanes, block.in);
+                    continue;
+                }
+            }
             std::uint8_t bytes[8];
             std::memcpy(bytes, &bits, sizeof(bytes));
-            const auto owners = load_block(du, vis.owner + r0 * VisibleTile::k_row + i, VisibleTile::k_row);
             const MF visible = hn::RebindMask(df, hn::And(hn::LoadMaskBits(du, bytes), hn::Ne(owners, none)));
             if (hn::AllFalse(df, visible)) continue;
             stream_fill_rows(*vis.idle, k_fill_rows_per_block);
-            const int x = tile.x0 + i;
-            const VF centre_x = hn::Add(hn::Add(hn::Set(df, static_cast<float>(x)), lane_column), half);
 
             // The triangles owning the visible lanes: each lane's value of a record field is
             // assembled from one broadcast per triangle. (Gathering values lane by lane was measured
@@ -505,14 +560,14 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             if (runs == 1) {  // one triangle: plain broadcasts
                 const float* record = run_record[0];
                 auto field = [&](int j) { return hn::Set(df, record[j]); };
-                interpolate_lanes<N, D>(field, centre_x, centre_y, visible, block.in);
+                interpolate_lanes<N, D, Z, F>(field, centre_x, centre_y, visible, block.in);
             } else {
                 auto field = [&](int j) {
                     VF v = hn::Set(df, run_record[0][j]);
                     for (int r = 1; r < runs; ++r) v = hn::IfThenElse(run_mask[r], hn::Set(df, run_record[r][j]), v);
                     return v;
                 };
-                interpolate_lanes<N, D>(field, centre_x, centre_y, visible, block.in);
+                interpolate_lanes<N, D, Z, F>(field, centre_x, centre_y, visible, block.in);
             }
         }
         for (int b = 0; b < count; ++b) {

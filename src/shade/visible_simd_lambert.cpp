@@ -6,6 +6,10 @@
 
 #include <hwy/highway.h>
 
+#include <cmath>
+#include <limits>
+
+#include "facet/image.hpp"
 #include "facet/shaders.hpp"
 #include "shade/visible_simd-inl.h"
 
@@ -18,23 +22,68 @@ namespace hn = hwy::HWY_NAMESPACE;
 // (LambertBaseColour) so is the colour: both are the lambert mode's (white key light, no fill, grey
 // albedo). The same operations on the same bits: the same bytes. A dark fill light is left out of
 // grey lights (fill_is_dark: the same bytes too).
+// The largest normal length the Lambert lanes leave to the specification, besides zero and
+// non-finite ones: above it every square and sum of normalize is in the normal float range, so
+// the normalized vector's length is at most 1 + 5 * 2^-24 and dot(n, key) at most
+// |key| (1 + 9 * 2^-24) (Cauchy-Schwarz and each operation's rounding).
+constexpr float k_min_normal_length = 0x1p-60f;
+
+// Whether the grey colour of grey lights without fill, base * (ambient + (key * k) * diffuse)
+// with k = max(dot(n, key), 0) (key * k taken as k when `unit_key`), lies in [-0, 1) at every lane
+// the Lambert lanes shade themselves: then to_rgba8's clamps change nothing there. Every factor
+// non-negative: the colour grows with k, so its value at the bound of k above (with a margin,
+// rounded up) bounds it.
+inline bool grey_key_light_below_one(const ShadingUniforms& u, float base, bool unit_key) {
+    const Vec3 l = u.key.direction;
+    const float factors[] = {base, u.ambient, u.diffuse, u.key.colour.x, l.x, l.y, l.z};
+    for (const float f : factors)
+        if (!std::isfinite(f)) return false;
+    if (base < 0 || u.ambient < 0 || u.diffuse < 0 || u.key.colour.x < 0) return false;
+    const double length = std::sqrt(double{l.x} * l.x + double{l.y} * l.y + double{l.z} * l.z);
+    const float k = std::nextafter(static_cast<float>(length * (1.0 + 0x1p-16)), std::numeric_limits<float>::infinity());
+    const float lit = unit_key ? k : u.key.colour.x * k;
+    return base * (u.ambient + lit * u.diffuse) < 1.0f;
+}
+
+// Every value the lanes compute goes to to_rgba8 through additions, multiplications, max and
+// divisions by a positive length, which keep a zero a zero, and to_rgba8 makes -0 and 0 the same
+// byte: so a zero's sign may differ from the specification's (k_signed_zeros), and the sums that
+// start from 0 there leave it out here. The grey lights without fill (the lambert mode's) take
+// key * k as k when the key's colour is 1 (the same bits), leave out the clamps when the colour
+// cannot leave [0, 1) (grey_key_light_below_one), and the constant alpha byte of a grey colour is
+// quantized once, by to_rgba8 itself.
 template <class S>
 struct LambertLanes {
     static constexpr int N = S::k_varyings;
+    static constexpr bool k_signed_zeros = false, k_front_facing = false;
     S s;  // a copy: the kernel's stores cannot alias it, so its uniforms stay in registers
     bool grey_light = grey_lights(s.u);
     bool no_fill = fill_is_dark(s.u.fill);
     bool grey_colour = grey_light && !S::k_vertex_colours && grey(Vec3{s.u.base_colour.x, s.u.base_colour.y, s.u.base_colour.z});
-    Vec3Lanes light(LanesIn<N>& in) const {
-        const Vec3Lanes n = normalize(vec3_lanes<typename S::Layout, shaders::Varying::normal>(in.v), in.scalar);
-        return lambert_term(n, s.u, grey_light, no_fill);
+    bool unit_key = s.u.key.colour.x == 1.0f;
+    bool below_one = grey_colour && no_fill && grey_key_light_below_one(s.u, s.u.base_colour.x, unit_key);
+    std::uint32_t alpha_word = std::uint32_t{to_rgba8(Vec4{0, 0, 0, s.u.base_colour.w}).a} << 24;
+    Vec3Lanes normal(LanesIn<N>& in) const {
+        return normalize(vec3_lanes<typename S::Layout, shaders::Varying::normal>(in.v), in.scalar, k_min_normal_length);
+    }
+    Vec3Lanes light(LanesIn<N>& in) const { return lambert_term(normal(in), s.u, grey_light, no_fill); }
+    // lambert_term of grey lights without fill, one channel: ambient + (key * k) * diffuse.
+    VF key_light(LanesIn<N>& in) const {
+        const DF df;
+        const Vec3Lanes n = normal(in);
+        const Vec3 l = s.u.key.direction;
+        const VF k = max_zero(hn::Add(hn::Add(hn::Mul(n.x, hn::Set(df, l.x)), hn::Mul(n.y, hn::Set(df, l.y))),
+                                      hn::Mul(n.z, hn::Set(df, l.z))));
+        const VF lit = unit_key ? k : hn::Mul(hn::Set(df, s.u.key.colour.x), k);
+        return hn::Add(hn::Set(df, s.u.ambient), hn::Mul(lit, hn::Set(df, s.u.diffuse)));
     }
     ColourLanes operator()(LanesIn<N>& in) const { return shade(albedo_lanes(s, in), light(in)); }
     hn::Vec<DU> rgba8(LanesIn<N>& in) const {
         if (!grey_colour) return to_rgba8((*this)(in));
         const DF df;
         // shade(): albedo.r * light.x, alpha kept.
-        return grey_to_rgba8(hn::Mul(hn::Set(df, s.u.base_colour.x), light(in).x), hn::Set(df, s.u.base_colour.w));
+        const VF c = hn::Mul(hn::Set(df, s.u.base_colour.x), no_fill ? key_light(in) : light(in).x);
+        return grey_to_rgba8(below_one ? unorm8_in_range(c) : unorm8(c), hn::Set(DU(), alpha_word));
     }
 };
 

@@ -42,6 +42,8 @@ Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
                 case 1: n = n * 1e30f; break;                                    // squared length overflows
                 case 2: n.y = std::numeric_limits<float>::quiet_NaN(); break;    // NaN
                 case 3: n = n * 1e-30f; break;                                   // squared length underflows
+                case 4: n = n * 1e-21f; break;                                   // squares subnormal
+                case 5: n = n * 1e-18f; break;                                   // just above the Lambert lanes' least length
                 default: break;
             }
             m.normals.push_back(n);
@@ -75,8 +77,9 @@ Mesh adversarial_mesh(std::uint64_t seed, int triangles) {
 // grey: the lambert mode's white key light, no fill, a grey base colour (the Lambert kernels then
 // compute one channel for three and leave the dark fill out); grey_nan_fill and grey_huge_fill: the
 // same with a NaN fill direction, and one so long that dot(n, fill) overflows (0 * inf: NaN), which
-// the kernels must not leave out.
-enum class Lights { ordinary, nan_fill, grey, grey_nan_fill, grey_huge_fill };
+// the kernels must not leave out. grey_dim_key: a grey key light of colour 0.5 (key * k is not k);
+// grey_bright: one of 1.2 on a brighter grey, whose colours pass 1 (to_rgba8's clamps then count).
+enum class Lights { ordinary, nan_fill, grey, grey_nan_fill, grey_huge_fill, grey_dim_key, grey_bright };
 
 ShadingUniforms uniforms(int width, int height, float shininess, Lights lights = Lights::ordinary) {
     Camera camera;
@@ -91,11 +94,14 @@ ShadingUniforms uniforms(int width, int height, float shininess, Lights lights =
     u.base_colour = {0.9f, 0.7f, 1.3f, 0.8f};
     u.shininess = shininess;
     // max(dot(n, l), 0) of a NaN is NaN (and the colour 0), not 0: the lanes' max must keep it.
-    if (lights == Lights::grey || lights == Lights::grey_nan_fill || lights == Lights::grey_huge_fill) {
+    if (lights == Lights::grey || lights == Lights::grey_nan_fill || lights == Lights::grey_huge_fill ||
+        lights == Lights::grey_dim_key || lights == Lights::grey_bright) {
         u.key.colour = {1, 1, 1};
         u.fill.colour = {0, 0, 0};
         u.base_colour = {0.8f, 0.8f, 0.8f, 0.9f};
     }
+    if (lights == Lights::grey_dim_key) u.key.colour = {0.5f, 0.5f, 0.5f};
+    if (lights == Lights::grey_bright) u.key.colour = {1.2f, 1.2f, 1.2f}, u.base_colour = {0.95f, 0.95f, 0.95f, 1.0f};
     if (lights == Lights::nan_fill || lights == Lights::grey_nan_fill)
         u.fill.direction.y = std::numeric_limits<float>::quiet_NaN();
     if (lights == Lights::grey_huge_fill) u.fill.direction = {3e38f, 3e38f, 3e38f};
@@ -180,6 +186,10 @@ TEST(CompiledVisiblePass, BaseColourVariantsMatchTheSpecificationOnEveryIsa) {
                                                                            40.0f, Lights::grey_nan_fill);
     expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey, huge fill light",
                                                                            40.0f, Lights::grey_huge_fill);
+    expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey, dim key light",
+                                                                           40.0f, Lights::grey_dim_key);
+    expect_every_isa_matches_the_specification<shaders::LambertBaseColour>("LambertBaseColour, grey, bright", 40.0f,
+                                                                           Lights::grey_bright);
     expect_every_isa_matches_the_specification<shaders::BlinnPhongBaseColour>("BlinnPhongBaseColour");
 }
 TEST(CompiledVisiblePass, NormalsMatchesTheSpecificationOnEveryIsa) {
