@@ -22,6 +22,14 @@ inline bool edge_rejects(const TriangleSetup& t, int e, const PixelRect& r) {
     return edge_at(t, e, x, y) < 0;
 }
 
+// The number of bits set in a batch's lane mask. std::popcount compiles to a call into libgcc here
+// (this code is built for x86-64's baseline, without POPCNT): 1% of a 9,856-triangle frame.
+inline int count_lanes(std::uint32_t m) {
+    m = m - ((m >> 1) & 0x55555555u);
+    m = (m & 0x33333333u) + ((m >> 2) & 0x33333333u);
+    return static_cast<int>((((m + (m >> 4)) & 0x0f0f0f0fu) * 0x01010101u) >> 24);
+}
+
 // Sets up each triangle and stores its record in the bin of every tile it reaches. Unclipped
 // triangles are collected into a batch set up together by the SIMD kernel; the batch is flushed
 // before any clipped triangle and at the end, so every bin keeps submission order. A record that
@@ -120,8 +128,8 @@ private:
             batch_.count = 0;
             return;
         }
-        culled_ += static_cast<std::uint64_t>(std::popcount(lanes_.culled));
-        set_up_ += static_cast<std::uint64_t>(std::popcount(lanes_.keep));
+        culled_ += static_cast<std::uint64_t>(count_lanes(lanes_.culled));
+        set_up_ += static_cast<std::uint64_t>(count_lanes(lanes_.keep));
         // A local copy: the record copies below may write any byte, so what a member holds would be
         // read again from memory for every triangle.
         const BinGrid grid = grid_of();
