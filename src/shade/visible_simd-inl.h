@@ -340,22 +340,33 @@ constexpr bool reads_front_facing() {
     else return true;
 }
 
+// The terms of the planes that depend on a lane's row alone, dq/dy dy, dl1/dy dy and dl2/dy dy
+// (dy = centre_y - y0): the same for every block of a row of blocks that one triangle owns.
+struct RowTerms {
+    VF q, l1, l2;
+};
+template <class Field>
+HWY_INLINE RowTerms row_terms(const Field& field, VF centre_y) {
+    const VF dy = hn::Sub(centre_y, field(sh_y0));
+    return {hn::Mul(field(sh_dqdy), dy), hn::Mul(field(sh_dl1dy), dy), hn::Mul(field(sh_dl2dy), dy)};
+}
+
 // The inputs of the lanes in `active`, whose pixel centres are (centre_x, centre_y) (each x + 0.5
-// computed exactly as fragment_at does): interpolation (and derivatives) as in fragment_at, with
-// each triangle value read by field(j) (record offset j). Without SignedZeros the barycentric sums
-// leave out fragment_at's leading 0 +, which can change only the sign of a zero.
+// computed exactly as fragment_at does; the y terms of the planes in `row`, row_terms): interpolation
+// (and derivatives) as in fragment_at, with each triangle value read by field(j) (record offset j).
+// Without SignedZeros the barycentric sums leave out fragment_at's leading 0 +, which can change
+// only the sign of a zero.
 template <int N, int D, bool SignedZeros = true, bool FrontFacing = true, class Field>
-HWY_INLINE void interpolate_lanes(const Field& field, VF centre_x, VF centre_y, MF active, LanesIn<N, D>& in) {
+HWY_INLINE void interpolate_lanes(const Field& field, VF centre_x, const RowTerms& row, MF active, LanesIn<N, D>& in) {
     const DF df;
     const VF dx = hn::Sub(centre_x, field(sh_x0));
-    const VF dy = hn::Sub(centre_y, field(sh_y0));
-    const VF q = hn::Add(hn::Add(field(sh_q0), hn::Mul(field(sh_dqdx), dx)), hn::Mul(field(sh_dqdy), dy));
+    const VF q = hn::Add(hn::Add(field(sh_q0), hn::Mul(field(sh_dqdx), dx)), row.q);
     const VF w = hn::Div(hn::Set(df, 1.0f), q);
     // 0 + ..., as fragment_at: the planes are 0 at (x0, y0), and the sum keeps fragment_at's bits.
     const VF zero = hn::Zero(df);
     auto from_zero = [&](VF v) { return SignedZeros ? hn::Add(zero, v) : v; };
-    const VF b1 = hn::Mul(hn::Add(from_zero(hn::Mul(field(sh_dl1dx), dx)), hn::Mul(field(sh_dl1dy), dy)), w);
-    const VF b2 = hn::Mul(hn::Add(from_zero(hn::Mul(field(sh_dl2dx), dx)), hn::Mul(field(sh_dl2dy), dy)), w);
+    const VF b1 = hn::Mul(hn::Add(from_zero(hn::Mul(field(sh_dl1dx), dx)), row.l1), w);
+    const VF b2 = hn::Mul(hn::Add(from_zero(hn::Mul(field(sh_dl2dx), dx)), row.l2), w);
     for (int k = 0; k < N; ++k)
         in.v[k] = hn::Add(hn::Add(field(k_shading_head + k), hn::Mul(b1, field(k_shading_head + N + k))),
                           hn::Mul(b2, field(k_shading_head + 2 * N + k)));
@@ -495,6 +506,9 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
         if (!any) continue;
         const int y = tile.y0 + r0;
         const VF centre_y = hn::Add(hn::Add(hn::Set(df, static_cast<float>(y)), lane_row), half);
+        // The y terms of the last whole block's triangle in this row of blocks.
+        const float* row_record = nullptr;
+        RowTerms row{};
         int count = 0;
         for (int i = 0; i < simd_width; i += bw) {
             std::uint64_t bits = 0;
@@ -513,7 +527,8 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                     block.i = i;
                     const float* record = records + static_cast<std::size_t>(owner) * vis.record_stride;
                     auto field = [&](int j) { return hn::Set(df, record[j]); };
-                    interpolate_lanes<N, D, Z, F>(field, centre_x, centre_y, all_lanes, block.in);
+                    if (record != row_record) row = row_terms(field, centre_y), row_record = record;
+                    interpolate_lanes<N, D, Z, F>(field, centre_x, row, all_lanes, block.in);
                     continue;
                 }
             }
@@ -560,14 +575,14 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             if (runs == 1) {  // one triangle: plain broadcasts
                 const float* record = run_record[0];
                 auto field = [&](int j) { return hn::Set(df, record[j]); };
-                interpolate_lanes<N, D, Z, F>(field, centre_x, centre_y, visible, block.in);
+                interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
             } else {
                 auto field = [&](int j) {
                     VF v = hn::Set(df, run_record[0][j]);
                     for (int r = 1; r < runs; ++r) v = hn::IfThenElse(run_mask[r], hn::Set(df, run_record[r][j]), v);
                     return v;
                 };
-                interpolate_lanes<N, D, Z, F>(field, centre_x, centre_y, visible, block.in);
+                interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
             }
         }
         for (int b = 0; b < count; ++b) {

@@ -68,7 +68,8 @@ struct DeferredFills {
                          reinterpret_cast<std::uint32_t*>(target.depth + target.at(tile.x0, tile.y0)),
                          tile.x1 - tile.x0, tile.y1 - tile.y0});
     }
-    bool pending() const { return next < tiles.size(); }
+    // (By pointers: size() divides by the 24 bytes of a Tile, and take() runs before every shaded block.)
+    bool pending() const { return tiles.begin() + static_cast<std::ptrdiff_t>(next) < tiles.end(); }
     // The next row of the queue (a tile's colour rows, then its depth rows), if any, for the caller
     // to write with streaming stores (stream_fill_row).
     [[gnu::always_inline]] bool take(Row& out) {
