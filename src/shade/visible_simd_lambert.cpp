@@ -40,7 +40,9 @@ inline bool grey_key_light_below_one(const ShadingUniforms& u, float base, bool 
         if (!std::isfinite(f)) return false;
     if (base < 0 || u.ambient < 0 || u.diffuse < 0 || u.key.colour.x < 0) return false;
     const double length = std::sqrt(double{l.x} * l.x + double{l.y} * l.y + double{l.z} * l.z);
-    const float k = std::nextafter(static_cast<float>(length * (1.0 + 0x1p-16)), std::numeric_limits<float>::infinity());
+    const double bound = length * (1.0 + 0x1p-16);
+    if (!(bound < 1e30)) return false;  // no unit vector (and the float below must hold it)
+    const float k = std::nextafter(static_cast<float>(bound), std::numeric_limits<float>::infinity());
     const float lit = unit_key ? k : u.key.colour.x * k;
     return base * (u.ambient + lit * u.diffuse) < 1.0f;
 }
