@@ -1,8 +1,11 @@
 // facet io: assimp's vertex joining and facet's renumbering, exactly (joined_mesh.hpp).
 #include "io/joined_mesh.hpp"
 
+#include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
+#include <utility>
 
 namespace facet::io_detail {
 namespace {
@@ -22,57 +25,120 @@ bool same_key(const Vec3& a, const Vec3& b) {
 }
 bool same_position(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
+constexpr std::uint32_t k_none = ~0u;
+
+// Runs task(i) for i in [0, n), on the pool's threads when there is one.
+template <class Task>
+void for_each_part(detail::ThreadPool* pool, std::size_t n, const Task& task) {
+    if (pool && n > 1)
+        pool->parallel_for(n, task);
+    else
+        for (std::size_t i = 0; i < n; ++i) task(i);
+}
+
+// [begin, end) of part p of n over `count` items.
+std::pair<std::size_t, std::size_t> part_range(std::size_t count, std::size_t p, std::size_t n) {
+    return {count * p / n, count * (p + 1) / n};
+}
+
 // For each used vertex, the first used vertex in file order at the same position (its group's
-// representative, as in assimp's JoinIdenticalVertices); unused vertices keep ~0. Nullopt when two
-// used positions share a key but are not equal.
+// representative, as in assimp's JoinIdenticalVertices); unused vertices keep k_none. Nullopt when
+// two used positions share a key but are not equal. With `parts` parts, part p takes the vertices
+// whose hash's top byte falls in its share, in file order, in a table of its own: equal keys have
+// equal hashes, so each group is found whole by one part, and its first vertex is the same.
 std::optional<std::vector<std::uint32_t>> join_used_vertices(const std::vector<Vec3>& positions,
-                                                             const std::vector<std::uint32_t>& indices) {
-    constexpr std::uint32_t none = ~0u;
-    std::vector<std::uint32_t> representative(positions.size(), none);
-    for (std::uint32_t i : indices) representative[i] = 0;  // marks the used ones
-    const std::size_t capacity = std::bit_ceil(2 * positions.size());
-    std::vector<std::uint32_t> table(capacity, none);  // open addressing, linear probing
-    for (std::uint32_t v = 0; v < positions.size(); ++v) {
-        if (representative[v] == none) continue;
-        for (std::size_t slot = position_hash(positions[v]) & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
-            if (table[slot] == none) {
-                table[slot] = v;
-                representative[v] = v;
-                break;
-            }
-            if (same_key(positions[table[slot]], positions[v])) {
-                if (!same_position(positions[table[slot]], positions[v])) return std::nullopt;
-                representative[v] = table[slot];
-                break;
+                                                             const std::vector<std::uint32_t>& indices,
+                                                             detail::ThreadPool* pool, std::size_t parts) {
+    std::vector<std::uint32_t> representative(positions.size(), k_none);
+    for_each_part(pool, parts, [&](std::size_t p) {  // marks the used ones (several parts may store the same 0)
+        const auto [begin, end] = part_range(indices.size(), p, parts);
+        for (std::size_t c = begin; c < end; ++c) std::atomic_ref(representative[indices[c]]).store(0, std::memory_order_relaxed);
+    });
+    const std::size_t capacity = std::bit_ceil(2 * positions.size());  // any part may hold them all
+    std::vector<char> declined(parts, 0);
+    for_each_part(pool, parts, [&](std::size_t p) {
+        std::vector<std::uint32_t> table(capacity, k_none);  // open addressing, linear probing
+        for (std::uint32_t v = 0; v < positions.size(); ++v) {
+            // Another part's vertices are not read: their parts write them meanwhile.
+            const std::uint64_t h = position_hash(positions[v]);
+            if ((h >> 56) * parts >> 8 != p || representative[v] == k_none) continue;
+            for (std::size_t slot = h & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
+                if (table[slot] == k_none) {
+                    table[slot] = v;
+                    representative[v] = v;
+                    break;
+                }
+                if (same_key(positions[table[slot]], positions[v])) {
+                    if (!same_position(positions[table[slot]], positions[v])) {
+                        declined[p] = 1;
+                        return;
+                    }
+                    representative[v] = table[slot];
+                    break;
+                }
             }
         }
-    }
+    });
+    if (std::find(declined.begin(), declined.end(), 1) != declined.end()) return std::nullopt;
     return representative;
 }
 
 }  // namespace
 
 std::optional<JoinedMesh> join_identical_vertices(const std::vector<Vec3>& file_positions,
-                                                  const std::vector<std::uint32_t>& file_indices) {
-    const std::optional<std::vector<std::uint32_t>> joined = join_used_vertices(file_positions, file_indices);
+                                                  const std::vector<std::uint32_t>& file_indices, detail::ThreadPool* pool) {
+    // Threads share the work only where each has enough of it.
+    const std::size_t parts = pool && file_indices.size() >= 3 * 8192 ? static_cast<std::size_t>(pool->size()) : 1;
+    const std::optional<std::vector<std::uint32_t>> joined = join_used_vertices(file_positions, file_indices, pool, parts);
     if (!joined) return std::nullopt;
     const std::vector<std::uint32_t>& representative = *joined;
-    constexpr std::uint32_t none = ~0u;
-    std::vector<std::uint32_t> number(file_positions.size(), none);
+    // Numbered in order of first use: the first part numbers its representatives as it meets them;
+    // each later part numbers them among its own, and those are then renumbered in part order
+    // (a representative a part before met keeps its number, the others take the next ones).
     JoinedMesh out;
     out.indices.resize(file_indices.size());
-    for (std::size_t c = 0; c < file_indices.size(); ++c) {
-        const std::uint32_t r = representative[file_indices[c]];
-        if (number[r] == none) {
-            number[r] = static_cast<std::uint32_t>(out.positions.size());
-            out.positions.push_back(file_positions[r]);
+    // Per part: each representative's number there, and the representatives in that order.
+    std::vector<std::vector<std::uint32_t>> number(parts), order(parts);
+    for_each_part(pool, parts, [&](std::size_t p) {
+        number[p].assign(file_positions.size(), k_none);
+        const auto [begin, end] = part_range(file_indices.size(), p, parts);
+        for (std::size_t c = begin; c < end; ++c) {
+            const std::uint32_t r = representative[file_indices[c]];
+            if (number[p][r] == k_none) {
+                number[p][r] = static_cast<std::uint32_t>(order[p].size());
+                order[p].push_back(r);
+            }
+            out.indices[c] = number[p][r];
         }
-        out.indices[c] = number[r];
-    }
-    for (std::size_t t = 0; t < out.indices.size(); t += 3) {
-        const std::uint32_t a = out.indices[t], b = out.indices[t + 1], c = out.indices[t + 2];
-        out.degenerate += a == b || b == c || c == a;
-    }
+    });
+    std::vector<std::vector<std::uint32_t>> final_number(parts);  // per part: its own number -> the final one
+    std::vector<std::uint32_t>& first = number[0];                  // becomes the final numbers
+    std::vector<std::uint32_t> numbered = order[0];                 // the representatives in final order
+    for (std::size_t p = 1; p < parts; ++p)
+        for (const std::uint32_t r : order[p]) {
+            if (first[r] == k_none) {
+                first[r] = static_cast<std::uint32_t>(numbered.size());
+                numbered.push_back(r);
+            }
+            final_number[p].push_back(first[r]);
+        }
+    for_each_part(pool, parts, [&](std::size_t p) {
+        const auto [begin, end] = part_range(file_indices.size(), p, parts);
+        if (p > 0)
+            for (std::size_t c = begin; c < end; ++c) out.indices[c] = final_number[p][out.indices[c]];
+    });
+    out.positions.resize(numbered.size());
+    for (std::size_t i = 0; i < numbered.size(); ++i) out.positions[i] = file_positions[numbered[i]];
+    const std::size_t triangles = out.indices.size() / 3;
+    std::vector<std::size_t> degenerate(parts, 0);
+    for_each_part(pool, parts, [&](std::size_t p) {
+        const auto [begin, end] = part_range(triangles, p, parts);
+        for (std::size_t t = begin; t < end; ++t) {
+            const std::uint32_t a = out.indices[3 * t], b = out.indices[3 * t + 1], c = out.indices[3 * t + 2];
+            degenerate[p] += a == b || b == c || c == a;
+        }
+    });
+    for (const std::size_t d : degenerate) out.degenerate += d;
     return out;
 }
 

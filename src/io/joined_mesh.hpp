@@ -15,6 +15,7 @@
 #include <optional>
 #include <vector>
 
+#include "facet/detail/thread_pool.hpp"
 #include "facet/math/vec.hpp"
 
 namespace facet::io_detail {
@@ -28,7 +29,9 @@ struct JoinedMesh {
 // The mesh of triangles `file_indices` (three per triangle, each < file_positions.size()) over
 // `file_positions` (finite), joined and renumbered as above; nullopt when assimp's tolerance could
 // join two used positions that are not equal.
+// With a pool, its threads share the work (the same mesh).
 std::optional<JoinedMesh> join_identical_vertices(const std::vector<Vec3>& file_positions,
-                                                  const std::vector<std::uint32_t>& file_indices);
+                                                  const std::vector<std::uint32_t>& file_indices,
+                                                  detail::ThreadPool* pool = nullptr);
 
 }  // namespace facet::io_detail

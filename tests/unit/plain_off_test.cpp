@@ -18,6 +18,7 @@
 
 #include "facet/model.hpp"
 #include "io/fast_path.hpp"
+#include "io/joined_mesh.hpp"
 #include "io/load_paths.hpp"
 #include "facet/detail/thread_pool.hpp"
 #include "io/plain_off.hpp"
@@ -48,6 +49,10 @@ TEST(PlainOff, CgalMeshesTakeTheFastPathAndMatchAssimp) {
         z_up_sharp.crease_angle_degrees = 10;
         expect_same_as_assimp(path, z_up_sharp);
     }
+    // Read by two threads (the lines, the join and the normals shared): the same scene.
+    LoadOptions two_threads;
+    two_threads.threads = 2;
+    expect_same_as_assimp((*dir / "bunny00.off").string(), two_threads);
 }
 
 TEST(PlainOff, AssimpTestModelsMatchAssimp) {
@@ -236,6 +241,42 @@ TEST(PlainOff, LargeFilesReadInPiecesByThreadsMatchAssimp) {
         }
         const std::string path = write_file(temp_dir() / ("large_" + name + ".off"), text);
         expect_same_as_assimp(path, threads);
+    }
+}
+
+// The join shared between threads (io/joined_mesh.hpp): each thread takes the positions of its
+// share of hashes and numbers the representatives in its share of the corners, and the mesh is the
+// one thread's, field by field: joined duplicates (-0 as +0), unused vertices left out, the
+// numbering by first use, degenerate triangles counted; and nothing for distinct tiny positions.
+TEST(JoinIdenticalVertices, SharedBetweenThreadsGivesTheOneThreadMesh) {
+    std::mt19937 rng(53);
+    detail::ThreadPool two(2), three(3);
+    for (int i = 0; i < 6; ++i) {
+        SCOPED_TRACE("mesh " + std::to_string(i));
+        std::vector<Vec3> positions;
+        const int distinct = i % 2 ? 500 : 20000;  // many corners per position, or few
+        for (int v = 0; v < distinct; ++v)
+            positions.push_back({static_cast<float>(rng() % 1000) / 7, static_cast<float>(rng() % 1000) / 3, v % 5 ? 1.0f : -0.0f});
+        for (int v = 0; v < distinct / 4; ++v) {  // duplicates, some as +0 where the first is -0
+            Vec3 p = positions[rng() % positions.size()];
+            if (p.z == 0) p.z = 0.0f;
+            positions.push_back(p);
+        }
+        if (i == 5) positions.push_back({1e-30f, 0, 0}), positions.push_back({0, 0, 0});  // assimp might join them
+        std::vector<std::uint32_t> indices;
+        for (int c = 0; c < 3 * 12000; ++c) indices.push_back(static_cast<std::uint32_t>(rng() % (positions.size() - 7)));
+        if (i == 5) indices.push_back(static_cast<std::uint32_t>(positions.size() - 2)), indices.push_back(static_cast<std::uint32_t>(positions.size() - 1)), indices.push_back(0);
+        const std::optional<io_detail::JoinedMesh> alone = io_detail::join_identical_vertices(positions, indices);
+        EXPECT_EQ(alone.has_value(), i != 5);
+        for (detail::ThreadPool* pool : {&two, &three}) {
+            const std::optional<io_detail::JoinedMesh> shared = io_detail::join_identical_vertices(positions, indices, pool);
+            ASSERT_EQ(shared.has_value(), alone.has_value());
+            if (!alone) continue;
+            EXPECT_EQ(facet_test::bits_of(shared->positions), facet_test::bits_of(alone->positions));
+            EXPECT_EQ(shared->indices, alone->indices);
+            EXPECT_EQ(shared->degenerate, alone->degenerate);
+            EXPECT_LT(alone->positions.size(), positions.size());  // something was joined or left out
+        }
     }
 }
 
