@@ -140,6 +140,7 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     c.add_option("--point-shape", o.point_shape, "round | square")->check(CLI::IsMember({"round", "square"}))->capture_default_str();
     c.add_option("--line-width", o.line_width, "Lines' width in pixels of the output image (0 < PX <= 256 / ssaa)")
         ->capture_default_str();
+    c.add_flag("--line-aa", o.line_aa, "Anti-aliased lines: blended by their coverage of each pixel, writing no depth");
     c.add_option("--max-triangles", o.max_triangles, "Refuse models with more triangles (points and segments count too), before loading them")
         ->capture_default_str();
     c.add_option("--max-texture-size", o.max_texture_size,
@@ -328,6 +329,7 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, 
     style.point_size = (o.point_world_size ? *o.point_world_size : o.point_size) * (o.point_world_size ? 1.0f : static_cast<float>(o.ssaa));
     style.point_shape = o.point_shape == "square" ? PointShape::square : PointShape::round;
     style.line_width = o.line_width * static_cast<float>(o.ssaa);
+    style.line_aa = o.line_aa;
     p.settings.point_size_in_model_units = o.point_world_size.has_value();
     p.view.azimuth = radians(o.azimuth);
     p.view.elevation = radians(o.elevation);

@@ -56,6 +56,7 @@ struct RenderOptions {
     std::optional<float> point_world_size;
     std::string point_shape = "round";
     float line_width = defaults::k_line_width;
+    bool line_aa = false;  // PrimitiveStyle::line_aa
     // Resource limits for loading (LoadOptions, TextureLimits): checked before anything is allocated.
     long long max_triangles = static_cast<long long>(defaults::k_max_triangles);  // signed: -1 is an error, not 2^64 - 1
     int max_texture_size = defaults::k_max_texture_size;

@@ -128,6 +128,7 @@ void describe_run(ConfigText& out, const RenderPlan& plan, const Camera* camera,
                                                                   : short_number(style.point_size / ssaa));
     out.add("point-shape", style.point_shape == PointShape::square ? "square" : "round");
     out.add("line-width", short_number(style.line_width / ssaa));
+    out.add("line-aa", style.line_aa ? "on" : "off");
     describe_camera(out, plan, camera);
     describe_lighting(out, plan);
     if (plan.views) {  // --views, --passes

@@ -142,6 +142,11 @@ enum class PointShape { round, square };
 // double hits. With `model_scale` > 0 the point size is in model units instead: a point at clip w
 // is size * model_scale / w pixels (model_scale: pixels per unit at w = 1, e.g. the projection's
 // y scale times half the viewport's height), at most k_max_point_size.
+// With `line_aa` lines are anti-aliased instead (README.md, "Anti-aliased lines"): each covers the
+// band of half-width width / 2 + 1/2 with a coverage of min(1, the pixel centre's distance to the
+// band's edge), its colour blended over what is behind by it (the draw's blending and depth writes
+// are replaced by alpha blending without depth writes); joins are split by the mitre as above, so a
+// strip blends each pixel once.
 struct PrimitiveStyle {
     static constexpr float k_max_point_size = 256.0f;  // pixels; sizes and widths must be in (0, this]
     static constexpr float k_max_line_width = 256.0f;
@@ -149,6 +154,7 @@ struct PrimitiveStyle {
     PointShape point_shape = PointShape::round;
     float model_scale = 0.0f;
     float line_width = 1.0f;
+    bool line_aa = false;
 };
 
 // What to draw: `vertex_count` vertices, assembled into primitives of `topology` by `indices` or,

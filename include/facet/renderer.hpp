@@ -140,9 +140,11 @@ void Renderer::run_vertex_stage(const S& shader, std::uint32_t vertex_count, con
 // The pipeline, stage by stage. Front end and tiles run batch by batch, in submission order, so
 // every pixel sees the same sequence of triangles and memory stays bounded whatever the draw's size.
 template <Shader S>
-DrawStats Renderer::draw(Framebuffer& target, const DrawState& state, const DrawInput& input, const S& shader,
+DrawStats Renderer::draw(Framebuffer& target, const DrawState& given, const DrawInput& input, const S& shader,
                          const DrawPasses* passes) {
-    const detail::TileShading shading = detail::tile_shading(shader, state, input.primitive_count());  // the order
+    const bool line_aa = input.topology == Topology::lines && input.style.line_aa;
+    const DrawState state = line_aa ? detail::line_aa_state(given) : given;  // anti-aliased lines blend
+    const detail::TileShading shading = detail::tile_shading(shader, state, input.primitive_count(), line_aa);  // the order
     Plan plan = begin_draw(target, state, input, shading, passes);  // viewport, tiles, batches, passes
     run_vertex_stage(shader, input.vertex_count, plan);             // vertex(), then projection
     DrawStats stats;

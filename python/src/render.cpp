@@ -57,6 +57,7 @@ struct PrimitiveArgs {
     std::string point_shape = "round";
     std::optional<double> point_world_size;
     double line_width = defaults::k_line_width;
+    bool line_aa = false;
 };
 
 // An environment light read once (facet.Environment) and shared by the renders given it.
@@ -121,6 +122,7 @@ void set_primitives(RenderSettings& s, const PrimitiveArgs& a, int ssaa) {
     style.point_size = a.point_world_size ? static_cast<float>(*a.point_world_size) : static_cast<float>(a.point_size) * static_cast<float>(ssaa);
     style.point_shape = a.point_shape == "square" ? PointShape::square : PointShape::round;
     style.line_width = static_cast<float>(a.line_width) * static_cast<float>(ssaa);
+    style.line_aa = a.line_aa;
     s.point_size_in_model_units = a.point_world_size.has_value();
 }
 
@@ -331,6 +333,9 @@ point_world_size : float, optional
     The points' diameter in model units instead, perspective-scaled.
 line_width : float
     Width of the scene's line segments in pixels of the image (0 < width <= 256 / ssaa).
+line_aa : bool
+    Anti-aliased lines: each blended by its coverage of the pixels, writing no depth, as
+    `facet render --line-aa` (default False).
 aa : int
     Anti-aliasing by jittered frames: 1 (default, none), 2, 4 or 8 frames (N frames cost
     about N renders); combines with ssaa. Color and alpha average every sample of every frame, the
@@ -383,6 +388,7 @@ void bind_render(py::module_& m) {
     const py::arg_v point_shape = py::arg("point_shape") = "round";
     const py::arg_v point_world_size = py::arg("point_world_size") = py::none();
     const py::arg_v line_width = py::arg("line_width") = double{defaults::k_line_width};
+    const py::arg_v line_aa = py::arg("line_aa") = false;
     // The lit mode's and the jittered anti-aliasing's arguments, after them.
     const py::arg_v aa = py::arg("aa") = Integer{defaults::k_aa};
     const py::arg_v environment = py::arg("environment") = py::none();
@@ -419,17 +425,17 @@ parallel.
             [](PyRenderer& r, py::object scene, py::object camera, Integer width, Integer height, py::object passes,
                const std::string& shading, Integer ssaa, py::object background, const std::string& normal_space,
                py::object out, double point_size, const std::string& point_shape, std::optional<double> point_world_size,
-               double line_width, Integer aa, py::object environment, double exposure, const std::string& tone_mapping,
+               double line_width, bool line_aa, Integer aa, py::object environment, double exposure, const std::string& tone_mapping,
                double contact_shadow) {
                 return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, out,
-                              {point_size, point_shape, point_world_size, line_width},
+                              {point_size, point_shape, point_world_size, line_width, line_aa},
                               {environment, exposure, tone_mapping, aa, contact_shadow});
             },
             py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
             py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
             py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
             py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("out") = py::none(),
-            point_size, point_shape, point_world_size, line_width, aa, environment, exposure, tone_mapping, contact_shadow,
+            point_size, point_shape, point_world_size, line_width, line_aa, aa, environment, exposure, tone_mapping, contact_shadow,
             doc("Render `scene` seen by `camera` into arrays.",
                 "out : dict of str to numpy.ndarray, optional\n    Arrays to render into (C-contiguous, of each pass's "
                 "shape and dtype),\n    returned in the dict: no allocation.\n")
@@ -463,17 +469,17 @@ parallel.
         [](py::object scene, py::object camera, Integer width, Integer height, py::object passes, const std::string& shading,
            Integer ssaa, py::object background, const std::string& normal_space, std::optional<Integer> threads,
            double point_size, const std::string& point_shape, std::optional<double> point_world_size, double line_width,
-           Integer aa, py::object environment, double exposure, const std::string& tone_mapping, double contact_shadow) {
+           bool line_aa, Integer aa, py::object environment, double exposure, const std::string& tone_mapping, double contact_shadow) {
             PyRenderer r(checked_threads(threads));
             return render(r, scene, camera, width, height, passes, shading, ssaa, background, normal_space, py::none(),
-                          {point_size, point_shape, point_world_size, line_width},
+                          {point_size, point_shape, point_world_size, line_width, line_aa},
                           {environment, exposure, tone_mapping, aa, contact_shadow});
         },
         py::arg("scene"), py::arg("camera"), py::arg("width") = Integer{defaults::k_image_width},
         py::arg("height") = Integer{defaults::k_image_height}, py::kw_only(), py::arg("passes") = py::make_tuple("color"),
         py::arg("shading") = "lit", py::arg("ssaa") = Integer{defaults::k_ssaa},
         py::arg("background") = py::none(), py::arg("normal_space") = "world", py::arg("threads") = py::none(),
-        point_size, point_shape, point_world_size, line_width, aa, environment, exposure, tone_mapping, contact_shadow,
+        point_size, point_shape, point_world_size, line_width, line_aa, aa, environment, exposure, tone_mapping, contact_shadow,
             doc("Render `scene` seen by `camera` into arrays (with a Renderer made for the call; keep a\nfacet.Renderer "
             "for many renders).",
             "threads : int, optional\n    Threads drawing; None: one per core. The image is the same.\n")

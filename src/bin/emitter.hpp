@@ -203,6 +203,7 @@ private:
         t.front_facing = true;
         t.small_edges = true;
         t.segment = false;
+        t.line_aa = 0;
     }
 
     // One triangle set up by the scalar code, and binned.

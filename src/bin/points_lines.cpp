@@ -69,6 +69,50 @@ void emit_segment(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, S
     }
 }
 
+// An anti-aliased segment (PrimitiveStyle::line_aa): which of its ends are free (not a join), and
+// so fade out past it.
+struct LineAaEnds {
+    bool free_a, free_b;
+};
+
+// Half a pixel along the segment a -> b (a != b), in 1/256 pixel: how far an anti-aliased segment's
+// free ends reach past its end points (its coverage there falls from 1/2 to 0).
+SegmentEnd half_pixel_along(const ScreenVertex& a, const ScreenVertex& b) {
+    const double dx = static_cast<double>(b.x - a.x), dy = static_cast<double>(b.y - a.y);
+    const double scale = 0.5 * k_subpixel_one / std::sqrt(dx * dx + dy * dy);
+    return {static_cast<std::int32_t>(round_half_away(dx * scale)), static_cast<std::int32_t>(round_half_away(dy * scale))};
+}
+
+// Anti-aliased segment a -> b: ends e0, e1 for the band of half-width w/2 + 1/2, its free ends moved
+// out by half a pixel, as one record naming its fading edges (facet/detail/line_aa.hpp: the two
+// sides, and each free end), or as two triangles (no fading: full coverage) when segment_record
+// says so. One at a time, in submission order: the SIMD batches make aliased records only.
+template <bool Primitives>
+void emit_aa_segment(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, SegmentEnd e1, LineAaEnds ends,
+                     std::uint32_t ref_a, std::uint32_t ref_b, std::uint32_t primitive, const PixelRect& scissor,
+                     Emitter<Primitives>& emitter) {
+    const SegmentEnd out = half_pixel_along(a, b);
+    const SegmentEnd out_a = ends.free_a ? out : SegmentEnd{}, out_b = ends.free_b ? out : SegmentEnd{};
+    const ScreenVertex a_end{a.x - out_a.ox, a.y - out_a.oy, a.z, a.q}, b_end{b.x + out_b.ox, b.y + out_b.oy, b.z, b.q};
+    TriangleSetup t{};
+    switch (segment_record(a, b, e0, e1, ref_a, ref_b, scissor, t, out_a, out_b)) {
+        case SegmentResult::record: {
+            // The record's edge k runs from corner k to k + 1 counter-clockwise from a's first corner
+            // (a_end + e0), which goes to a's second corner when the quad turns left there.
+            const std::int64_t to_second_x = -2 * std::int64_t{e0.ox}, to_second_y = -2 * std::int64_t{e0.oy};
+            const std::int64_t to_b_x = b_end.x - e1.ox - (a_end.x - e0.ox), to_b_y = b_end.y - e1.oy - (a_end.y - e0.oy);
+            const bool left = to_second_x * to_b_y - to_second_y * to_b_x > 0;
+            const unsigned sides = left ? 0b1010u : 0b0101u;
+            const unsigned end_a = left ? 0b0001u : 0b1000u, end_b = left ? 0b0100u : 0b0010u;
+            t.line_aa = static_cast<std::uint8_t>(sides | (ends.free_a ? end_a : 0u) | (ends.free_b ? end_b : 0u));
+            emitter.add_segment(t, primitive);
+            break;
+        }
+        case SegmentResult::triangles: emit_segment_quad(a_end, b_end, e0, e1, ref_a, ref_b, primitive, emitter); break;
+        case SegmentResult::empty: break;
+    }
+}
+
 // Unclipped segments queued in submission order and made into records a batch at a time by the SIMD
 // kernel (setup_segment_lanes: segment_record's bytes), or one by one when it declines the batch.
 template <bool Primitives>
@@ -266,7 +310,9 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
     const IndexOf index_of{input.indices};
     const std::size_t vertex_count = vertices.pos.size(), segment_count = input.primitive_count();
     const GuardBand guard = guard_band(p);
-    const double h = 0.5 * static_cast<double>(input.style.line_width);
+    // Anti-aliased, the quads are those of the band half a pixel wider on each side (line_aa.hpp).
+    const bool aa = input.style.line_aa;
+    const double h = 0.5 * static_cast<double>(input.style.line_width) + (aa ? 0.5 : 0.0);
     out.stats.segments_in += end - first;
     // Segment s's ends when both are valid and inside every plane (only such segments join), and its normal.
     const auto unclipped = [&](std::size_t s, std::uint32_t& i0, std::uint32_t& i1, Vec2d& n) {
@@ -311,7 +357,12 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
             if (a.x == b.x && a.y == b.y) continue;  // no direction (segment_normal)
             const bool joined_before = s > 0 && joins_next(s - 1), joined_after = joins_next(s);
             if (!joined_before && !joined_after) {  // a lone segment (most of a line list's)
-                queue.add_square(a, b, i0, i1, static_cast<std::uint32_t>(s));
+                if (aa) {
+                    e0 = square_end(a, b, h);
+                    emit_aa_segment(a, b, e0, e0, {true, true}, i0, i1, static_cast<std::uint32_t>(s), p.scissor, emitter);
+                } else {
+                    queue.add_square(a, b, i0, i1, static_cast<std::uint32_t>(s));
+                }
                 continue;
             }
             segment_normal(a, b, n);
@@ -324,12 +375,14 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
             else if (const std::size_t e = run_last(s); unclipped(e, j0, j1, m) && j1 == i0)
                 mitred = join_offset(m, n, h, e0.ox, e0.oy);
             if (!mitred) e0 = square_end(a, b, h);
+            const bool free_a = !mitred;
             mitred = false;
             if (joined_after) mitred = unclipped(s + 1, j0, j1, m) && join_offset(n, m, h, e1.ox, e1.oy);
             else if (const std::size_t f = run_first(s); unclipped(f, j0, j1, m) && j0 == i1)
                 mitred = join_offset(n, m, h, e1.ox, e1.oy);
             if (!mitred) e1 = square_end(a, b, h);
-            queue.add(a, b, e0, e1, i0, i1, static_cast<std::uint32_t>(s));
+            if (aa) emit_aa_segment(a, b, e0, e1, {free_a, !mitred}, i0, i1, static_cast<std::uint32_t>(s), p.scissor, emitter);
+            else queue.add(a, b, e0, e1, i0, i1, static_cast<std::uint32_t>(s));
         } else {
             queue.flush();  // records keep submission order
             ++out.stats.triangles_clipped;
@@ -341,7 +394,8 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
             a = project(ca.pos, p), b = project(cb.pos, p);
             if (a.x == b.x && a.y == b.y) continue;
             e0 = e1 = square_end(a, b, h);
-            emit_segment(a, b, e0, e1, ca.ref, cb.ref, static_cast<std::uint32_t>(s), p.scissor, emitter);
+            if (aa) emit_aa_segment(a, b, e0, e1, {true, true}, ca.ref, cb.ref, static_cast<std::uint32_t>(s), p.scissor, emitter);
+            else emit_segment(a, b, e0, e1, ca.ref, cb.ref, static_cast<std::uint32_t>(s), p.scissor, emitter);
         }
     }
     queue.flush();

@@ -10,11 +10,13 @@
 namespace facet::detail {
 
 SegmentResult segment_record(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, SegmentEnd e1,
-                             std::uint32_t ref_a, std::uint32_t ref_b, const PixelRect& scissor, TriangleSetup& t) {
-    const std::int32_t cx[4] = {a.x + e0.ox, a.x - e0.ox, b.x - e1.ox, b.x + e1.ox};
-    const std::int32_t cy[4] = {a.y + e0.oy, a.y - e0.oy, b.y - e1.oy, b.y + e1.oy};
+                             std::uint32_t ref_a, std::uint32_t ref_b, const PixelRect& scissor, TriangleSetup& t,
+                             SegmentEnd out_a, SegmentEnd out_b) {
+    const std::int32_t ax = a.x - out_a.ox, ay = a.y - out_a.oy, bx = b.x + out_b.ox, by = b.y + out_b.oy;
+    const std::int32_t cx[4] = {ax + e0.ox, ax - e0.ox, bx - e1.ox, bx + e1.ox};
+    const std::int32_t cy[4] = {ay + e0.oy, ay - e0.oy, by - e1.oy, by + e1.oy};
     // The turn at each corner: all > 0 or all < 0 when strictly convex. Square ends (e0 = e1) make a
-    // parallelogram, whose four turns are one. Bitwise and selected rather than branched on: a
+    // parallelogram (as do ends moved out along the segment), whose four turns are one. Bitwise and selected rather than branched on: a
     // segment's direction, hence its quad's winding, is as good as random.
     const auto turn = [&](int k) {
         const int q = (k + 1) % 4, r = (k + 2) % 4;
@@ -71,6 +73,7 @@ SegmentResult segment_record(const ScreenVertex& a, const ScreenVertex& b, Segme
     t.front_facing = true;
     t.small_edges = small;
     t.segment = true;
+    t.line_aa = 0;  // an anti-aliased segment's caller names its fading edges
     return SegmentResult::record;
 }
 

@@ -12,46 +12,10 @@
 #include <cstring>
 
 #include "facet/detail/frame.hpp"
+#include "facet/detail/segment_edges.hpp"  // SegmentEdges and its accessors
 #include "setup/setup.hpp"
 
 namespace facet::detail {
-
-// The quad's edges in pixel units, the top-left rule folded in (setup.hpp's pixel_edge): pixel
-// (ix, iy) is inside when every e[k] + a[k] (ix - rx) + b[k] (iy - ry) >= 0, (rx, ry) being the
-// pixel of the record's (x0, y0) (segment_origin). Relative to that pixel, not to the bounds'
-// corner, so that the values fit in 32 bits for segments much longer than a tile. The record's
-// small_edges says that every value over its bounds fits in 32 bits.
-struct SegmentEdges {
-    std::int32_t a[4], b[4], e[4];
-};
-
-static_assert(sizeof(SegmentEdges) == offsetof(TriangleSetup, min_x) && offsetof(TriangleSetup, a) == 0,
-              "a segment's edges take the place of a triangle's");
-
-inline SegmentEdges segment_edges(const TriangleSetup& t) {
-    SegmentEdges s;
-    std::memcpy(&s, &t, sizeof s);
-    return s;
-}
-
-inline void set_segment_edges(TriangleSetup& t, const SegmentEdges& s) { std::memcpy(&t, &s, sizeof s); }
-
-// The pixel whose corner is the record's (x0, y0): its floor, exact (x0 is a snapped coordinate / 256).
-struct PixelIndex {
-    int x, y;
-};
-inline PixelIndex segment_origin(const TriangleSetup& t) {
-    const auto floor = [](float v) {
-        const auto i = static_cast<int>(v);  // towards zero: one less for a negative fraction
-        return i - (static_cast<float>(i) > v);
-    };
-    return {floor(t.x0), floor(t.y0)};
-}
-
-// Edge k of segment record t at pixel (ix, iy), exactly.
-inline std::int64_t segment_edge_at(const SegmentEdges& s, PixelIndex origin, int k, std::int64_t ix, std::int64_t iy) {
-    return s.e[k] + std::int64_t{s.a[k]} * (ix - origin.x) + std::int64_t{s.b[k]} * (iy - origin.y);
-}
 
 // A segment's end at screen vertex v: its quad's corners left and right of the segment, v +- offset
 // (1/256 pixel).
@@ -89,9 +53,12 @@ enum class SegmentResult {
 // thin to have an inside) or whose edges do not fit the record's 32 bits (segments tens of thousands of
 // pixels long) is left to the caller as two triangles; a strictly convex quad covers the same pixels
 // either way (its outer edges are the triangles', and the top-left rule gives the diagonal's pixels
-// to one of them), but for pixel centres exactly on a corner. a != b.
+// to one of them), but for pixel centres exactly on a corner. a != b. `out_a` and `out_b` (an
+// anti-aliased segment's free ends) move the quad's ends past a and b, outward along the segment:
+// its corners at a are a - out_a +- e0, at b b + out_b +- e1; the planes stay those of a -> b.
 SegmentResult segment_record(const ScreenVertex& a, const ScreenVertex& b, SegmentEnd e0, SegmentEnd e1,
-                             std::uint32_t ref_a, std::uint32_t ref_b, const PixelRect& scissor, TriangleSetup& t);
+                             std::uint32_t ref_a, std::uint32_t ref_b, const PixelRect& scissor, TriangleSetup& t,
+                             SegmentEnd out_a = {}, SegmentEnd out_b = {});
 
 // Up to k_capacity segments, in submission order, to be made into records together.
 struct SegmentBatch {

@@ -61,14 +61,19 @@ DrawStats draw_with(Renderer& r, Framebuffer& target, const DrawState& state, co
     return r.draw(target, state, DrawInput{o.vertex_count, o.indices}, shader, passes);
 }
 
+// Which of an object's primitives a draw of it takes: anti-aliased lines, which blend without
+// writing depth, are drawn after every opaque object's surfaces (render_objects).
+enum class Parts { all, all_but_lines, lines };
+
 // An object's points and lines, after its triangles (state.clear, if any, is done by the first draw).
 template <class S>
 DrawStats draw_points_lines_with(Renderer& r, Framebuffer& target, DrawState state, const ObjectView& o,
-                                 const S& shader, const DrawPasses* passes, const PrimitiveStyle& style) {
+                                 const S& shader, const DrawPasses* passes, const PrimitiveStyle& style, Parts parts) {
     DrawStats stats;
     for (const Topology topology : {Topology::points, Topology::lines}) {
         const std::span<const std::uint32_t> indices = topology == Topology::points ? o.points : o.lines;
-        if (indices.empty()) continue;
+        const bool wanted = parts == Parts::all || (parts == Parts::lines) == (topology == Topology::lines);
+        if (indices.empty() || !wanted) continue;
         stats += r.draw(target, state, DrawInput{o.vertex_count, indices, topology, style}, shader, passes);
         state.clear.reset();
     }
@@ -81,9 +86,11 @@ DrawStats draw_points_lines_with(Renderer& r, Framebuffer& target, DrawState sta
 // has no face to take a normal from).
 DrawStats draw_points_lines(Renderer& r, Framebuffer& target, const DrawState& state, const ObjectView& o,
                             const ShadingUniforms& u, MeshArrays arrays, const RenderSettings& settings,
-                            const DrawPasses* passes, const PrimitiveStyle& style) {
+                            const DrawPasses* passes, const PrimitiveStyle& style, Parts parts) {
     const bool has_normals = arrays.normals != nullptr;
-    const auto draw = [&](const auto& shader) { return draw_points_lines_with(r, target, state, o, shader, passes, style); };
+    const auto draw = [&](const auto& shader) {
+        return draw_points_lines_with(r, target, state, o, shader, passes, style, parts);
+    };
     switch (settings.shading) {
         case Shading::lit:
             if (!has_normals) return draw(shaders::VertexColour{arrays, u});
@@ -369,7 +376,14 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
     };
     // A frame of one draw (DrawState::keep_depth): one object, and triangles only.
     const bool only_draw = object_count(objects) == 1 && object_at(objects, 0).points.empty() && object_at(objects, 0).lines.empty();
-    auto draw = [&](const ObjectView& o, std::size_t index, bool blended) {
+    // Anti-aliased lines blend without writing depth: an opaque object's are drawn after every opaque
+    // object's surfaces (in the file's order), before the blended objects.
+    const bool lines_later = primitives.line_aa;
+    auto draw = [&](const ObjectView& o, std::size_t index, bool blended, Parts parts = Parts::all) {
+        const bool triangles = parts != Parts::lines && (!o.indices.empty() || (o.points.empty() && o.lines.empty()));
+        const bool points_lines = parts == Parts::lines ? !o.lines.empty()
+                                                        : !o.points.empty() || (parts == Parts::all && !o.lines.empty());
+        if (!triangles && !points_lines) return DrawStats{};  // the clear goes to the next draw
         const ShadingUniforms u = uniforms_for(o, camera, clip_from_world, settings);
         if (passes) {
             draw_passes.instance = static_cast<std::uint32_t>(index + 1);
@@ -394,12 +408,11 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
         // An object of points or lines alone draws no triangles (and a mesh of nothing draws nothing,
         // but still clears).
         DrawStats stats;
-        if (!o.indices.empty() || (o.points.empty() && o.lines.empty())) {
+        if (triangles) {
             stats = draw_object(renderer, target, state, o, u, arrays, settings, p);
             state.clear.reset();
         }
-        if (o.points.empty() && o.lines.empty()) return stats;
-        stats += draw_points_lines(renderer, target, state, o, u, arrays, settings, p, primitives);
+        if (points_lines) stats += draw_points_lines(renderer, target, state, o, u, arrays, settings, p, primitives, parts);
         return stats;
     };
     DrawStats total;
@@ -407,13 +420,16 @@ DrawStats render_objects(Renderer& renderer, Framebuffer& target, const Objects&
     for (std::size_t i = 0; i < object_count(objects); ++i) {
         const ObjectView o = object_at(objects, i);
         if (!blends(o)) {
-            total += draw(o, i, false);
+            total += draw(o, i, false, lines_later ? Parts::all_but_lines : Parts::all);
             continue;
         }
         Aabb box;
         for (std::uint32_t k = 0; k < o.vertex_count; ++k) box.extend(transform_point(o.model, o.positions[k]));
         blended.push_back({-length(box.centre() - camera.position), i});
     }
+    if (lines_later)
+        for (std::size_t i = 0; i < object_count(objects); ++i)
+            if (const ObjectView o = object_at(objects, i); !blends(o)) total += draw(o, i, false, Parts::lines);
     std::stable_sort(blended.begin(), blended.end());
     for (const auto& b : blended) total += draw(object_at(objects, b.second), b.second, true);
     if (clear) {  // nothing was drawn

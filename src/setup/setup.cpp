@@ -94,6 +94,7 @@ SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&ve
     t.vertex[2] = vertex_ref[flip ? 1 : 2];
     t.front_facing = front;
     t.segment = false;
+    t.line_aa = 0;
     return SetupResult::ok;
 }
 

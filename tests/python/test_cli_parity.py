@@ -147,3 +147,18 @@ def test_lines_render_the_command_lines_bytes_and_are_counted(facet_exe, tmp_pat
                   for w in (1, 4))
     assert renderer.stats["segments_invalid"] == 0
     assert 0 < thin < wide
+
+
+def test_anti_aliased_lines_render_the_command_lines_bytes(facet_exe, tmp_path):
+    # The closed polyline above, 2 pixels wide, anti-aliased: line_aa=True and --line-aa give the same
+    # bytes, and the blended edges bring shades between the line's colour and the background's.
+    v, _ = sphere_points(40, 27)
+    obj = tmp_path / "loop.obj"
+    obj.write_text("".join("v %r %r %r\n" % tuple(map(float, p)) for p in v) +
+                   "l " + " ".join(str(i + 1) for i in range(len(v))) + " 1\n")
+    images = {aa: facet.render(facet.load(obj), facet.Camera.orbit(30, 20), 160, 120, line_width=2, shading="flat",
+                               line_aa=aa)["color"] for aa in (False, True)}
+    same_image(cli_render(facet_exe, tmp_path, obj, "--size", "160x120", "--azimuth", 30, "--elevation", 20,
+                          "--line-width", 2, "--shading", "flat", "--line-aa"), images[True])
+    shades = {aa: len(np.unique(images[aa].reshape(-1, 4), axis=0)) for aa in images}
+    assert shades[True] > shades[False] + 20

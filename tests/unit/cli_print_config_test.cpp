@@ -100,7 +100,7 @@ TEST(PrintConfig, RenderPrintsTheResolvedDefaultsAndRendersNothing) {
     expect_entries(c, {{"size", "800x600"}, {"ssaa", "1"}, {"shading", "lit"}, {"camera", "default-scene"},
                        {"crease-angle", "40"}, {"up-axis", "y"}, {"max-triangles", "50000000"},
                        {"max-texture-size", "16384"}, {"timeout", "60"}, {"isolation", "worker-process"},
-                       {"output", out.string()}});
+                       {"output", out.string()}, {"line-aa", "off"}});
     // "--threads N: default all cores"; --isa best is the best ISA this CPU runs.
     EXPECT_EQ(c.at("threads"), std::to_string(cores()));
     EXPECT_EQ(c.at("isa"), facet::available_isas().front());
@@ -127,12 +127,12 @@ TEST(PrintConfig, RenderPrintsTheResolvedDefaultsAndRendersNothing) {
 TEST(PrintConfig, GivenOptionsArePrintedAsResolved) {
     const Config c = print_config({"render", "--isa", "scalar", "--ssaa", "2", "--shading", "lambert", "--background",
                                    "transparent", "--threads", "3", "--max-memory", "1G", "--timeout", "7",
-                                   "--up-axis", "z", "--size", "64x32"});
+                                   "--up-axis", "z", "--size", "64x32", "--line-aa"});
     // load-threads: render loads one file, whose normals use the render's threads; lambert never culls.
     expect_entries(c, {{"isa", "scalar"}, {"ssaa", "2"}, {"size", "64x32"}, {"shading", "lambert"},
                        {"background", "0,0,0,0"}, {"threads", "3"}, {"load-threads", "3"},
                        {"max-memory", facet::cli::memory_cap_supported() ? "1024M" : "0"},
-                       {"timeout", "7"}, {"up-axis", "z"}, {"cull", "none"}});
+                       {"timeout", "7"}, {"up-axis", "z"}, {"cull", "none"}, {"line-aa", "on"}});
     // The comparison mode's contract: 0.8 * (0.15 + 0.85 * max(dot(n, l), 0)).
     EXPECT_EQ(c.at("albedo"), "0.8");
     EXPECT_EQ(c.at("light.ambient"), "0.15");

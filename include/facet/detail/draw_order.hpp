@@ -60,9 +60,10 @@ void shade_covered(const void* shader, const TriangleSetup& t, const TileCoverag
 // The drawing order of a draw of `triangles` triangles with `shader` and `state`, and the entry points
 // of `shader` for it: the one place where the order is decided. Depth writes and blending become
 // template parameters here; the depth test stays a run-time argument of the compiled depth pass and
-// of shade_tile (one copy per shader, not five).
+// of shade_tile (one copy per shader, not five). An anti-aliased line draw (`line_aa`) takes
+// shade_tile, which scales alpha by coverage, rather than a compiled blend pass.
 template <class S>
-TileShading tile_shading(const S& shader, const DrawState& state, std::size_t triangles) {
+TileShading tile_shading(const S& shader, const DrawState& state, std::size_t triangles, bool line_aa = false) {
     TileShading s{.shader = &shader, .varyings = S::k_varyings, .depth_test = state.depth_test,
                   .depth_write = state.depth_write};
     // Each entry point is compiled only for the shaders that can take it: visible-only for those that
@@ -79,7 +80,7 @@ TileShading tile_shading(const S& shader, const DrawState& state, std::size_t tr
         if (state.blend == Blend::alpha) {
             s.shade_covered = w ? &shade_covered<S, true, Blend::alpha> : &shade_covered<S, false, Blend::alpha>;
             if constexpr (CompiledBlendPass<S>::available)
-                if (!w) s.shade_covered = &CompiledBlendPass<S>::run;
+                if (!w && !line_aa) s.shade_covered = &CompiledBlendPass<S>::run;
         } else if constexpr (!can_skip_hidden)
             s.shade_covered = w ? &shade_covered<S, true, Blend::none> : &shade_covered<S, false, Blend::none>;
     }

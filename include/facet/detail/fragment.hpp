@@ -22,6 +22,7 @@
 
 #include "facet/api.hpp"
 #include "facet/detail/frame.hpp"
+#include "facet/detail/line_aa.hpp"
 #include "facet/detail/visible_tile.hpp"
 #include "facet/image.hpp"
 
@@ -114,14 +115,18 @@ inline std::uint32_t depth_pass_set(DepthTest test) {
 
 // One pass: test, shade, write each covered pixel of one triangle in turn. With `owner` (render
 // passes), `id` is written at each pixel whose depth the triangle writes (rows VisibleTile::k_row
-// apart from the tile's corner), so that the passes see what the depth buffer holds.
-template <class S, bool DepthWrite, Blend B>
-void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
-                const float* const (&var)[3], TargetView target, std::uint32_t* owner = nullptr,
-                std::uint32_t id = 0) {
+// apart from the tile's corner), so that the passes see what the depth buffer holds. With LineAa (an
+// anti-aliased segment, blended), each pixel's alpha is scaled by its coverage (line_aa.hpp) and
+// pixels of no coverage are skipped.
+template <class S, bool DepthWrite, Blend B, bool LineAa>
+void shade_covered_pixels(const S& shader, DepthTest test, const TriangleSetup& t, const TileCoverage& cov,
+                          PixelRect tile, const float* const (&var)[3], TargetView target, std::uint32_t* owner,
+                          std::uint32_t id) {
     const VaryingPlanes<S::k_varyings> planes(var);
     FragmentIn<S::k_varyings> in;
     const std::uint32_t pass_set = depth_pass_set(test);
+    LineAaCoverage aa;
+    if constexpr (LineAa) aa = LineAaCoverage(t);
     for (int row = cov.first_row; row <= cov.last_row; ++row) {
         std::uint64_t mask = cov.rows[row];
         const int y = tile.y0 + row;
@@ -130,6 +135,11 @@ void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const T
         while (mask) {
             const int x = tile.x0 + std::countr_zero(mask);
             mask &= mask - 1;
+            float coverage = 1.0f;
+            if constexpr (LineAa) {
+                coverage = aa.at(x, y);
+                if (coverage == 0) continue;
+            }
             const float z = depth_at(t, x, y);
             if (!depth_passes_in(pass_set, z, depth_row[x])) continue;
             Vec4 c;
@@ -146,13 +156,25 @@ void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const T
             }
             if constexpr (B == Blend::alpha) {
                 const Vec4 dst = to_vec4(colour_row[x]);
-                const float a = c.w > 0 ? (c.w < 1 ? c.w : 1) : 0;
+                float a = c.w > 0 ? (c.w < 1 ? c.w : 1) : 0;
+                if constexpr (LineAa) a *= coverage;
                 c = Vec4{c.x * a + dst.x * (1 - a), c.y * a + dst.y * (1 - a), c.z * a + dst.z * (1 - a),
                          a + dst.w * (1 - a)};
             }
             colour_row[x] = to_rgba8(c);
         }
     }
+}
+
+template <class S, bool DepthWrite, Blend B>
+void shade_tile(const S& shader, DepthTest test, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
+                const float* const (&var)[3], TargetView target, std::uint32_t* owner = nullptr,
+                std::uint32_t id = 0) {
+    // Anti-aliased lines are drawn blended without depth writes (Renderer::draw), so only that
+    // instance looks at the flag.
+    if constexpr (B == Blend::alpha && !DepthWrite)
+        if (t.line_aa) return shade_covered_pixels<S, DepthWrite, B, true>(shader, test, t, cov, tile, var, target, owner, id);
+    shade_covered_pixels<S, DepthWrite, B, false>(shader, test, t, cov, tile, var, target, owner, id);
 }
 
 // Pass two of the visible-only order: the shader once per visible pixel, with the triangle that owns

@@ -75,6 +75,7 @@ struct alignas(64) TriangleSetup {
     bool front_facing;
     bool small_edges;                // edges_fit_32_bits: set by setup, so pass one need not test it per tile
     bool segment;                    // a line segment's quad (raster/segment.hpp): a, b and e0 hold four edges
+    std::uint8_t line_aa;            // an anti-aliased segment (line_aa.hpp): bit k, its coverage fades to edge k
 };
 
 static_assert(sizeof(TriangleSetup) == 128);
