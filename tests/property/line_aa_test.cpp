@@ -2,8 +2,9 @@
 // ("Anti-aliased lines"), checked against a brute-force reference written from the rule alone: a
 // segment's coverage of a pixel is min(1, the distance from the pixel centre to the edge of its band
 // of half-width w/2 + 1/2, whose free ends reach 1/2 pixel past its end points). A strip's joins
-// blend each pixel once and leave no gap; depth is tested against surfaces and never written; the
-// same bytes over threads, tile sizes and ISAs; bad widths are refused as for aliased lines.
+// blend each pixel once and leave no gap; depth is tested against surfaces and never written; bad
+// widths are refused as for aliased lines. The same bytes over threads, tile sizes and ISAs:
+// points_lines_test.cpp's PointsAndLines.SameBytesOverThreadsTilesAndIsas draws them too.
 //
 // Ends are placed on the 1/256-pixel grid as in points_lines_test.cpp: on a 64x64 target with w = 1,
 // clip x = X / 8192 - 1 projects to X / 256 pixels exactly.
@@ -19,7 +20,6 @@
 #include <vector>
 
 #include "facet/error.hpp"
-#include "facet/isa.hpp"
 #include "facet/renderer.hpp"
 
 namespace {
@@ -86,19 +86,6 @@ TEST(LineAa, CoverageFollowsTheRuleOnRandomSegments) {
     EXPECT_GT(full, 3000);
 }
 
-// Counts the fragments each pixel is blended with.
-struct CountingShader {
-    static constexpr int k_varyings = 0;
-    const std::vector<Vec4>* pos;
-    std::vector<std::atomic<int>>* hits;
-    Vec4 vertex(std::uint32_t i, Varyings<0>&) const { return (*pos)[i]; }
-    Vec4 fragment(const FragmentIn<0>& in) const {
-        const int x = static_cast<int>(in.pos_screen.x), y = static_cast<int>(in.pos_screen.y);
-        (*hits)[static_cast<std::size_t>(y) * k_size + x].fetch_add(1, std::memory_order_relaxed);
-        return Vec4{1, 1, 1, 1};
-    }
-};
-
 // A zig-zag strip (each segment within 45 degrees of +x, so turns of at most 90 degrees, inside the
 // mitre limit, and no segment reaches a non-neighbour): no pixel is blended twice, and every pixel
 // centre within w/2 - 1/2 of the strip, away from its two free ends, is blended at full coverage.
@@ -122,8 +109,13 @@ TEST(LineAa, StripJoinsBlendEachPixelOnceWithoutGaps) {
         for (std::uint32_t i = 0; i + 1 < pos.size(); ++i)
             if (px[i] != px[i + 1] || py[i] != py[i + 1]) strip.insert(strip.end(), {i, i + 1});
         const float w = width(rng);
-        std::vector<std::atomic<int>> hits(k_size * k_size);
-        const CountingShader shader{&pos, &hits};
+        std::vector<std::atomic<int>> hits(k_size * k_size);  // fragments blended per pixel
+        const auto shader = make_shader<0>([&](std::uint32_t i, Varyings<0>&) { return pos[i]; },
+                                           [&](const FragmentIn<0>& in) {
+                                               const auto x = static_cast<std::size_t>(in.pos_screen.x);
+                                               hits[static_cast<std::size_t>(in.pos_screen.y) * k_size + x]++;
+                                               return Vec4{1, 1, 1, 1};
+                                           });
         Renderer renderer({.threads = 2, .tile_size = 8});
         Framebuffer fb(k_size, k_size);
         renderer.draw(fb, blending_over_black(), {static_cast<std::uint32_t>(pos.size()), strip, Topology::lines, {.line_width = w, .line_aa = true}}, shader);
@@ -156,17 +148,15 @@ TEST(LineAa, StripJoinsBlendEachPixelOnceWithoutGaps) {
 // writes depth.
 TEST(LineAa, IsDepthTestedAgainstSurfacesAndWritesNoDepth) {
     std::vector<Vec4> pos = {{-1, -1, 0.5f, 1}, {1, -1, 0.5f, 1}, {1, 1, 0.5f, 1}, {-1, 1, 0.5f, 1}};
-    std::vector<Vec4> colour(4, Vec4{1, 0, 0, 1});
-    for (auto [X, Y, z] : {std::tuple{4, 8, 0.4f}, {60, 8, 0.4f}, {4, 56, 0.6f}, {60, 56, 0.6f}}) {
+    for (auto [X, Y, z] : {std::tuple{4, 8, 0.4f}, {60, 8, 0.4f}, {4, 56, 0.6f}, {60, 56, 0.6f}})
         pos.push_back(clip_at(X * 256, Y * 256 + 128, z));
-        colour.push_back({0, 1, 0, 1});
-    }
-    const auto shader = make_shader<4>(
-        [&](std::uint32_t i, Varyings<4>& out) {
-            out.set(0, colour[i]);
+    // The quad (vertices 0-3) red, the lines green.
+    const auto shader = make_shader<1>(
+        [&](std::uint32_t i, Varyings<1>& out) {
+            out[0] = i < 4 ? 0.0f : 1.0f;
             return pos[i];
         },
-        [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+        [](const FragmentIn<1>& in) { return Vec4{1 - in.v[0], in.v[0], 0, 1}; });
     const std::uint32_t quad[] = {0, 1, 2, 0, 2, 3}, lines[] = {4, 5, 6, 7};
     const auto n = static_cast<std::uint32_t>(pos.size());
     Renderer renderer({.threads = 2, .tile_size = 16});
@@ -194,50 +184,6 @@ TEST(LineAa, IsDepthTestedAgainstSurfacesAndWritesNoDepth) {
     }
     EXPECT_EQ(fb.colour(32, 6).r, 255);
     EXPECT_EQ(fb.colour(32, 6).g, 0);
-}
-
-// The same bytes for any thread count, tile size and ISA: overlapping segments and strips of all
-// widths and colours, some half transparent, across tiles and through clipping.
-TEST(LineAa, SameBytesOverThreadsTilesAndIsas) {
-    std::mt19937 rng(2603);
-    std::uniform_real_distribution<float> u(-1.3f, 1.3f), z(-0.1f, 1.1f), c(0, 1);
-    std::vector<Vec4> pos, colour;
-    for (int i = 0; i < 1500; ++i) {
-        const float w = 0.5f + c(rng) * 2;
-        pos.push_back({u(rng) * w, u(rng) * w, z(rng) * w, w});
-        colour.push_back({c(rng), c(rng), c(rng), i % 3 == 0 ? 0.5f : 1.0f});
-    }
-    std::vector<std::uint32_t> strip;
-    for (std::uint32_t i = 0; i + 1 < 300; ++i) strip.insert(strip.end(), {i, i + 1});
-    const auto shader = make_shader<4>(
-        [&](std::uint32_t i, Varyings<4>& out) {
-            out.set(0, colour[i]);
-            return pos[i];
-        },
-        [](const FragmentIn<4>& in) { return in.v.vec4(0); });
-    const auto render = [&](int threads, int tile) {
-        Renderer renderer({.threads = threads, .tile_size = tile});
-        Framebuffer fb(157, 101);
-        DrawState state;
-        state.clear = ClearValues{{0.2f, 0.3f, 0.4f, 1}, 1.0f};
-        const auto n = static_cast<std::uint32_t>(pos.size());
-        renderer.draw(fb, state, {n, {}, Topology::lines, {.line_width = 1.5f, .line_aa = true}}, shader);
-        state.clear.reset();
-        renderer.draw(fb, state, {n, strip, Topology::lines, {.line_width = 4, .line_aa = true}}, shader);
-        std::vector<Rgba8> bytes(fb.colour_data(), fb.colour_data() + 157 * 101);
-        return bytes;
-    };
-    const auto same = [](const std::vector<Rgba8>& a, const std::vector<Rgba8>& b) {
-        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Rgba8)) == 0;
-    };
-    const auto reference = render(1, 64);
-    for (int threads : {2, 3})
-        for (int tile : {8, 16}) EXPECT_TRUE(same(render(threads, tile), reference)) << threads << " threads, tiles " << tile;
-    for (const std::string& isa : available_isas()) {
-        ASSERT_TRUE(select_isa(isa));
-        EXPECT_TRUE(same(render(2, 32), reference)) << isa;
-    }
-    select_isa("best");
 }
 
 // Bad widths are refused as for aliased lines; segments with a NaN end are dropped and counted.

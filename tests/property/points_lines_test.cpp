@@ -424,7 +424,7 @@ TEST(Points, ModelUnitSizesArePerspectiveScaled) {
 }
 
 // The same bytes for any thread count, tile size and ISA: a few thousand points and segments of all
-// sizes, overlapping, through clipping and across tiles.
+// sizes, aliased and anti-aliased, overlapping, through clipping and across tiles.
 TEST(PointsAndLines, SameBytesOverThreadsTilesAndIsas) {
     std::mt19937 rng(30);
     std::uniform_real_distribution<float> u(-1.3f, 1.3f), z(-0.1f, 1.1f), c(0, 1);
@@ -432,7 +432,7 @@ TEST(PointsAndLines, SameBytesOverThreadsTilesAndIsas) {
     for (int i = 0; i < 4000; ++i) {
         const float w = 0.5f + c(rng) * 2;
         pos.push_back({u(rng) * w, u(rng) * w, z(rng) * w, w});
-        colour.push_back({c(rng), c(rng), c(rng), 1});
+        colour.push_back({c(rng), c(rng), c(rng), i % 3 == 0 ? 0.5f : 1.0f});
     }
     std::vector<std::uint32_t> strip;
     for (std::uint32_t i = 0; i + 1 < 600; ++i) strip.insert(strip.end(), {i, i + 1});
@@ -454,6 +454,9 @@ TEST(PointsAndLines, SameBytesOverThreadsTilesAndIsas) {
         renderer.draw(fb, state, {n, {}, Topology::points, {.point_size = 0.05f, .model_scale = 100}}, shader);
         renderer.draw(fb, state, {n, {}, Topology::lines, {.line_width = 1.5f}}, shader);
         renderer.draw(fb, state, {n, strip, Topology::lines, {.line_width = 4}}, shader);
+        // Anti-aliased (blended, over what is drawn): the colours' alphas are 1, a third of them 0.5.
+        renderer.draw(fb, state, {600, {}, Topology::lines, {.line_width = 2.5f, .line_aa = true}}, shader);
+        renderer.draw(fb, state, {n, strip, Topology::lines, {.line_width = 3, .line_aa = true}}, shader);
         constexpr std::size_t pixels = 301 * 203;
         std::vector<std::uint32_t> bytes(2 * pixels);  // colour, then the depth's bits
         std::memcpy(bytes.data(), fb.colour_data(), pixels * sizeof(Rgba8));
