@@ -104,6 +104,7 @@ struct GlOracle::Impl {
     int width = 0, height = 0;
     bool passes = false;
     float point_size = 1, line_width = 1;
+    bool line_smooth = false;
     struct Object {
         GLuint vao = 0, vbo = 0, ibo = 0;
         GLsizei index_count = 0, point_count = 0, line_count = 0;  // in the index buffer in this order
@@ -432,15 +433,27 @@ void GlOracle::draw(const Camera& camera, Vec4 background) {
         }
         if (o.line_count) {
             glLineWidth(g.line_width);
+            if (g.line_smooth) {
+                glEnable(GL_LINE_SMOOTH);
+                glEnable(GL_BLEND);
+                glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+                glDepthMask(GL_FALSE);
+            }
             glDrawElements(GL_LINES, o.line_count, GL_UNSIGNED_INT, offset(o.index_count + o.point_count));
+            if (g.line_smooth) {
+                glDisable(GL_LINE_SMOOTH);
+                glDisable(GL_BLEND);
+                glDepthMask(GL_TRUE);
+            }
         }
     }
     glBindVertexArray(0);
 }
 
-void GlOracle::set_primitive_style(float point_size, float line_width) {
+void GlOracle::set_primitive_style(float point_size, float line_width, bool line_smooth) {
     impl_->point_size = point_size;
     impl_->line_width = line_width;
+    impl_->line_smooth = line_smooth;
 }
 
 void GlOracle::finish() { glFinish(); }

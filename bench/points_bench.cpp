@@ -3,11 +3,12 @@
 // shader per GL_POINTS fragment), and M line segments (random short chords around the sphere, GL_LINES),
 // at one size and thread count per process (llvmpipe reads LP_NUM_THREADS once per process):
 //   facet_bench_points --threads T [--points N] [--segments M] [--size WxH] [--frames F]
-//                      [--point-size PX] [--line-width PX] [--facet-only 1]
+//                      [--point-size PX] [--line-width PX] [--line-aa 1] [--facet-only 1]
 // Each frame is a whole render_scene (clear, draw) against glClear + glDrawElements + glFinish;
 // facet and llvmpipe alternate frame by frame after a warm-up of each, and the medians are printed
 // with their ratio as one Markdown table row per workload. Square points (GL_POINTS are squares).
-// --facet-only 1 draws facet's frames alone (for profilers: callgrind on llvmpipe takes minutes).
+// --line-aa 1: anti-aliased lines (PrimitiveStyle::line_aa) against GL_LINE_SMOOTH, both blended
+// without depth writes. --facet-only 1 draws facet's frames alone (for profilers: callgrind on llvmpipe takes minutes).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -30,12 +31,12 @@ struct Options {
     int threads = 1, width = 1920, height = 1080, frames = 7;
     std::size_t points = 10'000'000, segments = 1'000'000;
     float point_size = 2, line_width = 1;
-    bool facet_only = false;
+    bool facet_only = false, line_aa = false;
 };
 
 [[noreturn]] void usage(const std::string& why) {
     std::fprintf(stderr, "facet_bench_points: %s\nusage: facet_bench_points --threads T [--points N] [--segments M] "
-                         "[--size WxH] [--frames F] [--point-size PX] [--line-width PX] [--facet-only 1]\n", why.c_str());
+                         "[--size WxH] [--frames F] [--point-size PX] [--line-width PX] [--line-aa 1] [--facet-only 1]\n", why.c_str());
     std::exit(2);
 }
 
@@ -53,6 +54,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--point-size") o.point_size = std::stof(v);
         else if (a == "--line-width") o.line_width = std::stof(v);
         else if (a == "--facet-only") o.facet_only = v == "1";
+        else if (a == "--line-aa") o.line_aa = v == "1";
         else if (a == "--size") {
             if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2) usage("--size must be WxH");
         } else usage("unknown option " + a);
@@ -117,10 +119,11 @@ void run(const char* name, const Scene& scene, const Options& o, GlOracle* gl) {
     settings.primitives.point_size = o.point_size;
     settings.primitives.point_shape = PointShape::square;
     settings.primitives.line_width = o.line_width;
+    settings.primitives.line_aa = o.line_aa;
     if (gl) {
         if (Status s = gl->load(scene); !s) usage(s.error().message);
         if (Status s = gl->resize(o.width, o.height); !s) usage(s.error().message);
-        gl->set_primitive_style(o.point_size, o.line_width);
+        gl->set_primitive_style(o.point_size, o.line_width, o.line_aa);
     }
     const auto facet_frame = [&] {
         const Clock::time_point t = Clock::now();
@@ -165,6 +168,8 @@ int main(int argc, char** argv) {
     std::printf("| workload | size | threads | facet ms | llvmpipe ms | llvmpipe / facet | coverage agreement |\n");
     std::printf("|---|---|---|---|---|---|---|\n");
     if (o.points) run((std::to_string(o.points) + " points").c_str(), point_cloud(o.points), o, gl.get());
-    if (o.segments) run((std::to_string(o.segments) + " segments").c_str(), line_set(o.segments), o, gl.get());
+    if (o.segments)
+        run((std::to_string(o.segments) + (o.line_aa ? " segments, anti-aliased" : " segments")).c_str(), line_set(o.segments), o,
+            gl.get());
     return 0;
 }
