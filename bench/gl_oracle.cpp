@@ -104,7 +104,7 @@ struct GlOracle::Impl {
     int width = 0, height = 0;
     bool passes = false;
     float point_size = 1, line_width = 1;
-    bool line_smooth = false;
+    bool line_blend = false;
     struct Object {
         GLuint vao = 0, vbo = 0, ibo = 0;
         GLsizei index_count = 0, point_count = 0, line_count = 0;  // in the index buffer in this order
@@ -433,15 +433,15 @@ void GlOracle::draw(const Camera& camera, Vec4 background) {
         }
         if (o.line_count) {
             glLineWidth(g.line_width);
-            if (g.line_smooth) {
-                glEnable(GL_LINE_SMOOTH);
+            // Blended without depth writes, as facet's anti-aliased lines; GL_LINE_SMOOTH itself is left
+            // out: llvmpipe (Mesa 22.3, LLVM 15) crashes compiling the oracle's shader with it.
+            if (g.line_blend) {
                 glEnable(GL_BLEND);
                 glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
                 glDepthMask(GL_FALSE);
             }
             glDrawElements(GL_LINES, o.line_count, GL_UNSIGNED_INT, offset(o.index_count + o.point_count));
-            if (g.line_smooth) {
-                glDisable(GL_LINE_SMOOTH);
+            if (g.line_blend) {
                 glDisable(GL_BLEND);
                 glDepthMask(GL_TRUE);
             }
@@ -450,10 +450,10 @@ void GlOracle::draw(const Camera& camera, Vec4 background) {
     glBindVertexArray(0);
 }
 
-void GlOracle::set_primitive_style(float point_size, float line_width, bool line_smooth) {
+void GlOracle::set_primitive_style(float point_size, float line_width, bool line_blend) {
     impl_->point_size = point_size;
     impl_->line_width = line_width;
-    impl_->line_smooth = line_smooth;
+    impl_->line_blend = line_blend;
 }
 
 void GlOracle::finish() { glFinish(); }

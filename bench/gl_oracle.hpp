@@ -84,9 +84,9 @@ public:
     // attachments too, which draw then clears and writes and read reads back.
     Status resize(int width, int height, bool passes = false);
     // The size of GL_POINTS (glPointSize: square points) and the width of GL_LINES (glLineWidth), in
-    // pixels, for the objects' points and lines; `line_smooth`: GL_LINE_SMOOTH lines, alpha-blended
-    // without depth writes (facet's --line-aa peer).
-    void set_primitive_style(float point_size, float line_width, bool line_smooth = false);
+    // pixels, for the objects' points and lines; `line_blend`: lines alpha-blended without depth
+    // writes (facet's --line-aa peer; GL_LINE_SMOOTH crashes llvmpipe 22.3 here).
+    void set_primitive_style(float point_size, float line_width, bool line_blend = false);
     // Clears to `background` and depth 1, then draws every loaded object with the camera: one
     // glDrawElements per object and kind (triangles, then points, then lines). Does not wait for the GPU thread(s): see finish().
     void draw(const Camera& camera, Vec4 background);

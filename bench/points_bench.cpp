@@ -7,8 +7,9 @@
 // Each frame is a whole render_scene (clear, draw) against glClear + glDrawElements + glFinish;
 // facet and llvmpipe alternate frame by frame after a warm-up of each, and the medians are printed
 // with their ratio as one Markdown table row per workload. Square points (GL_POINTS are squares).
-// --line-aa 1: anti-aliased lines (PrimitiveStyle::line_aa) against GL_LINE_SMOOTH, both blended
-// without depth writes. --facet-only 1 draws facet's frames alone (for profilers: callgrind on llvmpipe takes minutes).
+// --line-aa 1: anti-aliased lines (PrimitiveStyle::line_aa) against GL_LINES blended without depth
+// writes (GL_LINE_SMOOTH, the true peer, crashes llvmpipe 22.3 compiling the oracle's shader).
+// --facet-only 1 draws facet's frames alone (for profilers: callgrind on llvmpipe takes minutes).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
