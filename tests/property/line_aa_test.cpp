@@ -21,6 +21,7 @@
 
 #include "facet/error.hpp"
 #include "facet/renderer.hpp"
+#include "facet/scene.hpp"
 
 namespace {
 
@@ -206,3 +207,35 @@ TEST(LineAa, BadWidthsAreRefusedAndInvalidSegmentsCounted) {
 }
 
 }  // namespace
+
+// render_scene draws an opaque object's anti-aliased lines after every opaque object's surfaces:
+// a line listed before a surface behind it still shows over it (it writes no depth, so drawn
+// first it would be painted over), and one behind a surface stays hidden.
+TEST(LineAa, RenderSceneDrawsThemAfterTheOpaqueSurfaces) {
+    const auto render = [](float line_z) {
+        Mesh lines;  // red, along y = 0
+        lines.positions = {{-2, 0, line_z}, {2, 0, line_z}};
+        lines.colours = {{1, 0, 0, 1}, {1, 0, 0, 1}};
+        lines.lines = {0, 1};
+        Mesh quad;  // green, at z = 0
+        quad.positions = {{-3, -3, 0}, {3, -3, 0}, {3, 3, 0}, {-3, 3, 0}};
+        quad.colours.assign(4, Vec4{0, 1, 0, 1});
+        quad.indices = {0, 1, 2, 0, 2, 3};
+        Scene scene;
+        scene.objects.push_back({std::move(lines), Mat4::identity(), Material{}});
+        scene.objects.push_back({std::move(quad), Mat4::identity(), Material{}});
+        RenderSettings settings;
+        settings.shading = Shading::vertex_color;
+        settings.primitives.line_width = 3;
+        settings.primitives.line_aa = true;
+        Renderer renderer({.threads = 2});
+        Framebuffer target(64, 48);
+        render_scene(renderer, target, scene, Camera::orbit({0, 0, 0}, 0, 0, 8), settings);
+        return target.to_image();
+    };
+    const Image in_front = render(0.5f), behind = render(-0.5f);
+    EXPECT_EQ(in_front.at(32, 24).r, 255);
+    EXPECT_EQ(in_front.at(32, 24).g, 0);
+    EXPECT_EQ(in_front.at(32, 10).g, 255);
+    for (int y = 10; y < 38; ++y) EXPECT_EQ(behind.at(32, y).r, 0) << y;  // within the quad
+}
