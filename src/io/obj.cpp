@@ -482,9 +482,10 @@ public:
     ObjModel& model() { return model_; }
 
     void read(std::string_view text) {
+        const bool backslash = survey(text);
         // A backslash before a line end joins lines in assimp's reading (and at the end of a 16 MiB
         // block it reads past the block): declined.
-        for (const char* b = static_cast<const char*>(std::memchr(text.data(), '\\', text.size())); b;
+        for (const char* b = backslash ? static_cast<const char*>(std::memchr(text.data(), '\\', text.size())) : nullptr; b;
              b = static_cast<const char*>(std::memchr(b + 1, '\\', static_cast<std::size_t>(text.data() + text.size() - b - 1)))) {
             const std::size_t at = static_cast<std::size_t>(b - text.data());
             if (at + 1 == text.size() || ends_line(b[1]) || (at + 1) % k_stream_block == 0) throw Decline{__LINE__};
@@ -493,7 +494,6 @@ public:
         // In a file read in more than one block, a last line without a line end is lost.
         if (text.size() > k_stream_block && !ends_line(text.back()))
             while (end > 0 && !ends_line(text[end - 1])) --end;
-        reserve(text);
         readable_end_ = text.data() + text.size() + 1;  // the NUL
         bool in_cstype = false;
         for (std::size_t begin = 0; begin < end;) {
@@ -510,10 +510,13 @@ public:
     }
 
 private:
-    // The arrays sized once for the vertices and faces the file's lines announce (lines starting
-    // "v " and "f"; three corners a face), so that they are not grown and copied while read.
-    void reserve(std::string_view text) {
+    // One pass over the text, 16 bytes at a time: a NUL declines the file; the arrays are sized
+    // once for the vertices and faces its lines announce (lines starting "v " and "f"; three
+    // corners a face), so that they are not grown and copied while read. Returns whether the text
+    // has a backslash.
+    bool survey(std::string_view text) {
         std::size_t v = 0, f = 0;
+        bool nul = false, backslash = false;
         const std::size_t n = text.size();
         const unsigned char* t = reinterpret_cast<const unsigned char*>(text.data());
         // 16 bytes at a time in byte-wide counters (added up every 255 steps, before they overflow).
@@ -525,24 +528,31 @@ private:
         };
         std::size_t i = 0;
         while (i + 18 <= n) {
-            Bytes vs{}, fs{};
+            Bytes vs{}, fs{}, nuls{}, backslashes{};
             for (int k = 0; k < 255 && i + 18 <= n; ++k, i += 16) {
-                const Bytes line = reinterpret_cast<Bytes>(load(t + i) == '\n'), next = load(t + i + 1);
+                const Bytes here = load(t + i), next = load(t + i + 1);
+                const Bytes line = reinterpret_cast<Bytes>(here == '\n');
                 vs -= line & reinterpret_cast<Bytes>(next == 'v') & reinterpret_cast<Bytes>(load(t + i + 2) == ' ');
                 fs -= line & reinterpret_cast<Bytes>(next == 'f');
+                nuls |= reinterpret_cast<Bytes>(here == 0);
+                backslashes |= reinterpret_cast<Bytes>(here == '\\');
             }
-            for (int k = 0; k < 16; ++k) v += vs[k], f += fs[k];
+            for (int k = 0; k < 16; ++k) v += vs[k], f += fs[k], nul |= nuls[k] != 0, backslash |= backslashes[k] != 0;
         }
-        for (; i + 2 < n; ++i) {
-            v += t[i] == '\n' && t[i + 1] == 'v' && t[i + 2] == ' ';
-            f += t[i] == '\n' && t[i + 1] == 'f';
+        for (; i < n; ++i) {
+            v += i + 2 < n && t[i] == '\n' && t[i + 1] == 'v' && t[i + 2] == ' ';
+            f += i + 1 < n && t[i] == '\n' && t[i + 1] == 'f';
+            nul |= t[i] == 0;
+            backslash |= t[i] == '\\';
         }
+        if (nul) throw Decline{__LINE__};
         v += n > 0 && t[0] == 'v';
         f += n > 0 && t[0] == 'f';
         f = std::min(f, options_.max_triangles);
         detail::reserve_in_huge_pages(model_.vertices, v);
         detail::reserve_in_huge_pages(model_.corner_v, 3 * f);
         detail::reserve_in_huge_pages(model_.face_corners, f);
+        return backslash;
     }
 
     // A line's statement; the line's end when the statement found it.
@@ -1206,7 +1216,7 @@ std::unique_ptr<aiMaterial> make_material(const ObjMaterial& m, ImportNotes& not
 std::optional<Result<OwnScene>> read_obj(const std::string& path, std::string_view bytes, const LoadOptions& options,
                                          const ResourceRoots& roots, ImportNotes& notes) {
     try {
-        if (bytes.size() < k_min_obj_bytes || std::memchr(bytes.data(), '\0', bytes.size())) return std::nullopt;
+        if (bytes.size() < k_min_obj_bytes) return std::nullopt;  // a NUL byte: declined by ObjReader::read
         if (path.find('\\') != std::string::npos) return std::nullopt;
         ObjReader reader(path, options, roots, notes);
         reader.read(bytes);
