@@ -9,12 +9,14 @@
 // with their ratio as one Markdown table row per workload. Square points (GL_POINTS are squares).
 // --line-aa 1: anti-aliased lines (PrimitiveStyle::line_aa) against GL_LINES blended without depth
 // writes (GL_LINE_SMOOTH, the true peer, crashes llvmpipe 22.3 compiling the oracle's shader).
-// --facet-only 1 draws facet's frames alone (for profilers: callgrind on llvmpipe takes minutes).
+// --facet-only 1 draws facet's frames alone (for profilers: callgrind on llvmpipe takes minutes), with
+// the median CPU time of a frame beside the wall time.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <random>
 #include <string>
 #include <vector>
@@ -110,6 +112,13 @@ double median(std::vector<double> v) {
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
+// The process's CPU time (all threads), ms: under load, steadier than the wall clock for A/B runs.
+double cpu_ms() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
 void run(const char* name, const Scene& scene, const Options& o, GlOracle* gl) {
     Renderer renderer({.threads = o.threads});
     Framebuffer target(o.width, o.height);
@@ -140,8 +149,14 @@ void run(const char* name, const Scene& scene, const Options& o, GlOracle* gl) {
     std::vector<double> facet_ms, gl_ms;
     if (!gl) {
         facet_frame();  // warm-up
-        for (int f = 0; f < o.frames; ++f) facet_ms.push_back(facet_frame());
-        std::printf("| %s | %dx%d | %d | %.1f | - | - | - |\n", name, o.width, o.height, o.threads, median(facet_ms));
+        std::vector<double> cpu;
+        for (int f = 0; f < o.frames; ++f) {
+            const double c = cpu_ms();
+            facet_ms.push_back(facet_frame());
+            cpu.push_back(cpu_ms() - c);
+        }
+        std::printf("| %s | %dx%d | %d | %.1f (CPU %.1f) | - | - | - |\n", name, o.width, o.height, o.threads,
+                    median(facet_ms), median(cpu));
         return;
     }
     facet_frame(), gl_frame();  // warm-up

@@ -135,6 +135,19 @@ HWY_INLINE V or_of(const V (&e)[K]) {
     return v;
 }
 
+// A row's vector of the tile's depth or owner array: aligned (a strip starts at a multiple of the
+// lane count) or not (a narrow segment's vector starts at its first column).
+template <bool Aligned, class DV>
+HWY_INLINE hn::Vec<DV> load_row(DV d, const hn::TFromD<DV>* p) {
+    if constexpr (Aligned) return hn::Load(d, p);
+    else return hn::LoadU(d, p);
+}
+template <bool Aligned, class DV>
+HWY_INLINE void store_row(hn::Vec<DV> v, DV d, hn::TFromD<DV>* p) {
+    if constexpr (Aligned) hn::Store(v, d, p);
+    else hn::StoreU(v, d, p);
+}
+
 // Rows are drawn in groups of this many, unrolled, the group's rows past the rectangle computed
 // with no pixel inside: most triangles of dense meshes are one or two rows tall within a tile, and a
 // row loop whose trip count changes from one triangle to the next mispredicts its exit about once
@@ -142,11 +155,12 @@ HWY_INLINE V or_of(const V (&e)[K]) {
 constexpr int k_row_group = 2;
 
 // One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
-// (relative to start) are the rectangle's, every row y0..y1. start - tile.x0 is a multiple of the
-// lane count, so the strip's rows of the tile's depth and owner arrays are aligned vectors. A row
-// past the rectangle (in the last group) is loaded and stored unchanged, past the tile in the
-// arrays' spare row (TileBuffers::k_rows).
-template <DepthTest D, bool DepthWrite, class DF, int K>
+// (relative to start) are the rectangle's, every row y0..y1. With Aligned, start - tile.x0 is a
+// multiple of the lane count, so the strip's rows of the tile's depth and owner arrays are aligned
+// vectors; without, start + lanes <= tile.x0 + k_max_tile_size (inside the arrays' rows). A row past
+// the rectangle (in the last group) is loaded and stored unchanged, past the tile in the arrays'
+// spare row (TileBuffers::k_rows).
+template <DepthTest D, bool DepthWrite, bool Aligned = true, class DF, int K>
 HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileBuffers& buffers,
                               std::uint32_t id, const EdgeRectOf<K>& r, int start, int lo, int hi) {
     const hn::RebindToSigned<DF> di;
@@ -181,10 +195,10 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
             const float dy = (static_cast<float>(y + g) + 0.5f) - t.y0;
             auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
             z = clamp_depth(df, z);
-            const auto stored = hn::Load(df, depth);
+            const auto stored = load_row<Aligned>(df, depth);
             const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
-            if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
-            hn::Store(hn::IfThenElse(hn::RebindMask(du, pass), owner_id, hn::Load(du, owner)), du, owner);
+            if constexpr (DepthWrite) store_row<Aligned>(hn::IfThenElse(pass, z, stored), df, depth);
+            store_row<Aligned>(hn::IfThenElse(hn::RebindMask(du, pass), owner_id, load_row<Aligned>(du, owner)), du, owner);
             passed = hn::Or(passed, pass);
             depth += k_max_tile_size, owner += k_max_tile_size;
         }
@@ -204,7 +218,7 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
 // or two rows, most of the 1M sphere's, the wider set-up cost more than it saved (sphere 2.5%
 // slower), so those keep resolve_strip's single group of two 8-lane rows.
 constexpr int k_pair_group = 2;  // vectors per group
-template <DepthTest D, bool DepthWrite, int K>
+template <DepthTest D, bool DepthWrite, bool Aligned = true, int K>
 HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
                                   const EdgeRectOf<K>& r, int start, int lo, int hi) {
     const hn::Full512<float> df;
@@ -245,12 +259,13 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
             const auto dy = hn::Sub(hn::Add(hn::ConvertTo(df, hn::Add(row_g, hn::Set(di, y))), half), y0);
             auto z = hn::Add(z_x, hn::Mul(dzdy, dy));
             z = clamp_depth(df, z);
-            const auto stored = hn::Combine(df, hn::Load(dh, depth + k_max_tile_size), hn::Load(dh, depth));
+            const auto stored =
+                hn::Combine(df, load_row<Aligned>(dh, depth + k_max_tile_size), load_row<Aligned>(dh, depth));
             const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
             if constexpr (DepthWrite) {
                 const auto written = hn::IfThenElse(pass, z, stored);
-                hn::Store(hn::LowerHalf(dh, written), dh, depth);
-                hn::Store(hn::UpperHalf(dh, written), dh, depth + k_max_tile_size);
+                store_row<Aligned>(hn::LowerHalf(dh, written), dh, depth);
+                store_row<Aligned>(hn::UpperHalf(dh, written), dh, depth + k_max_tile_size);
             }
             const __mmask16 bits = static_cast<__mmask16>(pass.raw);
             hn::BlendedStore(owner_id, hn::Mask256<std::uint32_t>{static_cast<__mmask8>(bits)}, duh, owner);
@@ -278,6 +293,22 @@ HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers
     // most common triangles of dense meshes (the 1M sphere's frame 3-4% faster at 1 thread); where a
     // 512-bit operation costs what a 256-bit one does, the narrow one costs no more.
     constexpr int k_narrow = 8;
+    if constexpr (K == 4) {
+        // A segment's rectangle narrower than a vector (a thin line's, nearly all) is one vector per
+        // row from its first column, unaligned, rather than aligned strips: two of those when it
+        // straddles their boundary, a line's most frequent case. The vector stays inside the arrays'
+        // rows. Each pixel is computed as in a strip: the same bytes.
+        constexpr int narrow = static_cast<int>(std::min<std::size_t>(k_narrow, hn::MaxLanes(df)));
+        if (r.x1 - r.x0 < narrow) {
+            const int start = std::min(r.x0, tile.x0 + k_max_tile_size - narrow);
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+            if (r.y1 - r.y0 >= 2)
+                return resolve_row_pairs<D, DepthWrite, false>(t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
+#endif
+            const hn::CappedTag<float, narrow> nd;
+            return resolve_strip<D, DepthWrite, false>(nd, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
+        }
+    }
     if constexpr (hn::MaxLanes(df) > k_narrow) {
         const int start = tile.x0 + ((r.x0 - tile.x0) & -k_narrow);
         if (r.x1 < start + k_narrow) {
