@@ -95,11 +95,16 @@ public:
         ++set_up_;
         bin(t, primitive);
     }
-    // Segment i of a batch made by setup_segment_lanes (a bit of lanes.keep), likewise.
-    void add_segment(const SetupLanes& lanes, int i, std::uint32_t primitive) {
+    // The segments of a batch made by setup_segment_lanes whose bits are set in `keep` (a subset of
+    // lanes.keep), in order, segment i of primitive primitive[i]; likewise.
+    void add_segments(const SetupLanes& lanes, std::uint32_t keep, const std::uint32_t* primitive) {
         flush();
-        ++set_up_;
-        bin_lanes_record(grid_of(), lanes, i, primitive);
+        set_up_ += static_cast<std::uint64_t>(std::popcount(keep));
+        const BinGrid grid = grid_of();
+        for (; keep != 0; keep &= keep - 1) {
+            const int i = std::countr_zero(keep);
+            bin_lanes_record(grid, lanes, i, primitive[i]);
+        }
     }
 
     // A triangle made by clipping triangle `triangle`: the pending batch goes first, so records keep

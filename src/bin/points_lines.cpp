@@ -151,12 +151,17 @@ public:
                 emit_segment(batch_.a[i], batch_.b[i], end(i, true), end(i, false), batch_.ref_a[i], batch_.ref_b[i],
                              primitive_[i], scissor_, emitter_);
         } else {
-            for (std::uint32_t bits = lanes_.keep | lanes_.culled; bits != 0; bits &= bits - 1) {
-                const int i = std::countr_zero(bits);
-                if (lanes_.keep >> i & 1) emitter_.add_segment(lanes_, i, primitive_[i]);
-                else emit_segment_quad(batch_.a[i], batch_.b[i], end(i, true), end(i, false), batch_.ref_a[i],
-                                       batch_.ref_b[i], primitive_[i], emitter_);
+            // The records in order, and before each quad left as triangles (rare) the records before it.
+            std::uint32_t keep = lanes_.keep;
+            for (std::uint32_t quads = lanes_.culled; quads != 0; quads &= quads - 1) {
+                const int i = std::countr_zero(quads);
+                const std::uint32_t before = keep & ((1u << i) - 1);
+                emitter_.add_segments(lanes_, before, primitive_);
+                keep &= ~before;
+                emit_segment_quad(batch_.a[i], batch_.b[i], end(i, true), end(i, false), batch_.ref_a[i],
+                                  batch_.ref_b[i], primitive_[i], emitter_);
             }
+            emitter_.add_segments(lanes_, keep, primitive_);
         }
         batch_.count = 0;
     }
@@ -349,7 +354,6 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
         const std::uint32_t codes = vertices.outcode[i0] | vertices.outcode[i1];
         if (vertices.outcode[i0] & vertices.outcode[i1]) continue;  // wholly outside one plane
         ScreenVertex a, b;
-        ClipVertex ca{vertices.pos[i0], i0}, cb{vertices.pos[i1], i1};
         Vec2d n{};
         SegmentEnd e0{}, e1{};
         if (codes == 0) {
@@ -386,6 +390,7 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
         } else {
             queue.flush();  // records keep submission order
             ++out.stats.triangles_clipped;
+            ClipVertex ca{vertices.pos[i0], i0}, cb{vertices.pos[i1], i1};
             if (!clip_segment(ca, cb, codes, guard, vertices, out.extras, passes)) continue;
             if (!is_finite(ca.pos) || !is_finite(cb.pos) || !(ca.pos.w > 0) || !(cb.pos.w > 0)) {
                 ++out.stats.segments_invalid;
