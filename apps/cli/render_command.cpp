@@ -284,7 +284,7 @@ int run_render(const std::string& model, const std::string& output, const std::s
     const WorkerOutcome outcome = run_in_worker(
         [&](const WorkerReport& report) {
             if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
-            test_hook_sleep(model);
+            test_hooks(model);
             load_writers_for(*plan);
             confine_worker(model, outputs, plan->load.resource_dirs);
             return render_job(request, report);

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "facet/io.hpp"
+#include "facet/model.hpp"
 #include "facet/sandbox.hpp"
 #include "pass_files.hpp"
 
@@ -58,7 +59,7 @@ ThumbnailFigures ThumbnailFigures::parse(const std::string& text) {
 }
 
 int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
-    test_hook_sleep(job.model);
+    test_hooks(job.model);
     const RenderPlan& plan = job.plan;
     std::vector<std::string> outputs{job.output.string()};
     if (job.staging) {  // confine_worker allows the folders of its outputs
@@ -66,16 +67,20 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
         for (const std::string& folder : job.staging->write_folders) outputs.push_back(folder + "/file");
     }
     load_writers_for(plan);
-    confine_worker(job.model, outputs, plan.load.resource_dirs);
-    sandbox_test_probe();
+    if (job.confine) {
+        confine_worker(job.model, outputs, plan.load.resource_dirs);
+        sandbox_test_probe();
+    }
     ThumbnailFigures f;
     std::string error;
     try {
         Image colour;
         report.phase(WorkerPhase::loading);
         Clock::time_point start = Clock::now();
+        const std::size_t assimp_imports = assimp_import_count();
         Result<Scene> scene = load_scene(job.model, plan, job.command);
         f.load_ms = ms_since(start);
+        if (!job.fresh_process && assimp_import_count() != assimp_imports) return k_exit_fresh_worker;
         if (!scene) {
             error = scene.error().message;
             f.reason = reason_for_load_error(scene.error(), job.model);

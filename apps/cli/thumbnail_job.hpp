@@ -45,7 +45,15 @@ struct ThumbnailJob {
     // Fail a model that leaves the image blank (every pixel the same: no triangle, or none valid
     // and with an area) instead of writing it: a file manager shows its own icon then.
     bool refuse_empty = false;
+    // In a worker that serves several objects (thumbs): confine only for the first (the sandbox is
+    // the same for the others, and its layers stack), and give back an object that is not the first
+    // and that assimp has to read (k_exit_fresh_worker: the parent gives it to a fresh worker).
+    bool confine = true;
+    bool fresh_process = true;
 };
+
+// The status of a job given back to be run in a fresh worker process (ThumbnailJob::fresh_process).
+constexpr int k_exit_fresh_worker = 3;
 
 // The worker's side: confine, load, render, write, timing each; returns the worker's exit status
 // (k_exit_ok only when the PNG, or every file of the views, is in place).

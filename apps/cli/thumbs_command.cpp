@@ -4,12 +4,12 @@
 // cut into shards, be logged as they finish (results_log.hpp) and be resumed from that log; a
 // manifest entry with views or passes gets a folder of files instead (views_output.hpp).
 //
-// Each file is loaded, rendered and written by a worker process of its own (worker.hpp), up to
-// --threads at a time, while this process only schedules them, shows progress, logs and collects
-// results. A file that makes a reader hang, crash or allocate without bound (assimp cannot be
-// interrupted, and a crash in it would take every other file with it) then costs only its own
-// worker: past --timeout seconds the worker is killed and the file reported as "gave up after N s";
-// a crash is reported with its signal. The worker writes its thumbnail atomically (a temporary file
+// Each file is loaded, rendered and written in a worker process (worker.hpp), up to --threads at a
+// time, while this process only schedules them, shows progress, logs and collects results; a worker
+// serves the following files of its folder (run_jobs). A file that makes a reader hang, crash or
+// allocate without bound (assimp cannot be interrupted, and a crash in it would take every other
+// file with it) then costs only its own worker: past --timeout seconds the worker is killed and the
+// file reported as "gave up after N s"; a crash is reported with its signal. The worker writes its thumbnail atomically (a temporary file
 // renamed into place) before this process logs it, so a log line always stands for a finished
 // file; the temporary of a killed worker is removed here, and those of a killed run by the next
 // one. This process is single-threaded, so forking is safe, and each worker draws with one thread.
@@ -228,15 +228,39 @@ private:
     bool failed_ = false;
 };
 
+// How many objects a worker serves at most before a fresh one takes over: a fork, an exit and
+// the first touches of a fresh heap (~3 ms an object) shared by many, while what one object leaves
+// behind (the heap's growth, its fragments) cannot build up for long.
+constexpr std::size_t k_objects_per_worker = 16;
+
+// The objects that one worker may serve in a row share a key: the same sandbox (its rules name the
+// folder a model is read from; the output folder is the same for all), so thumbnails (not views,
+// whose staging folders are each object's own) of regular files (not links, whose target may lie
+// elsewhere) in one folder. An empty key: a worker of its own.
+std::string sharing_key(const Job& job) {
+    std::error_code ec;
+    if (job.views || fs::symlink_status(job.entry.path, ec).type() != fs::file_type::regular) return {};
+    const std::string folder = fs::path(job.entry.path).parent_path().string();
+    return folder.empty() ? "." : folder;
+}
+
 // Runs the jobs in `order` in worker processes, at most `workers` at a time, each within `limits`,
-// reporting each finished job to `progress` and the log.
-void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, const RenderPlan& plan,
+// reporting each finished job to `progress` and the log. A worker serves the following jobs of the
+// same sharing key as long as they come; a job that crashes or runs out of memory in a worker that
+// served others before, or that assimp has to read there (k_exit_fresh_worker), is run again in a
+// fresh one, so that each object's result is what a process of its own gives. Returns false when a
+// worker ended abnormally after its jobs (a sanitizer's report at exit).
+bool run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, const RenderPlan& plan,
               const fs::path& out_dir, unsigned workers, const WorkerLimits& limits, Progress& progress,
               ResultsLog& log) {
     std::vector<Worker> running;
     std::vector<Clock::time_point> started(jobs.size());
     std::vector<std::optional<ViewsStaging>> staged(jobs.size());  // of the jobs with views
+    std::vector<std::string> keys(jobs.size());
+    for (const std::size_t i : order) keys[i] = sharing_key(jobs[i]);
+    std::vector<std::size_t> again;  // jobs to run again, each first in a fresh worker
     std::size_t next = 0;
+    bool workers_ok = true;
     auto output_of = [&](std::size_t i) { return out_dir / jobs[i].output_name(); };
     auto finish = [&](std::size_t i, FailReason reason, std::string error) {
         Job& job = jobs[i];
@@ -263,48 +287,91 @@ void run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
         progress.done(job, output_of(i));
         log.add(job);
     };
-    while (next < order.size() || !running.empty()) {
-        while (running.size() < workers && next < order.size()) {
-            const std::size_t i = order[next++];
-            started[i] = Clock::now();
-            if (jobs[i].views) {
-                Result<ViewsStaging> s = stage_views(output_of(i).string(), *jobs[i].views);
-                if (!s) {
-                    finish(i, FailReason::write_failed, s.error().message);
-                    continue;
-                }
-                staged[i] = std::move(*s);
+    // Stages a job's folder (views) and stamps its start; false if it failed already.
+    auto prepare = [&](std::size_t i) {
+        started[i] = Clock::now();
+        if (jobs[i].views && !staged[i]) {
+            Result<ViewsStaging> s = stage_views(output_of(i).string(), *jobs[i].views);
+            if (!s) {
+                finish(i, FailReason::write_failed, s.error().message);
+                return false;
             }
+            staged[i] = std::move(*s);
+        }
+        return true;
+    };
+    // In the worker: the job the parent sent. `confined` is the worker's own copy (a fork's).
+    bool confined = false;
+    const ServingJob serve = [&](std::size_t i, const WorkerReport& report, bool& go_on) {
+        if (!confined) keep_freed_memory_for_reuse();  // a worker reuses what its jobs free
+        ThumbnailJob job{jobs[i].entry.path, object_plan(plan, jobs[i]), output_of(i), staged[i] ? &*staged[i] : nullptr};
+        job.confine = !confined;
+        job.fresh_process = !confined;
+        confined = true;
+        const int status = run_thumbnail_job(job, report);
+        go_on = assimp_import_count() == 0 && !jobs[i].views;
+        return status;
+    };
+    while (next < order.size() || !again.empty() || !running.empty()) {
+        // Idle workers: the next job if it shares their key, or retire. (A worker that died idle
+        // fails the send: wait_for_jobs then reports the job as its worker's end.)
+        for (Worker& w : running) {
+            if (w.busy || w.job_fd < 0) continue;
+            if (next < order.size() && w.served < k_objects_per_worker && !keys[w.tag].empty() &&
+                keys[order[next]] == keys[w.tag] && prepare(order[next]))
+                send_job(w, order[next++], limits);
+            else
+                retire(w);
+        }
+        std::size_t alive = 0;
+        for (const Worker& w : running) alive += w.job_fd >= 0 || w.busy ? 1 : 0;
+        while (alive < workers && (next < order.size() || !again.empty())) {
+            std::size_t i;
+            if (!again.empty()) {
+                i = again.back();
+                again.pop_back();
+            } else {
+                i = order[next++];
+            }
+            if (!prepare(i)) continue;
             WorkerOutcome failed;
-            const fs::path output = output_of(i);
-            const ViewsStaging* staging = staged[i] ? &*staged[i] : nullptr;
-            std::optional<Worker> w = start_worker(
-                [&, i, output, staging](const WorkerReport& report) {
-                    keep_freed_memory_for_reuse();  // the worker renders one object and exits
-                    return run_thumbnail_job({jobs[i].entry.path, object_plan(plan, jobs[i]), output, staging}, report);
-                },
-                limits, running, failed);
+            std::optional<Worker> w = start_serving_worker(serve, limits, running, failed);
             if (!w) {
                 finish(i, FailReason::failed, describe_abnormal_end(failed, jobs[i].entry.path, limits));
                 continue;
             }
-            w->tag = i;
+            send_job(*w, i, limits);
             running.push_back(std::move(*w));
+            ++alive;
         }
-        for (auto& [w, outcome] : wait_for_workers(running)) {
-            Job& job = jobs[w.tag];
+        for (JobEnd& end : wait_for_jobs(running)) {
+            const std::size_t i = end.tag;
+            const WorkerOutcome& outcome = end.outcome;
+            Job& job = jobs[i];
+            if (end.after_job) {
+                std::fprintf(stderr, "facet thumbs: the worker process that rendered %s ended abnormally after it: %s\n",
+                             job.entry.path.c_str(), describe_abnormal_end(outcome, job.entry.path, limits).c_str());
+                workers_ok = false;
+                continue;
+            }
             job.figures = ThumbnailFigures::parse(outcome.figures);
+            const bool after_others = end.served_before > 0;
             if (exited(outcome) && outcome.status == k_exit_ok) {
-                finish(w.tag, FailReason::none, {});
+                finish(i, FailReason::none, {});
+            } else if (exited(outcome) && outcome.status == k_exit_fresh_worker && after_others) {
+                again.push_back(i);
             } else if (exited(outcome) && outcome.status == k_exit_failed && !outcome.message.empty()) {
                 const FailReason reason = job.figures.reason == FailReason::none ? FailReason::failed : job.figures.reason;
-                finish(w.tag, reason, outcome.message);
+                if (reason == FailReason::out_of_memory && after_others) again.push_back(i);
+                else finish(i, reason, outcome.message);
             } else {
-                if (!staged[w.tag]) remove_temporaries(output_of(w.tag));  // of a worker killed while writing
-                finish(w.tag, reason_for_abnormal_end(outcome), describe_abnormal_end(outcome, job.entry.path, limits));
+                if (!staged[i]) remove_temporaries(output_of(i));  // of a worker killed while writing
+                if (outcome.end == WorkerOutcome::End::signalled && after_others) again.push_back(i);
+                else finish(i, reason_for_abnormal_end(outcome), describe_abnormal_end(outcome, job.entry.path, limits));
             }
         }
     }
+    return workers_ok;
 }
 
 // The end of the run on stderr: the counts, the speed, and the failures grouped by reason (all of
@@ -516,14 +583,14 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
 
     const Clock::time_point start = Clock::now();
     Progress progress(order.size());
-    run_jobs(jobs, order, *plan, output_dir, workers, *limits, progress, log);
+    const bool workers_ok = run_jobs(jobs, order, *plan, output_dir, workers, *limits, progress, log);
     const double seconds = ms_since(start) / 1000;
 
     const std::size_t rendered = static_cast<std::size_t>(std::count_if(
         order.begin(), order.end(), [&](std::size_t i) { return jobs[i].reason == FailReason::none; }));
     print_summary(jobs, order.size(), rendered, skipped, seconds, log.enabled());
     const bool all_good = std::none_of(jobs.begin(), jobs.end(), [](const Job& j) { return j.reason != FailReason::none; });
-    return all_good && !log.failed() ? k_exit_ok : k_exit_failed;
+    return all_good && workers_ok && !log.failed() ? k_exit_ok : k_exit_failed;
 }
 
 }  // namespace facet::cli

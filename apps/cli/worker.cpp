@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #if defined(__linux__)
@@ -29,9 +30,11 @@ namespace facet::cli {
 namespace {
 
 // Report records: a phase is k_phase_mark and one WorkerPhase character; figures are
-// k_figures_mark and text up to the next mark; the error message is k_error_mark and everything
-// after it. No mark can appear in a phase or in figures, so the records before the message parse
-// unambiguously whatever the message holds.
+// k_figures_mark and text up to the next mark; the error message is k_error_mark, its length in
+// four bytes (little-endian) and the message; a serving worker ends each job with k_end_mark, the
+// job's status in one byte, and whether it takes another job ('+') or exits ('.'). No mark can appear in a phase or in figures, and the message is
+// counted, so a report parses unambiguously whatever the message holds.
+constexpr char k_end_mark = '\x1c';
 constexpr char k_figures_mark = '\x1d';
 constexpr char k_phase_mark = '\x1e';
 constexpr char k_error_mark = '\x1f';
@@ -50,30 +53,45 @@ void write_all(int fd, const char* data, std::size_t size) {
     }
 }
 
-// The last phase and the error message in a worker's report.
-void parse_report(const std::string& report, WorkerOutcome& outcome) {
-    for (std::size_t i = 0; i < report.size(); ++i) {
-        if (report[i] == k_error_mark) {
-            outcome.message = report.substr(i + 1);
-            return;
+// The last phase, the figures and the error message of a job's report, up to its end record if
+// there is one (a serving worker's finished job: `outcome` is then "exited" with the job's status
+// and the length of the job's records is returned, to be taken off the report, with whether the
+// worker goes on in `goes_on`); 0 otherwise (a one-job worker's report, or a job still running or
+// cut short by the worker's end).
+std::size_t parse_report(const std::string& report, WorkerOutcome& outcome, bool* goes_on = nullptr) {
+    for (std::size_t i = 0; i < report.size();) {
+        const char mark = report[i];
+        if (mark == k_end_mark && i + 2 < report.size()) {
+            outcome.end = WorkerOutcome::End::exited;
+            outcome.status = static_cast<unsigned char>(report[i + 1]);
+            if (goes_on) *goes_on = report[i + 2] == '+';
+            return i + 3;
         }
-        if (report[i] == k_phase_mark && i + 1 < report.size()) outcome.phase = static_cast<WorkerPhase>(report[++i]);
-        if (report[i] == k_figures_mark) {
-            const std::size_t end = report.find_first_of("\x1d\x1e\x1f", i + 1);
+        if (mark == k_phase_mark && i + 1 < report.size()) {
+            outcome.phase = static_cast<WorkerPhase>(report[i + 1]);
+            i += 2;
+        } else if (mark == k_figures_mark) {
+            const std::size_t end = report.find_first_of("\x1c\x1d\x1e\x1f", i + 1);
             outcome.figures = report.substr(i + 1, end == std::string::npos ? std::string::npos : end - i - 1);
-            if (end != std::string::npos) i = end - 1;
+            i = end == std::string::npos ? report.size() : end;
+        } else if (mark == k_error_mark && i + 5 <= report.size()) {
+            std::uint32_t length = 0;
+            for (int b = 3; b >= 0; --b) length = length << 8 | static_cast<unsigned char>(report[i + 1 + static_cast<std::size_t>(b)]);
+            outcome.message = report.substr(i + 5, length);
+            i += 5 + std::size_t{length};
+        } else {
+            break;  // a record not complete yet
         }
     }
+    return 0;
 }
 
 void close_quietly(int fd) {
     if (fd >= 0) close(fd);
 }
 
-// The worker's side: limits, then the job, then exit with its status. exit, not _exit: it flushes
-// the worker's stdio (warnings, the --benchmark line) and lets LeakSanitizer check the worker in
-// sanitizer builds; the parent flushed its own buffers before forking, so nothing is written twice.
-[[noreturn]] void run_worker(const WorkerJob& job, const WorkerLimits& limits, pid_t parent, int fd) {
+// The worker's side, first: its limits.
+void enter_worker(const WorkerLimits& limits, pid_t parent) {
 #if defined(__linux__)
     // A parent that is killed (Ctrl-C reaches both, but a kill of the parent alone does not) takes
     // its worker along instead of leaving it hanging in a reader.
@@ -84,10 +102,13 @@ void close_quietly(int fd) {
         const rlimit cap{static_cast<rlim_t>(limits.max_memory_bytes), static_cast<rlim_t>(limits.max_memory_bytes)};
         setrlimit(RLIMIT_DATA, &cap);
     }
-    const WorkerReport report(fd);
-    int status = 1;
+}
+
+// Runs a job; an exception it lets out is its error, and status 1.
+template <class Job>
+int run_caught(const Job& job, const WorkerReport& report) {
     try {
-        status = job(report);
+        return job();
     } catch (const std::bad_alloc&) {
         report.error("out of memory");
     } catch (const std::exception& e) {
@@ -95,9 +116,47 @@ void close_quietly(int fd) {
     } catch (...) {
         report.error("failed with an unknown exception");
     }
+    return 1;
+}
+
+// Exits the worker. exit, not _exit: it flushes the worker's stdio (warnings, the --benchmark line)
+// and lets LeakSanitizer check the worker in sanitizer builds; the parent flushed its own buffers
+// before forking, so nothing is written twice.
+[[noreturn]] void exit_worker(int status, int fd) {
     close(fd);
     std::fflush(nullptr);
     std::exit(status);
+}
+
+[[noreturn]] void run_worker(const WorkerJob& job, const WorkerLimits& limits, pid_t parent, int fd) {
+    enter_worker(limits, parent);
+    const WorkerReport report(fd);
+    exit_worker(run_caught([&] { return job(report); }, report), fd);
+}
+
+bool read_exact(int fd, void* data, std::size_t size) {
+    for (std::size_t done = 0; done < size;) {
+        const ssize_t n = read(fd, static_cast<char*>(data) + done, size - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        done += static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+// A serving worker: jobs as the parent sends their tags, each report closed by its end record.
+[[noreturn]] void run_serving_worker(const ServingJob& job, const WorkerLimits& limits, pid_t parent, int fd, int job_fd) {
+    enter_worker(limits, parent);
+    const WorkerReport report(fd);
+    std::uint64_t tag = 0;
+    bool go_on = true;
+    while (go_on && read_exact(job_fd, &tag, sizeof tag)) {
+        const int status = run_caught([&] { return job(static_cast<std::size_t>(tag), report, go_on); }, report);
+        const char end[3] = {k_end_mark, static_cast<char>(status), go_on ? '+' : '.'};
+        write_all(fd, end, sizeof end);
+    }
+    close(job_fd);
+    exit_worker(0, fd);
 }
 
 std::string seconds_text(double s) {
@@ -160,6 +219,17 @@ int poll_timeout_ms(const std::vector<Worker>& running) {
     return static_cast<int>(std::clamp<long long>(left + 1, 0, 60'000));
 }
 
+// Waits for `events` (or the end) on the workers' report pipes, until the nearest deadline.
+std::vector<pollfd> poll_workers(const std::vector<Worker>& running, short events) {
+    std::vector<pollfd> polled;
+    for (const Worker& w : running) polled.push_back({w.fd, events, 0});
+    if (poll(polled.data(), polled.size(), poll_timeout_ms(running)) < 0 && errno != EINTR) {
+        std::fprintf(stderr, "facet: poll failed: %s\n", std::strerror(errno));
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return polled;
+}
+
 }  // namespace
 
 bool memory_cap_supported() { return !sanitizer_build(); }
@@ -186,51 +256,134 @@ void WorkerReport::figures(const std::string& text) const {
 
 void WorkerReport::error(const std::string& message) const {
     if (fd_ < 0) return;
-    write_all(fd_, &k_error_mark, 1);
-    write_all(fd_, message.data(), std::min(message.size(), k_max_message));
+    const auto length = static_cast<std::uint32_t>(std::min(message.size(), k_max_message));
+    const char head[5] = {k_error_mark, static_cast<char>(length & 0xff), static_cast<char>(length >> 8 & 0xff),
+                          static_cast<char>(length >> 16 & 0xff), static_cast<char>(length >> 24)};
+    write_all(fd_, head, sizeof head);
+    write_all(fd_, message.data(), length);
 }
 
-std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& limits, const std::vector<Worker>& others,
-                                   WorkerOutcome& outcome) {
+std::optional<WorkerClock::time_point> deadline_of(const WorkerLimits& limits) {
+    if (limits.timeout_seconds <= 0) return std::nullopt;
+    return WorkerClock::now() +
+           std::chrono::duration_cast<WorkerClock::duration>(std::chrono::duration<double>(limits.timeout_seconds));
+}
+
+// Forks a worker that runs `child(report_fd, job_fd)` (which does not return); with `serving`, a
+// job channel too: a socket pair rather than a pipe, so that sending to a worker that died fails
+// (MSG_NOSIGNAL) instead of killing the parent with SIGPIPE.
+template <class Child>
+std::optional<Worker> fork_worker(const Child& child, bool serving, const std::vector<Worker>& others, WorkerOutcome& outcome) {
     outcome = WorkerOutcome{};
-    int fds[2];
-    if (pipe(fds) != 0) {
+    int fds[2], jobs[2] = {-1, -1};
+    if (pipe(fds) != 0 || (serving && socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, jobs) != 0)) {
         outcome.message = std::string("cannot start a worker process: ") + std::strerror(errno);
+        if (serving && jobs[0] < 0) close(fds[0]), close(fds[1]);
         return std::nullopt;
     }
     std::fflush(nullptr);  // or the worker would write the parent's buffered output again
-    const pid_t parent = getpid();
     const pid_t pid = fork();
     if (pid == 0) {
         close(fds[0]);
-        for (const Worker& other : others) close_quietly(other.fd);
-        run_worker(job, limits, parent, fds[1]);
+        close_quietly(jobs[0]);
+        for (const Worker& other : others) close_quietly(other.fd), close_quietly(other.job_fd);
+        child(fds[1], jobs[1]);
     }
     close(fds[1]);
+    close_quietly(jobs[1]);
     if (pid < 0) {
         close(fds[0]);
+        close_quietly(jobs[0]);
         outcome.message = std::string("cannot start a worker process: ") + std::strerror(errno);
         return std::nullopt;
     }
     Worker w;
     w.pid = pid;
     w.fd = fds[0];
-    if (limits.timeout_seconds > 0)
-        w.deadline = WorkerClock::now() + std::chrono::duration_cast<WorkerClock::duration>(
-                                              std::chrono::duration<double>(limits.timeout_seconds));
+    w.job_fd = jobs[0];
     return w;
+}
+
+std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& limits, const std::vector<Worker>& others,
+                                   WorkerOutcome& outcome) {
+    const pid_t parent = getpid();
+    std::optional<Worker> w = fork_worker([&](int fd, int) { run_worker(job, limits, parent, fd); }, false, others, outcome);
+    if (w) w->deadline = deadline_of(limits);
+    return w;
+}
+
+std::optional<Worker> start_serving_worker(const ServingJob& job, const WorkerLimits& limits,
+                                           const std::vector<Worker>& others, WorkerOutcome& outcome) {
+    const pid_t parent = getpid();
+    return fork_worker([&](int fd, int job_fd) { run_serving_worker(job, limits, parent, fd, job_fd); }, true, others,
+                       outcome);
+}
+
+bool send_job(Worker& w, std::size_t tag, const WorkerLimits& limits) {
+    const std::uint64_t t = tag;
+    w.tag = tag;
+    w.busy = true;
+    w.deadline = deadline_of(limits);
+    ++w.served;
+    return w.job_fd >= 0 && send(w.job_fd, &t, sizeof t, MSG_NOSIGNAL) == static_cast<ssize_t>(sizeof t);
+}
+
+void retire(Worker& w) {
+    close_quietly(w.job_fd);
+    w.job_fd = -1;
+}
+
+std::vector<JobEnd> wait_for_jobs(std::vector<Worker>& running) {
+    std::vector<JobEnd> ended;
+    while (ended.empty() && !running.empty()) {
+        const std::vector<pollfd> polled = poll_workers(running, POLLIN);  // each report as it comes
+        const WorkerClock::time_point now = WorkerClock::now();
+        std::vector<Worker> still;
+        for (std::size_t i = 0; i < running.size(); ++i) {
+            Worker& w = running[i];
+            bool closed = false;
+            if (polled[i].revents != 0) {
+                char buf[4096];
+                ssize_t n;
+                while ((n = read(w.fd, buf, sizeof buf)) < 0 && errno == EINTR) {}
+                if (n > 0) w.report.append(buf, static_cast<std::size_t>(n));
+                closed = n <= 0;
+            }
+            // The jobs it finished (one at a time: the next is sent only once this one is reported).
+            WorkerOutcome o;
+            bool goes_on = false;
+            if (const std::size_t length = w.busy ? parse_report(w.report, o, &goes_on) : 0; length > 0) {
+                ended.push_back({w.tag, std::move(o), w.served - 1});
+                w.report.erase(0, length);
+                w.busy = false;
+                w.deadline.reset();
+                if (!goes_on) retire(w);  // it is exiting: no job must be sent to it
+            }
+            if (closed) {
+                retire(w);
+                WorkerOutcome end = reap(w);
+                // A job cut short by its worker's exit did not succeed, whatever the exit status.
+                if (w.busy && exited(end) && end.status == 0) end.status = 1;
+                // Between jobs a worker exits with 0 (a sanitizer's leak report at exit: 99).
+                const bool bad_exit = !(exited(end) && end.status == 0);
+                if (w.busy || bad_exit) ended.push_back({w.tag, std::move(end), w.served - 1, !w.busy});
+            } else if (w.busy && w.deadline && now >= *w.deadline) {
+                retire(w);
+                ended.push_back({w.tag, kill_timed_out(w), w.served - 1});
+            } else {
+                still.push_back(std::move(w));
+            }
+        }
+        running = std::move(still);
+    }
+    return ended;
 }
 
 std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worker>& running) {
     std::vector<std::pair<Worker, WorkerOutcome>> ended;
     while (ended.empty() && !running.empty()) {
-        std::vector<pollfd> polled;
         // No POLLIN: the end of the pipe (POLLHUP, always reported) is what matters.
-        for (const Worker& w : running) polled.push_back({w.fd, 0, 0});
-        if (poll(polled.data(), polled.size(), poll_timeout_ms(running)) < 0 && errno != EINTR) {
-            std::fprintf(stderr, "facet: poll failed: %s\n", std::strerror(errno));
-            std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        }
+        const std::vector<pollfd> polled = poll_workers(running, 0);
         const WorkerClock::time_point now = WorkerClock::now();
         std::vector<Worker> still;
         for (std::size_t i = 0; i < running.size(); ++i) {
@@ -284,9 +437,13 @@ std::string describe_abnormal_end(const WorkerOutcome& o, const std::string& inp
            (o.message.empty() ? "" : ": " + o.message);
 }
 
-void test_hook_sleep(const std::string& input) {
-    const char* pattern = std::getenv("FACET_TEST_SLEEP_ON");
-    if (pattern && *pattern && input.find(pattern) != std::string::npos)
+void test_hooks(const std::string& input) {
+    auto on = [&](const char* variable) {
+        const char* pattern = std::getenv(variable);
+        return pattern && *pattern && input.find(pattern) != std::string::npos;
+    };
+    if (on("FACET_TEST_CRASH_ON")) std::abort();
+    if (on("FACET_TEST_SLEEP_ON"))
         for (;;) pause();  // until the parent kills this worker
 }
 

@@ -1,4 +1,5 @@
-// facet command line: one job (load a model, render, write) in a worker process of its own.
+// facet command line: jobs (load a model, render, write) in worker processes: one job each, or
+// several jobs one after another (a serving worker).
 //
 // assimp cannot be interrupted, and some damaged files make it crash, hang or allocate without
 // bound (docs/RELIABILITY.md lists them). A job in a forked worker costs only itself when that
@@ -84,6 +85,11 @@ struct Worker {
     std::optional<WorkerClock::time_point> deadline;
     std::string report;  // what it has written so far
     std::size_t tag = 0;  // the caller's: which job this is
+    // A serving worker's (start_serving_worker): the parent's end of the job channel (-1 once
+    // retired, and for a one-job worker), whether it has a job, and how many it was sent.
+    int job_fd = -1;
+    bool busy = false;
+    std::size_t served = 0;
 };
 
 // Forks a worker that applies `limits.max_memory_bytes`, runs `job` and exits with its result.
@@ -96,6 +102,39 @@ std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& lim
 // those from `running` and returns them with how they ended.
 std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worker>& running);
 
+// A worker that serves jobs one after another (facet thumbs: one process for several objects
+// that share a sandbox, so that each costs no fork, exit and fresh page faults): the parent sends a
+// job's tag, the worker runs `job(tag, report, go_on)` and reports its end, then waits for the next.
+// It exits when the parent retires it or when a job clears `go_on` (a job that leaves the process in
+// a state the next one must not inherit). A crash or a timeout ends the worker and its job only.
+using ServingJob = std::function<int(std::size_t tag, const WorkerReport&, bool& go_on)>;
+std::optional<Worker> start_serving_worker(const ServingJob& job, const WorkerLimits& limits,
+                                           const std::vector<Worker>& others, WorkerOutcome& outcome);
+
+// Gives an idle serving worker job `tag`, with the job's own deadline; false if the worker is gone
+// (it is then reported by wait_for_jobs).
+bool send_job(Worker& w, std::size_t tag, const WorkerLimits& limits);
+
+// Tells an idle serving worker that no job will come: it exits, and wait_for_jobs reaps it.
+void retire(Worker& w);
+
+// A job of a serving worker that ended: its tag, how (exited: the job's status), and how many jobs
+// its worker had run before it (0: the job had a fresh process). With `after_job`, the worker
+// itself ended abnormally once job `tag` was done and reported (a crash at exit, or a sanitizer's
+// report: exit status 99).
+struct JobEnd {
+    std::size_t tag = 0;
+    WorkerOutcome outcome;
+    std::size_t served_before = 0;
+    bool after_job = false;
+};
+
+// Waits until at least one job of the serving workers in `running` has ended (or passed its
+// deadline: its worker is killed) and returns those. Workers that end are reaped and removed from
+// `running`; those whose job ended stay, idle (busy false), for the caller to give another job or
+// retire. Returns nothing if every worker ended without a job.
+std::vector<JobEnd> wait_for_jobs(std::vector<Worker>& running);
+
 // Runs one job in a worker and waits for it.
 WorkerOutcome run_in_worker(const WorkerJob& job, const WorkerLimits& limits);
 
@@ -107,11 +146,12 @@ std::string describe_abnormal_end(const WorkerOutcome& outcome, const std::strin
 // not starting at all).
 inline bool exited(const WorkerOutcome& o) { return o.end == WorkerOutcome::End::exited; }
 
-// TEST HOOK, for the tests of --timeout only: when FACET_TEST_SLEEP_ON is set to a non-empty
-// string, a worker whose input path contains it sleeps instead of working, as a file that hangs a
-// reader would, until it is killed. Without the variable (as always outside the tests) it does
-// nothing.
-void test_hook_sleep(const std::string& input);
+// TEST HOOKS, for the tests of --timeout and of crashes only: when FACET_TEST_SLEEP_ON is set to a
+// non-empty string, a worker whose input path contains it sleeps instead of working, as a file that
+// hangs a reader would, until it is killed; FACET_TEST_CRASH_ON likewise makes it abort (SIGABRT),
+// as a file that crashes a reader would. Without the variables (as always outside the tests) they
+// do nothing.
+void test_hooks(const std::string& input);
 
 // Confines this worker before it reads its model (facet/sandbox.hpp): files are read only in the
 // model's folder and the resource folders (and what any job reads: the processor list,

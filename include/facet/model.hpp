@@ -82,6 +82,12 @@ bool is_supported_model_file(const std::string& path);
 // a format by.
 std::string model_extension(const std::string& path);
 
+// How many files load_model has given to assimp's importer in this process (not facet's own
+// readers). facet thumbs' workers, which serve several objects, use it to read such files only in a
+// fresh process: what a damaged file does inside assimp (reads past its buffers) depends on the
+// state of the heap, and the objects before it would change that.
+std::size_t assimp_import_count();
+
 // True when load_model reads the file with facet's own parser first rather than assimp's (OFF, STL
 // and PLY, by the extension, case-insensitive; a file the parser declines still goes to assimp).
 bool has_own_parser(const std::string& path);

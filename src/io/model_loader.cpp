@@ -14,6 +14,7 @@
 #include "facet/model.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdint>
 #include <cstdlib>
@@ -64,6 +65,8 @@ Status check_file(const std::string& path, const LoadOptions& options, std::uint
     return Ok{};
 }
 
+std::atomic<std::size_t> assimp_imports{0};  // assimp_import_count
+
 // GLB: "glTF" magic, version, total length; the length must not exceed the file.
 Status check_glb(const std::string& path, const std::string& head, std::uint64_t size) {
     if (size < 12 || head.compare(0, 4, "glTF") != 0) return fail(ErrorCode::bad_format, path, "is not a GLB file (no glTF header)");
@@ -103,6 +106,7 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
             if (std::optional<LoadedModel> model = own->load(path, head, size, options)) return std::move(*model);
         if (fast_paths)
             if (std::optional<Result<LoadedModel>> model = io_detail::module_load_own_scene(path, ext, size, options)) return std::move(*model);
+        assimp_imports.fetch_add(1, std::memory_order_relaxed);
         Result<LoadedModel> model = io_detail::module_load_with_assimp(path, ext, options);
         // assimp refuses OBJ files of vertices alone ("no faces"): those are point clouds.
         if (!model && ext == "obj" && model.error().code == ErrorCode::bad_format)
@@ -125,6 +129,8 @@ std::string model_extension(const std::string& path) {
     std::string ext = fs::path(path).extension().string();
     return io_detail::lower(ext.empty() ? ext : ext.substr(1));
 }
+
+std::size_t assimp_import_count() { return assimp_imports.load(std::memory_order_relaxed); }
 
 bool has_own_parser(const std::string& path) {
     const std::string ext = model_extension(path);

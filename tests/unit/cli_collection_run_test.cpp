@@ -469,9 +469,11 @@ TEST(CliCollection, KilledAtRandomMomentsThenResumedRendersEveryObjectOnceWithNo
     const fs::path dir = temp_dir();
     constexpr int k_objects = 40;
     std::string manifest;
+    // Each model in a folder of its own, so that each has a worker of its own (a worker serves the
+    // objects of one folder in turn, ~1 ms each here): runs slow enough to be killed in the middle.
     for (int i = 0; i < k_objects; ++i) {
-        write_text(dir / "models" / ("m" + std::to_string(i) + ".obj"), model_obj(i));
-        manifest += "{\"id\": \"obj-" + std::to_string(i) + "\", \"path\": \"models/m" + std::to_string(i) + ".obj\"" +
+        write_text(dir / "models" / ("m" + std::to_string(i)) / "m.obj", model_obj(i));
+        manifest += "{\"id\": \"obj-" + std::to_string(i) + "\", \"path\": \"models/m" + std::to_string(i) + "/m.obj\"" +
                     (i % 3 == 0 ? ", \"size\": 20" : "") + "}\n";
     }
     write_text(dir / "m.jsonl", manifest);

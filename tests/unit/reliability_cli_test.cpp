@@ -52,8 +52,10 @@ TEST(ThumbsTimeout, AHangingFileIsAbandonedAndReportedWhileTheBatchFinishes) {
 
     const ScopedEnv hook("FACET_TEST_SLEEP_ON", "b_hangs");  // test hook: that file's worker sleeps
     const auto start = std::chrono::steady_clock::now();
+    // One worker at a time: b_hangs is served by the worker that rendered a_good (the same folder),
+    // with a timeout of its own.
     const CliRun r = run_facet({"thumbs", (dir / "in").string(), "-o", (dir / "out").string(), "--size", "32",
-                                "--timeout", "1.5", "--threads", "2"});
+                                "--timeout", "1.5", "--threads", "1"});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     EXPECT_EQ(r.exit_code, 1) << r.all();
@@ -95,6 +97,43 @@ TEST(ThumbsIsolation, AFileThatCrashesTheReaderFailsAloneAndTheBatchFinishes) {
     EXPECT_TRUE(contains(r.err, "b_crash.lws: the importer crashed (SIGSEGV")) << r.err;
 #endif
     EXPECT_EQ(files_in(dir / "out"), (std::vector<std::string>{"a_good.obj.png", "c_good.obj.png"}));
+}
+
+// A worker serves the objects of one folder one after another (thumbs_command.cpp): a crash in the
+// middle costs that object alone (run again in a fresh worker, where it crashes again, and reported
+// once), the objects after it are rendered by fresh workers, a file that assimp reads (a PLY with
+// colours) is given to a fresh worker too, and every image is the same bytes as the object rendered
+// alone. (A hang in the middle: ThumbsTimeout above.)
+TEST(ThumbsIsolation, AWorkerServingAFolderLosesOnlyTheObjectThatCrashes) {
+    const fs::path dir = facet_test::test_temp_dir("facet_reliability");
+    auto tetrahedron = [](int n) {
+        return "v 0 0 0\nv " + std::to_string(0.5 + 0.1 * n) + " 0 0\nv 0 0.4 0\nv 0.1 0.2 " + std::to_string(1 + 0.2 * n) +
+               "\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    };
+    const std::vector<std::string> names{"a.obj", "b_crash.obj", "c.obj", "d.obj", "e.off"};
+    for (std::size_t i = 0; i + 1 < names.size(); ++i) write_text(dir / "in" / names[i], tetrahedron(static_cast<int>(i)));
+    write_text(dir / "in" / "e.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n");
+    const ScopedEnv crash("FACET_TEST_CRASH_ON", "b_crash");
+    write_text(dir / "in" / "f_colours.ply",
+               "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+               "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 4\n"
+               "property list uchar int vertex_indices\nend_header\n0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n"
+               "0 0 1 255 255 0\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n");
+    const CliRun r = run_facet({"thumbs", (dir / "in").string(), "-o", (dir / "out").string(), "--size", "24",
+                                "--threads", "1", "--log", (dir / "log.jsonl").string()});
+    EXPECT_EQ(r.exit_code, 1) << r.all();
+    EXPECT_TRUE(contains(r.err, "5 rendered, 1 failed")) << r.err;
+    EXPECT_TRUE(contains(r.err, "b_crash.obj: the importer crashed (SIGABRT")) << r.err;
+    EXPECT_EQ(files_in(dir / "out"),
+              (std::vector<std::string>{"a.obj.png", "c.obj.png", "d.obj.png", "e.off.png", "f_colours.ply.png"}));
+    const std::string log = facet_test::read_file(dir / "log.jsonl");
+    EXPECT_EQ(std::count(log.begin(), log.end(), '\n'), 6) << log;  // one line per object
+    for (const std::string name : {"a.obj", "c.obj", "d.obj", "e.off", "f_colours.ply"}) {
+        const CliRun alone = run_facet({"thumbs", (dir / "in" / name).string(), "-o", (dir / "alone").string(), "--size", "24"});
+        ASSERT_EQ(alone.exit_code, 0) << alone.all();
+        EXPECT_EQ(facet_test::read_file(dir / "out" / (name + ".png")), facet_test::read_file(dir / "alone" / (name + ".png")))
+            << name;
+    }
 }
 
 // Without the variable the hook does nothing (the same names render).
