@@ -78,6 +78,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
         report.phase(WorkerPhase::loading);
         Clock::time_point start = Clock::now();
         const std::size_t assimp_imports = assimp_import_count();
+        allow_assimp_imports(job.fresh_process);
         Result<Scene> scene = load_scene(job.model, plan, job.command);
         f.load_ms = ms_since(start);
         if (!job.fresh_process && assimp_import_count() != assimp_imports) return k_exit_fresh_worker;

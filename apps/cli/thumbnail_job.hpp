@@ -46,8 +46,9 @@ struct ThumbnailJob {
     // and with an area) instead of writing it: a file manager shows its own icon then.
     bool refuse_empty = false;
     // In a worker that serves several objects (thumbs): confine only for the first (the sandbox is
-    // the same for the others, and its layers stack), and give back an object that is not the first
-    // and that assimp has to read (k_exit_fresh_worker: the parent gives it to a fresh worker).
+    // the same for the others, and its layers stack), and give back, unread by assimp, an object
+    // that is not the first and that assimp has to read (k_exit_fresh_worker: the parent gives it
+    // to a fresh worker).
     bool confine = true;
     bool fresh_process = true;
 };

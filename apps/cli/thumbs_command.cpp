@@ -308,8 +308,11 @@ bool run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
         job.confine = !confined;
         job.fresh_process = !confined;
         confined = true;
+        const std::size_t assimp_imports = assimp_import_count();
         const int status = run_thumbnail_job(job, report);
-        go_on = assimp_import_count() == 0 && !jobs[i].views;
+        // After assimp read a file (only a fresh process's first job may give it one), the process
+        // ends: the next objects get a fresh one too.
+        go_on = !(job.fresh_process && assimp_import_count() != assimp_imports) && !jobs[i].views;
         return status;
     };
     while (next < order.size() || !again.empty() || !running.empty()) {

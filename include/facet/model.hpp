@@ -82,11 +82,14 @@ bool is_supported_model_file(const std::string& path);
 // a format by.
 std::string model_extension(const std::string& path);
 
-// How many files load_model has given to assimp's importer in this process (not facet's own
-// readers). facet thumbs' workers, which serve several objects, use it to read such files only in a
-// fresh process: what a damaged file does inside assimp (reads past its buffers) depends on the
-// state of the heap, and the objects before it would change that.
+// How many files load_model has needed assimp's importer for in this process (not facet's own
+// readers), given to it or refused (below). facet thumbs' workers, which serve several objects,
+// use it to read such files only in a fresh process: what a damaged file does inside assimp (reads
+// past its buffers) depends on the state of the heap, and the objects before it would change that.
 std::size_t assimp_import_count();
+// With false, load_model fails a file that needs assimp's importer (ErrorCode::unsupported, "is
+// left to a fresh process") instead of giving it to assimp, until allowed again; true by default.
+void allow_assimp_imports(bool allowed);
 
 // True when load_model reads the file with facet's own parser first rather than assimp's (OFF, STL
 // and PLY, by the extension, case-insensitive; a file the parser declines still goes to assimp).

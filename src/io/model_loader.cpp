@@ -66,6 +66,7 @@ Status check_file(const std::string& path, const LoadOptions& options, std::uint
 }
 
 std::atomic<std::size_t> assimp_imports{0};  // assimp_import_count
+std::atomic<bool> assimp_allowed{true};      // allow_assimp_imports
 
 // GLB: "glTF" magic, version, total length; the length must not exceed the file.
 Status check_glb(const std::string& path, const std::string& head, std::uint64_t size) {
@@ -107,6 +108,8 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
         if (fast_paths)
             if (std::optional<Result<LoadedModel>> model = io_detail::module_load_own_scene(path, ext, size, options)) return std::move(*model);
         assimp_imports.fetch_add(1, std::memory_order_relaxed);
+        if (!assimp_allowed.load(std::memory_order_relaxed))
+            return fail(ErrorCode::unsupported, path, "is left to a fresh process (it needs assimp's importer)");
         Result<LoadedModel> model = io_detail::module_load_with_assimp(path, ext, options);
         // assimp refuses OBJ files of vertices alone ("no faces"): those are point clouds.
         if (!model && ext == "obj" && model.error().code == ErrorCode::bad_format)
@@ -131,6 +134,7 @@ std::string model_extension(const std::string& path) {
 }
 
 std::size_t assimp_import_count() { return assimp_imports.load(std::memory_order_relaxed); }
+void allow_assimp_imports(bool allowed) { assimp_allowed.store(allowed, std::memory_order_relaxed); }
 
 bool has_own_parser(const std::string& path) {
     const std::string ext = model_extension(path);

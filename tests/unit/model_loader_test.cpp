@@ -974,3 +974,29 @@ TEST(ModelLoaderRealFiles, CgalOffMeshes) {
 }
 
 }  // namespace
+
+// allow_assimp_imports(false) (facet thumbs' serving workers): a file that needs assimp's importer
+// is refused unread and counted; facet's own readers go on; allowed again, the same file loads.
+namespace {
+TEST(AssimpImports, RefusedWhileNotAllowedCountedAndLoadedOnceAllowed) {
+    const fs::path dir = temp_dir();
+    const std::string tetrahedron = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    const std::string own = facet_test::write_file(dir / "own.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + tetrahedron);
+    // A quad face: facet's OFF reader leaves the file to assimp.
+    const std::string quad = facet_test::write_file(dir / "quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    const std::size_t before = assimp_import_count();
+    allow_assimp_imports(false);
+    const Result<LoadedModel> refused = load_model(quad);
+    const Result<LoadedModel> read_by_facet = load_model(own);
+    allow_assimp_imports(true);
+    ASSERT_FALSE(refused);
+    EXPECT_EQ(refused.error().code, ErrorCode::unsupported);
+    EXPECT_NE(refused.error().message.find("left to a fresh process"), std::string::npos) << refused.error().message;
+    EXPECT_TRUE(read_by_facet);
+    EXPECT_EQ(assimp_import_count(), before + 1);
+    const Result<LoadedModel> loaded = load_model(quad);
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    EXPECT_EQ(loaded->scene.triangle_count(), 2u);
+    EXPECT_EQ(assimp_import_count(), before + 2);
+}
+}  // namespace
