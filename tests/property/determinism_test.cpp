@@ -14,6 +14,7 @@
 
 #include "facet/isa.hpp"
 #include "facet/renderer.hpp"
+#include "support/pixels.hpp"
 
 namespace {
 
@@ -182,9 +183,7 @@ Output render_with_test(const Scene& scene, DepthTest test, bool write, Renderer
     return out;
 }
 
-struct IsaGuard {
-    ~IsaGuard() { select_isa("best"); }
-};
+using facet_test::IsaGuard;
 
 TEST(Determinism, IdenticalBytesOnEveryIsaAndForEveryDepthTest) {
     IsaGuard guard;

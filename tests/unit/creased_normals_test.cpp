@@ -25,6 +25,7 @@
 #include "facet/detail/thread_pool.hpp"
 #include "scene/creased_normals.hpp"
 #include "scene/triangle_shapes.hpp"
+#include "support/pixels.hpp"
 #include "support/reference_creased_normals.hpp"
 #include "support/test_data.hpp"
 
@@ -217,9 +218,7 @@ Mesh extreme_triangles() {
     return m;
 }
 
-struct IsaGuard {
-    ~IsaGuard() { select_isa("best"); }
-};
+using facet_test::IsaGuard;
 
 // One thread sums each position's corners in triangle order and settles a fan without splitting it
 // when its faces are near the first and its corners are joined by sides (kept beside the sums as

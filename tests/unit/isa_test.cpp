@@ -20,6 +20,7 @@
 #include "facet/shaders.hpp"
 #include "geometry/project.hpp"
 #include "setup/setup.hpp"
+#include "support/pixels.hpp"
 #include "tile/depth_pass.hpp"
 #include "tile/tile_store.hpp"
 
@@ -29,9 +30,7 @@ using namespace facet;
 using namespace facet::detail;
 
 // Restores the default ISA when a test ends, whatever it selected.
-struct IsaGuard {
-    ~IsaGuard() { select_isa("best"); }
-};
+using facet_test::IsaGuard;
 
 FrontEndParams params_for(int width, int height) {
     FrontEndParams p{};

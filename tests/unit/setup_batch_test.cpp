@@ -20,15 +20,14 @@
 #include "facet/isa.hpp"
 #include "geometry/project.hpp"
 #include "setup/setup.hpp"
+#include "support/pixels.hpp"
 
 namespace {
 
 using namespace facet;
 using namespace facet::detail;
 
-struct IsaGuard {
-    ~IsaGuard() { select_isa("best"); }
-};
+using facet_test::IsaGuard;
 
 constexpr int k_guard = 16384 * k_subpixel_one;  // the guard band's extreme coordinate, fixed point
 
