@@ -4,7 +4,7 @@
 // within a squared distance of 1e-10; colours not at all): a vertex joins the first one of its
 // bucket that compares equal, else starts a new one. When no two differing vertices of one bucket
 // compare equal, that is the join by exact equality, done here with a hash table of the readers'
-// own (exact_join, checked by exact_join_is_assimps); otherwise assimp's own container is run the
+// own (join_as_assimp, which also makes that check); otherwise assimp's own container is run the
 // way assimp runs it (assimp_join: the same libstdc++ code, so the same buckets and the same result).
 // In: the vertices' attributes as assimp compares them (uvs after FlipUVs). Out: the numbering.
 #pragma once
@@ -16,6 +16,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -74,86 +75,62 @@ inline bool same(const JoinVertex& a, const JoinVertex& b) {
     return same(a.position, b.position) && same(a.normal, b.normal) && same(a.uv, b.uv) && same(a.tangent, b.tangent) &&
            same(a.bitangent, b.bitangent);
 }
-// By position only: vertices that differ elsewhere are few at one position.
-inline std::uint64_t hash(const aiVector3D& p) {
-    std::uint64_t h = bits(p.x) * 0x9E3779B97F4A7C15ull;
-    h = (h ^ bits(p.y)) * 0xC2B2AE3D27D4EB4Full;
-    h = (h ^ bits(p.z)) * 0x165667B19E3779F9ull;
-    return h ^ (h >> 29);
-}
 }  // namespace join_detail
 
 // Items 0..count-1 (value(i) -> JoinVertex) joined when exactly equal (-0 as +0), numbered in order
-// of their first item. The table holds each unique vertex (plus one: a slot of zeros is free) with
-// 32 bits of its hash, so that a probe past another vertex rarely reads that vertex's values.
+// of their first item, with each unique vertex's position in `positions`; nullopt when assimp's
+// join of a mesh of `vertex_count` vertices could differ: two unique vertices in one of its buckets
+// that compare equal with twice its margin. The table is keyed by assimp's bucket, so that the
+// vertices of a bucket meet in one probe sequence: the exact join and the check are one pass. It
+// holds each unique vertex (plus one: a slot of zeros is free) with its bucket, and a probe past
+// another bucket's vertex reads nothing more.
 template <class Value>
-Join exact_join(std::size_t count, Value&& value) {
-    constexpr std::uint64_t none = 0;
+std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t vertex_count, std::vector<aiVector3D>& positions) {
     // The table is far larger than the caches and each item probes a random slot: the slots are
-    // fetched this many items ahead (the hashes in a ring), so that the misses overlap.
+    // fetched this many items ahead (the buckets in a ring), so that the misses overlap.
     constexpr std::size_t ahead = 16;
+    const std::uint64_t buckets = reserved_buckets(vertex_count);  // fewer than 2^32 (reserved for a mesh's vertices)
     Join out;
     out.unique.resize(count);
+    positions.clear();
     const std::size_t slots = std::bit_ceil(std::max<std::size_t>(16, 2 * count));
-    std::vector<std::uint64_t> table(slots);  // tag << 32 | unique + 1 (the heap's memory, reused from mesh to mesh)
+    const int shift = 64 - std::countr_zero(slots);
+    std::vector<std::uint64_t> table(slots);  // bucket << 32 | unique + 1
     const std::size_t mask = slots - 1;
+    // A bucket's first slot: its number spread over the table.
+    const auto slot_of = [&](std::uint64_t bucket) { return static_cast<std::size_t>(bucket * 0x9E3779B97F4A7C15ull >> shift); };
+    const auto bucket_of = [&](std::size_t i) { return assimp_position_hash(value(i).position) % buckets; };
     std::uint64_t ring[ahead];
     for (std::size_t i = 0; i < std::min(count, ahead); ++i) {
-        ring[i] = join_detail::hash(value(i).position);
-        __builtin_prefetch(&table[ring[i] & mask]);
+        ring[i] = bucket_of(i);
+        __builtin_prefetch(&table[slot_of(ring[i])]);
     }
     for (std::size_t i = 0; i < count; ++i) {
         const JoinVertex v = value(i);
-        const std::uint64_t h = ring[i % ahead];
+        const std::uint64_t bucket = ring[i % ahead];
         if (i + ahead < count) {
-            ring[i % ahead] = join_detail::hash(value(i + ahead).position);
-            __builtin_prefetch(&table[ring[i % ahead] & mask]);
+            ring[i % ahead] = bucket_of(i + ahead);
+            __builtin_prefetch(&table[slot_of(ring[i % ahead])]);
         }
-        const std::uint64_t tag = h >> 32 << 32;
-        std::size_t slot = h & mask;
-        for (; table[slot] != none; slot = (slot + 1) & mask)
-            if ((table[slot] & ~0xFFFFFFFFull) == tag &&
-                join_detail::same(value(out.first[static_cast<std::uint32_t>(table[slot]) - 1]), v))
-                break;
-        if (table[slot] == none) {
+        std::size_t slot = slot_of(bucket);
+        for (; table[slot] != 0; slot = (slot + 1) & mask) {
+            if (table[slot] >> 32 != bucket) continue;
+            const std::uint32_t u = static_cast<std::uint32_t>(table[slot]) - 1;
+            // Far apart positions compare unequal whatever the rest (assimp_equal): only near ones
+            // read the rest of the unique vertex.
+            if ((positions[u] - v.position).SquareLength() > 2e-10f) continue;
+            const JoinVertex w = value(out.first[u]);
+            if (join_detail::same(w, v)) break;
+            if (assimp_equal(w, v, 2e-10f)) return std::nullopt;
+        }
+        if (table[slot] == 0) {
             out.first.push_back(static_cast<std::uint32_t>(i));
-            table[slot] = tag | out.first.size();
+            positions.push_back(v.position);
+            table[slot] = bucket << 32 | out.first.size();
         }
         out.unique[i] = static_cast<std::uint32_t>(table[slot]) - 1;
     }
     return out;
-}
-
-// Whether assimp's join of a mesh of `vertex_count` vertices is the exact `join`: no two of its
-// unique vertices in one of assimp's buckets compare equal, with twice the margin. unique_value(u)
-// is unique vertex u's JoinVertex, position(u) its position (the callers have them gathered in
-// order, as their meshes' positions). The buckets are too many to hold lists: a bit per bucket
-// finds those holding two or more unique vertices, and only their vertices are compared.
-template <class Value, class Position>
-bool exact_join_is_assimps(const Join& join, Value&& unique_value, Position&& position, std::size_t vertex_count) {
-    const std::size_t buckets = reserved_buckets(vertex_count);
-    std::vector<std::uint64_t> seen((buckets + 63) / 64), shared((buckets + 63) / 64);
-    std::vector<std::uint32_t> bucket_of(join.first.size());  // buckets: fewer than 2^32 (reserved for a mesh's vertices)
-    for (std::size_t u = 0; u < join.first.size(); ++u) {
-        const std::size_t b = assimp_position_hash(position(u)) % buckets;
-        bucket_of[u] = static_cast<std::uint32_t>(b);
-        const std::uint64_t bit = std::uint64_t{1} << (b % 64);
-        if (seen[b / 64] & bit) shared[b / 64] |= bit;
-        seen[b / 64] |= bit;
-    }
-    std::vector<std::uint64_t> crowded;  // bucket << 32 | unique vertex
-    for (std::size_t u = 0; u < join.first.size(); ++u)
-        if (shared[bucket_of[u] / 64] & (std::uint64_t{1} << (bucket_of[u] % 64)))
-            crowded.push_back(std::uint64_t{bucket_of[u]} << 32 | u);
-    std::sort(crowded.begin(), crowded.end());
-    // Each crowded vertex's values fetched once, in bucket order (the pairs then read them in order).
-    std::vector<JoinVertex> values;
-    values.reserve(crowded.size());
-    for (const std::uint64_t c : crowded) values.push_back(unique_value(static_cast<std::uint32_t>(c)));
-    for (std::size_t a = 0; a < crowded.size(); ++a)
-        for (std::size_t b = a + 1; b < crowded.size() && crowded[b] >> 32 == crowded[a] >> 32; ++b)
-            if (assimp_equal(values[a], values[b], 2e-10f)) return false;
-    return true;
 }
 
 // assimp's join itself over the vertices used (used(i)), in its container and order; the unused

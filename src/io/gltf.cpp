@@ -755,10 +755,13 @@ private:
         for (std::size_t v = 0; v < n; ++v)
             if (used[v]) used_list.push_back(static_cast<std::uint32_t>(v));
         const auto item_value = [&](std::size_t i) { return value_of(used_list[i]); };
-        Join join = exact_join(used_list.size(), item_value);
+        std::vector<aiVector3D> unique_positions;
+        std::optional<Join> exact_join = join_as_assimp(used_list.size(), item_value, n, unique_positions);
+        const bool exact = exact_join.has_value();
+        Join join;
         std::vector<std::uint32_t> unique_of(n, ~0u);
-        if (exact_join_is_assimps(join, [&](std::size_t u) { return item_value(join.first[u]); },
-                                  [&](std::size_t u) { return positions[used_list[join.first[u]]]; }, n)) {
+        if (exact) {
+            join = std::move(*exact_join);
             for (std::size_t i = 0; i < used_list.size(); ++i) unique_of[used_list[i]] = join.unique[i];
             for (std::uint32_t& f : join.first) f = used_list[f];
         } else {
@@ -767,8 +770,9 @@ private:
         }
         OwnMesh out;
         out.material = p.material ? static_cast<unsigned>(material_slot_[*p.material]) : static_cast<unsigned>(material_order_.size());
+        if (exact) out.positions = std::move(unique_positions);
         for (std::uint32_t v : join.first) {
-            out.positions.push_back(positions[v]);
+            if (!exact) out.positions.push_back(positions[v]);
             if (!normals.empty()) out.normals.push_back(normals[v]);
             if (!uvs.empty()) out.uvs.push_back(uvs[v]);
             if (!colours.empty()) out.colours.push_back(colours[v]);

@@ -1026,21 +1026,16 @@ public:
             group_of[c] = indices_[e].group;
         }
         const auto group_value = [&](std::size_t g) { return value_of(group_corner[g]); };
-        Join join = exact_join(group_corner.size(), group_value);
-        for (std::uint32_t& f : join.first) f = group_corner[f];
         OwnMesh out;
         out.material = material;
-        // The unique vertices' positions, gathered once in order: the check hashes them.
-        detail::reserve_in_huge_pages(out.positions, join.first.size());
-        for (std::uint32_t c : join.first) out.positions.push_back(model_.vertices[mesh_v[c]]);
+        detail::reserve_in_huge_pages(out.positions, group_corner.size());
+        std::optional<Join> exact_join = join_as_assimp(group_corner.size(), group_value, corners, out.positions);
+        const bool exact = exact_join.has_value();
+        Join join;
         std::vector<std::uint32_t> unique_of_corner = std::move(group_of);
-        // A unique vertex's values: its position alone for a mesh without texture coordinates and
-        // normals (what value_of gives then).
-        const auto unique_value = [&](std::size_t u) {
-            return by_vertex ? JoinVertex{out.positions[u], {}, {}, {}, {}} : value_of(join.first[u]);
-        };
-        const bool exact = exact_join_is_assimps(join, unique_value, [&](std::size_t u) { return out.positions[u]; }, corners);
         if (exact) {
+            join = std::move(*exact_join);
+            for (std::uint32_t& f : join.first) f = group_corner[f];
             for (std::uint32_t& u : unique_of_corner) u = join.unique[u];
         } else {
             join = assimp_join(corners, value_of, [](std::size_t) { return true; });

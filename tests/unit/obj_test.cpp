@@ -336,3 +336,50 @@ TEST(AssimpJoin, ReservedBucketsAreUnorderedMaps) {
 }
 
 }  // namespace
+
+namespace {
+
+// The readers' join (exact equality keyed by assimp's bucket, checked in the same pass) against
+// assimp's own container on small meshes with few buckets: exact duplicates, -0 and +0, and
+// vertices a unit in the last place apart (which assimp's tolerance joins) in positions and
+// normals. Where join_as_assimp gives a join it is assimp's; where it declines, assimp's join is
+// not the exact one.
+TEST(AssimpJoin, JoinAsAssimpIsAssimpsWhereItJoins) {
+    std::mt19937 rng(21);
+    const float pool[] = {0.0f, -0.0f, 1.0f, std::nextafter(1.0f, 2.0f), 0.5f, -0.25f, 3.0f, std::nextafter(3.0f, 0.0f)};
+    auto pick = [&] { return pool[rng() % std::size(pool)]; };
+    int joined = 0, declined = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const std::size_t n = 1 + rng() % 40;
+        std::vector<io_detail::JoinVertex> v(n);
+        const bool with_normals = trial % 2 == 1;
+        for (io_detail::JoinVertex& x : v) {
+            x.position = {pick(), pick(), trial % 3 == 0 ? pick() : 0.0f};
+            if (with_normals) x.normal = {trial % 5 == 0 ? pick() : 0.0f, pick() > 0.0f ? 1.0f : 0.0f, 0.0f};
+        }
+        const auto value = [&](std::size_t i) { return v[i]; };
+        std::vector<aiVector3D> positions;
+        const std::optional<io_detail::Join> ours = io_detail::join_as_assimp(n, value, n, positions);
+        const io_detail::Join theirs = io_detail::assimp_join(n, value, [](std::size_t) { return true; });
+        if (!ours) {
+            ++declined;
+            continue;
+        }
+        ++joined;
+        EXPECT_EQ(ours->unique, theirs.unique) << trial;
+        EXPECT_EQ(ours->first, theirs.first) << trial;
+        ASSERT_EQ(positions.size(), ours->first.size());
+        for (std::size_t u = 0; u < positions.size(); ++u) EXPECT_EQ(positions[u], v[ours->first[u]].position) << trial;
+        // An exact join differs from assimp's only where two of its vertices compare equal.
+        for (std::size_t a = 0; a < ours->first.size(); ++a)
+            for (std::size_t b = a + 1; b < ours->first.size(); ++b)
+                if (io_detail::assimp_equal(v[ours->first[a]], v[ours->first[b]], 1e-10f) &&
+                    io_detail::assimp_position_hash(v[ours->first[a]].position) % io_detail::reserved_buckets(n) ==
+                        io_detail::assimp_position_hash(v[ours->first[b]].position) % io_detail::reserved_buckets(n))
+                    ADD_FAILURE() << "trial " << trial << ": " << a << " and " << b;
+    }
+    EXPECT_GT(joined, 1000);  // both ways taken often
+    EXPECT_GT(declined, 100);
+}
+
+}  // namespace
