@@ -131,11 +131,11 @@ public:
         batch_.square[i] = 0;
         push(a, b, ref_a, ref_b, primitive);
     }
-    // Segment a -> b (a != b) with square ends, which the kernel computes.
+    // Segment a -> b (a != b) with square ends, which the kernel computes (its offsets are left as
+    // they are: a square lane never reads them).
     void add_square(const ScreenVertex& a, const ScreenVertex& b, std::uint32_t ref_a, std::uint32_t ref_b,
                     std::uint32_t primitive) {
         const int i = batch_.count;
-        batch_.ox0[i] = 0, batch_.oy0[i] = 0, batch_.ox1[i] = 0, batch_.oy1[i] = 0;
         batch_.square[i] = 1;
         push(a, b, ref_a, ref_b, primitive);
     }
@@ -182,6 +182,28 @@ private:
     std::uint32_t primitive_[SegmentBatch::k_capacity];
     SetupLanes lanes_;
 };
+
+// The aliased segments from s on that assemble_lines would queue with square ends as they are (a
+// line list's, mostly): both ends valid and inside every plane, apart, and joined to neither
+// neighbour, which cannot join them unless the one before ends where s starts or the one after starts
+// where s ends. Returns the first segment that is not one, for assemble_lines's general path. Its own
+// loop: in the general one, its state spilled to the stack cost more than the work.
+template <bool Primitives>
+[[gnu::noinline]] std::size_t queue_lone_segments(const ClipVertices& vertices, const IndexOf& index_of, std::size_t s,
+                                std::size_t end, std::size_t segment_count, SegmentQueue<Primitives>& queue) {
+    const std::size_t vertex_count = vertices.pos.size();
+    const std::uint8_t* outcode = vertices.outcode.data();
+    const ScreenVertex* screen = vertices.screen.data();
+    for (; s < end; ++s) {
+        const std::uint32_t i0 = index_of(2 * s), i1 = index_of(2 * s + 1);
+        if (i0 >= vertex_count || i1 >= vertex_count || (outcode[i0] | outcode[i1]) != 0) break;
+        if ((s > 0 && index_of(2 * s - 1) == i0) || (s + 1 < segment_count && index_of(2 * s + 2) == i1)) break;
+        const ScreenVertex &a = screen[i0], &b = screen[i1];
+        if (a.x == b.x && a.y == b.y) break;
+        queue.add_square(a, b, i0, i1, static_cast<std::uint32_t>(s));
+    }
+    return s;
+}
 
 // Pixels [x0, x1) x [y0, y1) (inside the scissor) with point c's depth and varyings.
 template <bool Primitives>
@@ -345,6 +367,7 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
     };
     SegmentQueue<Primitives> queue(p.scissor, h, emitter);
     for (std::size_t s = first; s < end; ++s) {
+        if (!aa && (s = queue_lone_segments(vertices, index_of, s, end, segment_count, queue)) == end) break;
         std::uint32_t i0 = index_of(2 * s), i1 = index_of(2 * s + 1);
         if (i0 >= vertex_count || i1 >= vertex_count || vertices.outcode[i0] == k_outcode_invalid ||
             vertices.outcode[i1] == k_outcode_invalid) {

@@ -423,6 +423,78 @@ TEST(Points, ModelUnitSizesArePerspectiveScaled) {
     EXPECT_EQ(far.count, pixels8.count);
 }
 
+// A draw is cut into chunks by segment index, more of them with more threads (2048 segments or more
+// make two chunks at one thread): lone segments (a line list's, which the front end queues in a loop of
+// their own), strips and loops through the chunks' boundaries, repeated and out-of-range indices,
+// segments of no length and ones crossing the near plane, mixed, give the same bytes and counts
+// whatever the chunks.
+TEST(Lines, ListsStripsAndLoopsMixedGiveTheSameBytesWhateverTheChunks) {
+    std::mt19937 rng(32);
+    std::uniform_real_distribution<float> u(-1.2f, 1.2f), c(0, 1);
+    std::vector<Vec4> pos, colour;
+    std::vector<std::uint32_t> indices;
+    const auto vertex = [&](float w) {
+        pos.push_back({u(rng) * w, u(rng) * w, c(rng) * w, w});
+        colour.push_back({c(rng), c(rng), c(rng), 1});
+        return static_cast<std::uint32_t>(pos.size() - 1);
+    };
+    std::uint64_t invalid = 0;
+    while (indices.size() < 2 * 9000) {
+        const int kind = static_cast<int>(c(rng) * 8);
+        if (kind <= 2) {  // lone segments
+            for (int k = 0; k < 1 + kind * 20; ++k) indices.insert(indices.end(), {vertex(1), vertex(1)});
+        } else if (kind <= 4) {  // a strip, or a loop when kind is 4
+            const int n = 2 + static_cast<int>(c(rng) * 40);
+            const std::uint32_t start = vertex(1);
+            std::uint32_t at = start;
+            for (int k = 0; k < n; ++k) {
+                const std::uint32_t next = kind == 4 && k + 1 == n ? start : vertex(1);
+                indices.insert(indices.end(), {at, next});
+                at = next;
+            }
+        } else if (kind == 5) {  // no length: both ends the same vertex
+            const std::uint32_t v = vertex(1);
+            indices.insert(indices.end(), {v, v});
+        } else if (kind == 6) {  // an end out of range, first or second
+            const std::uint32_t v = vertex(1);
+            const bool first = c(rng) < 0.5f;
+            indices.insert(indices.end(), {first ? 0xfffffff0u : v, first ? v : 0xfffffff0u});
+            ++invalid;
+        } else {  // through the near plane (w of one end negative): clipped
+            const std::uint32_t a = vertex(1), b = vertex(-0.5f);
+            indices.insert(indices.end(), {a, b});
+        }
+    }
+    const auto shader = make_shader<4>(
+        [&](std::uint32_t i, Varyings<4>& out) {
+            out.set(0, colour[i]);
+            return pos[i];
+        },
+        [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+    const auto render = [&](int threads, DrawStats& stats) {
+        Renderer renderer({.threads = threads, .tile_size = 16});
+        Framebuffer fb(96, 80);
+        DrawState state;
+        state.clear = ClearValues{};
+        stats = renderer.draw(fb, state, {static_cast<std::uint32_t>(pos.size()), indices, Topology::lines, {.line_width = 2.5f}}, shader);
+        std::vector<std::uint32_t> bytes(2 * 96 * 80);
+        std::memcpy(bytes.data(), fb.colour_data(), 96 * 80 * sizeof(Rgba8));
+        std::memcpy(bytes.data() + 96 * 80, fb.depth_data(), 96 * 80 * sizeof(float));
+        return bytes;
+    };
+    DrawStats reference_stats;
+    const auto reference = render(1, reference_stats);
+    EXPECT_EQ(reference_stats.segments_in, indices.size() / 2);
+    EXPECT_EQ(reference_stats.segments_invalid, invalid);
+    EXPECT_GT(reference_stats.triangles_clipped, 50u);
+    for (int threads : {2, 3, 5}) {
+        DrawStats stats;
+        EXPECT_EQ(render(threads, stats), reference) << threads << " threads";
+        EXPECT_EQ(stats.segments_invalid, invalid);
+        EXPECT_EQ(stats.triangles_rasterized, reference_stats.triangles_rasterized) << threads << " threads";
+    }
+}
+
 // The same bytes for any thread count, tile size and ISA: a few thousand points and segments of all
 // sizes, aliased and anti-aliased, overlapping, through clipping and across tiles.
 TEST(PointsAndLines, SameBytesOverThreadsTilesAndIsas) {
