@@ -202,26 +202,37 @@ std::size_t object_count(std::span<const ObjectView> v) { return v.size(); }
 ObjectView object_at(const Scene& s, std::size_t i) { return view_of(s.objects[i]); }
 ObjectView object_at(std::span<const ObjectView> v, std::size_t i) { return v[i]; }
 
-template <class Objects>
-Aabb bounds_of(const Objects& objects) {
-    Aabb box;
+// f(transform_point(model, p)) for each finite position p of the objects. With the identity (the
+// model of nearly every file read) that is p + 0 (the products by 0 and 1 are exact, and the last
+// term, +0, makes a -0 +0), without the twelve products.
+template <class Objects, class F>
+void for_each_placed_position(const Objects& objects, const F& f) {
     for (std::size_t i = 0; i < object_count(objects); ++i) {
         const ObjectView o = object_at(objects, i);
-        for (std::uint32_t k = 0; k < o.vertex_count; ++k)
-            if (is_finite(o.positions[k])) box.extend(transform_point(o.model, o.positions[k]));
+        if (o.model == Mat4::identity()) {
+            for (std::uint32_t k = 0; k < o.vertex_count; ++k)
+                if (const Vec3 p = o.positions[k]; is_finite(p)) f(Vec3{p.x + 0.0f, p.y + 0.0f, p.z + 0.0f});
+        } else {
+            for (std::uint32_t k = 0; k < o.vertex_count; ++k)
+                if (is_finite(o.positions[k])) f(transform_point(o.model, o.positions[k]));
+        }
     }
-    return box;
 }
 
 template <class Objects>
+Aabb bounds_of(const Objects& objects) {
+    Aabb box;
+    for_each_placed_position(objects, [&](Vec3 p) { box.extend(p); });
+    return box;
+}
+
+// The largest distance, as the square root of the largest squared distance: the same bits, as
+// sqrt is correctly rounded and so never decreasing (and a NaN is passed over by both).
+template <class Objects>
 float radius_of(const Objects& objects, Vec3 centre) {
-    float r = 0;
-    for (std::size_t i = 0; i < object_count(objects); ++i) {
-        const ObjectView o = object_at(objects, i);
-        for (std::uint32_t k = 0; k < o.vertex_count; ++k)
-            if (is_finite(o.positions[k])) r = std::max(r, length(transform_point(o.model, o.positions[k]) - centre));
-    }
-    return r;
+    float r2 = 0;
+    for_each_placed_position(objects, [&](Vec3 p) { r2 = std::max(r2, dot(p - centre, p - centre)); });
+    return std::sqrt(r2);
 }
 
 }  // namespace

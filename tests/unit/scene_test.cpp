@@ -1,7 +1,9 @@
 // Scenes: shading names, the automatic framing rule, render_scene.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "facet/scene.hpp"
 
@@ -51,6 +53,32 @@ TEST(Scene, FramingFollowsTheDocumentedRule) {
     EXPECT_NEAR(c.near, std::max(dist - 1.5f * r, 0.01f * r), 1e-4f);
     EXPECT_NEAR(c.far, dist + 1.5f * r, 1e-4f);
     EXPECT_FLOAT_EQ(c.fovy, fovy);
+}
+
+// The bounds and the radius that framing reads are those of transform_point(model, p), bit for bit,
+// also when the model is the identity (which is not multiplied out): -0 there is +0, and a position
+// that is not finite is passed over.
+TEST(Scene, BoundsAndRadiusOfTheIdentityAreTransformPointsBits) {
+    Mesh m;
+    m.positions = {{-0.0f, 1e-30f, -3.5f}, {-2.25f, -0.0f, 1e30f}, {-1e-38f, 7.0f, -0.0f},
+                   {std::nanf(""), 0, 0}, {1, INFINITY, 1}, {-0.0f, -0.0f, -0.0f}};
+    m.indices = {0, 1, 2, 3, 4, 5};
+    Scene scene;
+    scene.objects.push_back({m, Mat4::identity(), Material{}});
+    Aabb want;
+    for (const Vec3& p : m.positions)
+        if (is_finite(p)) want.extend(transform_point(Mat4::identity(), p));
+    const Aabb got = scene.bounds();
+    const Vec3 centre = want.centre();
+    float want_r = 0;
+    for (const Vec3& p : m.positions)
+        if (is_finite(p)) want_r = std::max(want_r, length(transform_point(Mat4::identity(), p) - centre));
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(got.min[axis]), std::bit_cast<std::uint32_t>(want.min[axis])) << axis;
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(got.max[axis]), std::bit_cast<std::uint32_t>(want.max[axis])) << axis;
+    }
+    EXPECT_FALSE(std::signbit(got.max.x));  // the largest x is a -0, +0 after the transform
+    EXPECT_EQ(std::bit_cast<std::uint32_t>(scene.radius_about(centre)), std::bit_cast<std::uint32_t>(want_r));
 }
 
 TEST(Scene, FramingAnEmptySceneIsFinite) {
