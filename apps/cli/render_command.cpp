@@ -130,30 +130,36 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
     const double load_ms = ms_since(load_start);
 
     report.phase(WorkerPhase::rendering);
-    ViewRenderer renderer({.threads = r.threads});
-    if (r.print_config) {
-        print_config(r, *scene, renderer.renderer());
-        return k_exit_ok;
-    }
-    if (plan.views) return views_job(r, *scene, load_ms);
+    if (plan.views && !r.print_config) return views_job(r, *scene, load_ms);
     Image colour;
     std::vector<float> depth;
     std::vector<float>* depth_ptr = r.depth_out.empty() ? nullptr : &depth;
-
-    const Clock::time_point render_start = Clock::now();
-    const Camera camera = plan_camera(*scene, plan);
-    DrawStats stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
-    double render_ms = ms_since(render_start);
-    if (r.benchmark_frames > 0) {
-        // The first frame above was the warm-up; time the next ones, each a draw and the copy of the
-        // image out (the camera is framed once, as for one image: framing reads every vertex).
-        std::vector<double> frames;
-        for (int i = 0; i < r.benchmark_frames; ++i) {
-            const Clock::time_point start = Clock::now();
-            stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
-            frames.push_back(ms_since(start));
+    DrawStats stats;
+    double render_ms = 0;
+    int threads = 1;
+    {
+        // The renderer ends before the PNG is written: its thread (and its memory) go to the encoder.
+        ViewRenderer renderer({.threads = r.threads});
+        threads = renderer.renderer().threads();
+        if (r.print_config) {
+            print_config(r, *scene, renderer.renderer());
+            return k_exit_ok;
         }
-        print_benchmark(frames, load_ms, scene->triangle_count(), renderer.renderer().threads(), plan.width, plan.height);
+        const Clock::time_point render_start = Clock::now();
+        const Camera camera = plan_camera(*scene, plan);
+        stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
+        render_ms = ms_since(render_start);
+        if (r.benchmark_frames > 0) {
+            // The first frame above was the warm-up; time the next ones, each a draw and the copy of
+            // the image out (the camera is framed once, as for one image: framing reads every vertex).
+            std::vector<double> frames;
+            for (int i = 0; i < r.benchmark_frames; ++i) {
+                const Clock::time_point start = Clock::now();
+                stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
+                frames.push_back(ms_since(start));
+            }
+            print_benchmark(frames, load_ms, scene->triangle_count(), threads, plan.width, plan.height);
+        }
     }
 
     if (stats.triangles_in > 0 && stats.triangles_invalid == stats.triangles_in) {
@@ -161,7 +167,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
         return k_exit_failed;
     }
     report.phase(WorkerPhase::writing);
-    if (Status s = write_png(r.output, colour, {.threads = renderer.renderer().threads()}); !s) {
+    if (Status s = write_png(r.output, colour, {.threads = threads}); !s) {
         std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
         return k_exit_failed;
     }
@@ -175,7 +181,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
     }
     std::fprintf(stderr, "facet render: %s (%dx%d, %s, load %.1f ms, render %.1f ms, %d threads)\n",
                  r.output.c_str(), plan.width, plan.height, describe_primitives(*scene).c_str(), load_ms, render_ms,
-                 renderer.renderer().threads());
+                 threads);
     return k_exit_ok;
 }
 

@@ -1,5 +1,8 @@
-// facet exec: the worker pool behind every parallel stage (vertex, front end, tiles).
+// facet exec: the worker pool behind every parallel stage (vertex, front end, tiles), and the
+// threads that pools which ended leave to the next (a process starts each thread once).
 #include "facet/detail/thread_pool.hpp"
+
+#include <pthread.h>
 
 #include "facet/defaults.hpp"
 
@@ -50,9 +53,9 @@ bool spin_until(const Done& done) {
 
 struct ThreadPool::State {
     int size = 1;
-    std::vector<std::thread> threads;
     std::mutex mutex;
-    std::condition_variable wake, finished;
+    std::condition_variable wake, finished, left;
+    int attached = 0;  // workers in worker_loop, or on their way to it (under the mutex)
     std::atomic<std::uint64_t> generation{0};  // bumped (under the mutex) for each parallel_for
     bool stopping = false;
     std::atomic<int> busy{0};                   // workers still inside the current loop
@@ -77,6 +80,23 @@ struct ThreadPool::State {
         }
     }
 
+    // A thread of no pool at the moment, waiting for one: a process makes pools one after another
+    // (the reader's, the renderer's, the PNG encoder's; a serving worker's for each object), and
+    // starting a thread, and waking it the first time, cost more than a small pool's loop.
+    struct Seat {
+        State* pool = nullptr;  // set (under Spare::mutex) when a pool takes the thread
+        int worker = 0;
+    };
+    struct Spare {
+        std::mutex mutex;
+        std::condition_variable wake;
+        std::vector<Seat*> idle;
+        Spare* before_fork = nullptr;  // the parent's, kept (reachable) in a forked child
+    };
+    static Spare& spare();
+    // A thread's life: waits for a pool, works for it until the pool ends, and waits again.
+    static void serve(Seat* seat);
+
     void worker_loop(int worker) {
         std::uint64_t seen = 0;
         for (;;) {
@@ -97,23 +117,101 @@ struct ThreadPool::State {
     }
 };
 
+namespace {
+
+// More than this many spare threads end instead of waiting (a pool of many threads, once).
+std::size_t max_idle() { return std::max(4u, 2 * std::thread::hardware_concurrency()); }
+
+}  // namespace
+
+ThreadPool::State::Spare& ThreadPool::State::spare() {
+    // Never destroyed: spare threads wait here when the process exits (they are detached), and a
+    // forked child, which has none of the parent's threads, starts with a new one (the old one's
+    // mutex may have been held by one of them).
+    static Spare* current = [] {
+        pthread_atfork(nullptr, nullptr, [] {
+            Spare* fresh = new Spare;
+            fresh->before_fork = current;
+            current = fresh;
+        });
+        return new Spare;
+    }();
+    return *current;
+}
+
+void ThreadPool::State::serve(Seat* seat) {
+    for (;;) {
+        State* pool;
+        int worker;
+        {
+            Spare& s = spare();
+            std::unique_lock lock(s.mutex);
+            s.wake.wait(lock, [&] { return seat->pool != nullptr; });
+            pool = seat->pool;
+            worker = seat->worker;
+        }
+        pool->worker_loop(worker);
+        bool stay;
+        {
+            Spare& s = spare();
+            std::lock_guard lock(s.mutex);
+            seat->pool = nullptr;
+            stay = s.idle.size() < max_idle();
+            if (stay) s.idle.push_back(seat);
+        }
+        {
+            // The pool's destructor waits for this; `pool` is not touched after.
+            std::lock_guard lock(pool->mutex);
+            if (--pool->attached == 0) pool->left.notify_all();
+        }
+        if (!stay) {
+            delete seat;
+            return;
+        }
+    }
+}
+
 ThreadPool::ThreadPool(int threads) : state_(std::make_unique<State>()) {
     threads = resolve_threads(threads);
     state_->size = threads;
-    for (int i = 1; i < threads; ++i) state_->threads.emplace_back([s = state_.get(), i] { s->worker_loop(i); });
+    state_->attached = threads - 1;
+    State::Spare& s = State::spare();
+    bool woke = false;
+    for (int i = 1; i < threads; ++i) {
+        {
+            std::lock_guard lock(s.mutex);
+            if (!s.idle.empty()) {
+                State::Seat* seat = s.idle.back();
+                s.idle.pop_back();
+                seat->pool = state_.get();
+                seat->worker = i;
+                woke = true;
+                continue;
+            }
+        }
+        auto* seat = new State::Seat{state_.get(), i};
+        try {
+            std::thread([seat] { State::serve(seat); }).detach();
+        } catch (...) {  // no more threads: the pool has the ones it got
+            delete seat;
+            std::lock_guard lock(state_->mutex);
+            state_->size = i;
+            state_->attached = i - 1;
+            break;
+        }
+    }
+    if (woke) s.wake.notify_all();
 }
 
 ThreadPool::~ThreadPool() {
-    {
-        std::lock_guard lock(state_->mutex);
-        state_->stopping = true;
-        // Ends the workers' spin at once: they would otherwise spin out k_spin_time before they
-        // see `stopping`, and the caller wait for them in join (a pool that ends with its call,
-        // as the loaders' and the PNG encoder's do, paid it each time).
-        state_->generation.fetch_add(1, std::memory_order_relaxed);
-    }
+    std::unique_lock lock(state_->mutex);
+    state_->stopping = true;
+    // Ends the workers' spin at once: they would otherwise spin out k_spin_time before they see
+    // `stopping`, and the destructor wait for them (a pool that ends with its call, as the
+    // loaders' and the PNG encoder's do, paid it each time).
+    state_->generation.fetch_add(1, std::memory_order_relaxed);
     state_->wake.notify_all();
-    for (std::thread& t : state_->threads) t.join();
+    state_->left.wait(lock, [&] { return state_->attached == 0; });
 }
 
 int ThreadPool::size() const { return state_->size; }
@@ -121,7 +219,7 @@ int ThreadPool::size() const { return state_->size; }
 void ThreadPool::run(std::size_t count, TaskRef task) {
     State& s = *state_;
     if (count == 0) return;
-    if (s.threads.empty() || count == 1) {
+    if (s.size == 1 || count == 1) {
         for (std::size_t i = 0; i < count; ++i) task(i, 0);
         return;
     }
@@ -132,7 +230,7 @@ void ThreadPool::run(std::size_t count, TaskRef task) {
         s.next = 0;
         s.failed = false;
         s.error = nullptr;
-        s.busy.store(static_cast<int>(s.threads.size()), std::memory_order_relaxed);
+        s.busy.store(s.size - 1, std::memory_order_relaxed);
         s.generation.fetch_add(1, std::memory_order_relaxed);
     }
     s.wake.notify_all();

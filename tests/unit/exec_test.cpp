@@ -1,8 +1,13 @@
 // The thread pool and renderer configuration.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <latch>
 #include <stdexcept>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -34,6 +39,54 @@ TEST(ThreadPool, ExceptionsReachTheCallerAndThePoolStaysUsable) {
     pool.parallel_for(50, [&](std::size_t) { n++; });
     EXPECT_EQ(n.load(), 50);
 }
+
+// The thread each worker index of the pool runs on: two tasks that wait for each other, so that
+// both workers take one.
+std::vector<std::thread::id> worker_threads(detail::ThreadPool& pool) {
+    std::vector<std::thread::id> ids(2);
+    std::latch both(2);
+    pool.parallel_for(2, [&](std::size_t, int worker) {
+        ids[static_cast<std::size_t>(worker)] = std::this_thread::get_id();
+        both.arrive_and_wait();
+    });
+    return ids;
+}
+
+// A pool that ends leaves its thread to the next pool (a process starts each thread once), and
+// pools alive at once have threads of their own.
+TEST(ThreadPool, ThePoolsThreadGoesToTheNextPool) {
+    std::thread::id first;
+    {
+        detail::ThreadPool pool(2);
+        first = worker_threads(pool)[1];
+        EXPECT_NE(first, std::this_thread::get_id());
+    }
+    detail::ThreadPool next(2);
+    EXPECT_EQ(worker_threads(next)[1], first);
+    detail::ThreadPool beside(2);
+    const std::thread::id other = worker_threads(beside)[1];
+    EXPECT_NE(other, first);
+    EXPECT_NE(other, std::this_thread::get_id());
+    EXPECT_EQ(worker_threads(next)[1], first);
+}
+
+#if !defined(__SANITIZE_THREAD__)  // TSan does not start threads after a multi-threaded fork
+// A forked child has none of the parent's spare threads: its pools start their own.
+TEST(ThreadPool, AForkedChildStartsThreadsOfItsOwn) {
+    { detail::ThreadPool pool(2); (void)worker_threads(pool); }  // a spare thread in this process
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        alarm(20);  // a pool waiting for a thread that is not there would hang
+        detail::ThreadPool pool(2);
+        const std::vector<std::thread::id> ids = worker_threads(pool);
+        _exit(ids[1] != ids[0] ? 0 : 1);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(pid, &status, 0), pid);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+}
+#endif
 
 TEST(ThreadPool, ZeroMeansOnePerCore) {
     detail::ThreadPool pool(0);
