@@ -21,6 +21,8 @@
 #include <utility>
 #include <vector>
 
+#include "exec/fresh_pages.hpp"
+
 namespace facet::io_detail {
 
 // What JoinIdenticalVertices compares of a vertex (zeros for what the mesh lacks).
@@ -91,11 +93,15 @@ std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t
     constexpr std::size_t ahead = 16;
     const std::uint64_t buckets = reserved_buckets(vertex_count);  // fewer than 2^32 (reserved for a mesh's vertices)
     Join out;
+    detail::reserve_in_huge_pages(out.unique, count);
     out.unique.resize(count);
+    // At most one unique vertex per item: never grown and copied.
+    detail::reserve_in_huge_pages(out.first, count);
     positions.clear();
+    detail::reserve_in_huge_pages(positions, count);
     const std::size_t slots = std::bit_ceil(std::max<std::size_t>(16, 2 * count));
     const int shift = 64 - std::countr_zero(slots);
-    std::vector<std::uint64_t> table(slots);  // bucket << 32 | unique + 1
+    const detail::ZeroedArray<std::uint64_t> table(slots);  // bucket << 32 | unique + 1; fresh 2 MB pages (random probes)
     const std::size_t mask = slots - 1;
     // A bucket's first slot: its number spread over the table.
     const auto slot_of = [&](std::uint64_t bucket) { return static_cast<std::size_t>(bucket * 0x9E3779B97F4A7C15ull >> shift); };

@@ -137,30 +137,56 @@ Vec4 clamp_colour(const aiColor4D& c) {
     return {unit(c.r), unit(c.g), unit(c.b), unit(c.a)};
 }
 
+bool finite_position(const SourceMesh& m, std::uint32_t i) {
+    const aiVector3D& p = m.positions[i];
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
+// Whether a reader's triangles use every vertex, numbered already in order of first use, and every
+// position is finite: then the conversion keeps them as they are (no renumbering). Two sequential
+// passes, the first stopping at the first number out of order.
+bool kept_as_numbered(const SourceMesh& in) {
+    if (!in.triangles) return false;
+    std::uint32_t next = 0;  // the number the next new vertex must have
+    for (std::size_t c = 0; c < 3 * in.triangle_count; ++c) {
+        if (in.triangles[c] > next) return false;
+        next += in.triangles[c] == next;
+    }
+    if (next != in.vertex_count) return false;
+    for (std::uint32_t i = 0; i < in.vertex_count; ++i)
+        if (!finite_position(in, i)) return false;
+    return true;
+}
+
 // Keeps the triangles, segments and points whose vertices exist and are finite, then only the
 // vertices they use, numbered in order of first use. With `tangents` (its material has a normal
 // map), the file's tangents when it has them for its normals, else computed (compute_tangents).
 ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float crease_angle_radians, int threads,
                            bool tangents) {
     ConvertedMesh out;
-    std::vector<std::uint32_t> used;  // source vertex of each kept vertex
-    std::vector<std::uint32_t> remap(in.vertex_count, ~0u);
-    auto finite = [&](unsigned i) {
-        const aiVector3D& p = in.positions[i];
-        return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+    const bool as_numbered = kept_as_numbered(in);
+    std::vector<std::uint32_t> used;  // source vertex of each kept vertex (none kept here when as_numbered: all, in order)
+    std::vector<std::uint32_t> remap(as_numbered ? 0 : in.vertex_count, ~0u);
+    const auto source = [&](std::size_t k) { return as_numbered ? static_cast<std::uint32_t>(k) : used[k]; };
+    auto finite = [&](unsigned i) { return finite_position(in, i); };
+    auto degenerate = [&](const unsigned* corner) {
+        const aiVector3D &pa = in.positions[corner[0]], &pb = in.positions[corner[1]], &pc = in.positions[corner[2]];
+        return pa == pb || pb == pc || pc == pa;
     };
     if (in.triangles) detail::reserve_in_huge_pages(out.mesh.indices, 3 * in.triangle_count);
-    for_each_face(in, [&](const unsigned* corner, unsigned n) {
+    if (as_numbered) {
+        out.mesh.indices.assign(in.triangles, in.triangles + 3 * in.triangle_count);
+        for (std::size_t t = 0; t < 3 * in.triangle_count; t += 3) out.degenerate += degenerate(in.triangles + t);
+    }
+    // (None when kept as numbered: a mesh without faces.)
+    for_each_face(as_numbered ? SourceMesh{} : in, [&](const unsigned* corner, unsigned n) {
         bool ok = true;
         for (unsigned k = 0; k < n; ++k) ok = ok && corner[k] < in.vertex_count && finite(corner[k]);
         if (!ok) {
             ++out.dropped;
             return;
         }
-        if (n == 3) {
-            const aiVector3D &pa = in.positions[corner[0]], &pb = in.positions[corner[1]], &pc = in.positions[corner[2]];
-            out.degenerate += pa == pb || pb == pc || pc == pa;
-        }
+        if (n == 3) out.degenerate += degenerate(corner);
         std::vector<std::uint32_t>& list = n == 3 ? out.mesh.indices : n == 2 ? out.mesh.lines : out.mesh.points;
         for (unsigned k = 0; k < n; ++k) {
             std::uint32_t& r = remap[corner[k]];
@@ -172,42 +198,49 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         }
     });
     Mesh& m = out.mesh;
-    detail::reserve_in_huge_pages(m.positions, used.size());
-    for (std::uint32_t i : used) m.positions.push_back({in.positions[i].x, in.positions[i].y, in.positions[i].z});
+    const std::size_t kept = as_numbered ? in.vertex_count : used.size();
+    detail::reserve_in_huge_pages(m.positions, kept);
+    for (std::size_t k = 0; k < kept; ++k) {
+        const aiVector3D& p = in.positions[source(k)];
+        m.positions.push_back({p.x, p.y, p.z});
+    }
     if (in.colours) {
-        m.colours.reserve(used.size());
-        for (std::uint32_t i : used) m.colours.push_back(clamp_colour(in.colours[i]));
+        m.colours.reserve(kept);
+        for (std::size_t k = 0; k < kept; ++k) m.colours.push_back(clamp_colour(in.colours[source(k)]));
     }
     if (in.uvs) {
-        m.uvs.reserve(used.size());
-        for (std::uint32_t i : used) {
-            const aiVector3D& t = in.uvs[i];
+        m.uvs.reserve(kept);
+        for (std::size_t k = 0; k < kept; ++k) {
+            const aiVector3D& t = in.uvs[source(k)];
             m.uvs.push_back({std::isfinite(t.x) ? t.x : 0.0f, std::isfinite(t.y) ? t.y : 0.0f});
         }
     }
     // The file's normals are used only when every one is usable; otherwise all are recomputed, so
     // a mesh never mixes the two.
     bool normals_ok = use_file_normals && in.normals;
-    for (std::size_t k = 0; normals_ok && k < used.size(); ++k) normals_ok = finite_and_nonzero(in.normals[used[k]]);
+    for (std::size_t k = 0; normals_ok && k < kept; ++k) normals_ok = finite_and_nonzero(in.normals[source(k)]);
     if (normals_ok) {
-        m.normals.reserve(used.size());
-        for (std::uint32_t i : used) m.normals.push_back(normalize(Vec3{in.normals[i].x, in.normals[i].y, in.normals[i].z}));
+        m.normals.reserve(kept);
+        for (std::size_t k = 0; k < kept; ++k) {
+            const aiVector3D& n = in.normals[source(k)];
+            m.normals.push_back(normalize(Vec3{n.x, n.y, n.z}));
+        }
     } else if (!m.indices.empty()) {
         // Positions known distinct (and so the used ones, renumbered): no welding.
         detail::compute_creased_normals_with(m, crease_angle_radians, threads, in.distinct_positions);
     }
     if (!tangents || m.uvs.empty()) return out;
     bool file_tangents = normals_ok && in.tangents && in.bitangents;
-    for (std::size_t k = 0; file_tangents && k < used.size(); ++k)
-        file_tangents = finite_and_nonzero(in.tangents[used[k]]) && is_finite(to_vec3(in.bitangents[used[k]]));
+    for (std::size_t k = 0; file_tangents && k < kept; ++k)
+        file_tangents = finite_and_nonzero(in.tangents[source(k)]) && is_finite(to_vec3(in.bitangents[source(k)]));
     if (!file_tangents) {
         compute_tangents(m);
         return out;
     }
     // assimp gives glTF's TANGENT w as the bitangent w cross(n, t).
-    for (std::size_t k = 0; k < used.size(); ++k) {
-        const Vec3 n = m.normals[k], t = normalize(to_vec3(in.tangents[used[k]]));
-        m.tangents.push_back(Vec4(t, dot(cross(n, t), to_vec3(in.bitangents[used[k]])) < 0 ? -1.0f : 1.0f));
+    for (std::size_t k = 0; k < kept; ++k) {
+        const Vec3 n = m.normals[k], t = normalize(to_vec3(in.tangents[source(k)]));
+        m.tangents.push_back(Vec4(t, dot(cross(n, t), to_vec3(in.bitangents[source(k)])) < 0 ? -1.0f : 1.0f));
     }
     return out;
 }

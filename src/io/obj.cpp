@@ -968,7 +968,10 @@ bool cut_ears(const std::vector<aiVector3D>& p, std::vector<std::array<int, 3>>&
 // ObjFileImporter's aiMesh of one mesh (a vertex per face corner), post-processed.
 class MeshBuilder {
 public:
-    MeshBuilder(const ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes), by_vertex_(model.vertices.size()) {}
+    MeshBuilder(const ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes) {
+        detail::reserve_in_huge_pages(by_vertex_, model.vertices.size());  // probed at random
+        by_vertex_.resize(model.vertices.size());
+    }
 
     OwnMesh build(const ObjMesh& mesh, unsigned material) {
         const std::size_t corners = mesh.corners;
@@ -1003,6 +1006,7 @@ public:
         // (no array per corner).
         const bool by_vertex = !with_vt && !with_vn;
         std::vector<std::uint32_t> group_of(by_vertex ? 0 : corners), group_corner;
+        detail::reserve_in_huge_pages(group_corner, by_vertex ? std::min(corners, model_.vertices.size()) : corners);
         ++stamp_;
         indices_.clear();
         for (std::size_t c = 0; by_vertex && c < corners; ++c) {
@@ -1028,7 +1032,6 @@ public:
         const auto group_value = [&](std::size_t g) { return value_of(group_corner[g]); };
         OwnMesh out;
         out.material = material;
-        detail::reserve_in_huge_pages(out.positions, group_corner.size());
         std::optional<Join> exact_join = join_as_assimp(group_corner.size(), group_value, corners, out.positions);
         const bool exact = exact_join.has_value();
         Join join;

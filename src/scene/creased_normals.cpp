@@ -648,7 +648,9 @@ void share_normals(const Mesh& mesh, const std::vector<std::uint32_t>& weld, std
 // empty without a pool).
 void creased_normals_by_position(Mesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t positions,
                                  const std::vector<std::uint8_t>& share_of, float crease, detail::ThreadPool* pool) {
-    std::vector<std::uint32_t> vertex_set(mesh.positions.size(), k_no_set);
+    std::vector<std::uint32_t> vertex_set;
+    detail::reserve_in_huge_pages(vertex_set, mesh.positions.size());
+    vertex_set.assign(mesh.positions.size(), k_no_set);
     detail::reserve_in_huge_pages(mesh.normals, mesh.positions.size());
     mesh.normals.assign(mesh.positions.size(), Vec3{});
     const ZeroedArray<PositionSums> sums(positions);
