@@ -1059,17 +1059,21 @@ public:
         }
         // Joined by position alone: no two positions are the same (the creased normals need not weld).
         out.distinct_positions = by_vertex;
-        if (exact && by_vertex)
-            triangulate(mesh, mesh_v, [&](std::uint32_t c) { return join.unique[by_vertex_[mesh_v[c]].head]; }, out.triangles);
-        else
+        if (exact && by_vertex) {
+            // Each vertex's unique vertex kept in its stamp (in the place of its group's number): a
+            // corner then looks up one number, not two.
+            for (std::size_t g = 0; g < group_corner.size(); ++g) by_vertex_[mesh_v[group_corner[g]]].head = join.unique[g];
+            triangulate(mesh, mesh_v, [&](std::uint32_t c) { return by_vertex_[mesh_v[c]].head; }, out.triangles);
+        } else {
             triangulate(mesh, mesh_v, [&](std::uint32_t c) { return unique_of_corner[c]; }, out.triangles);
+        }
         return out;
     }
 
 private:
     struct Stamped {
         std::uint32_t stamp = 0;
-        std::uint32_t head = k_absent;  // in indices_
+        std::uint32_t head = k_absent;  // in indices_; without them the group, then the unique vertex
     };
     struct ByIndices {
         std::uint32_t vt, vn, group, next;
