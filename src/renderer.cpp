@@ -7,11 +7,29 @@
 
 #include <string>
 
+#include "exec/fresh_pages.hpp"
 #include "geometry/project.hpp"
 #include "tile/passes.hpp"
 #include "tile/tile_pass.hpp"
 
 namespace facet {
+
+namespace detail {
+
+void ClipVertices::resize(std::size_t n, int stride_) {
+    stride = stride_;
+    const auto grow = [](auto& v, std::size_t size) {
+        if (v.capacity() < size) reserve_in_huge_pages(v, size);
+        v.resize(size);
+    };
+    grow(pos, n);
+    grow(varyings, n * static_cast<std::size_t>(stride_));
+    grow(outcode, n);
+    grow(screen, n);
+}
+
+}  // namespace detail
+
 namespace {
 
 // Triangles per front-end task: enough work to amortize scheduling. The split does not change the

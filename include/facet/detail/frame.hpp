@@ -45,13 +45,10 @@ struct ClipVertices {
     std::vector<std::uint8_t> outcode;
     std::vector<ScreenVertex> screen;
     int stride = 0;
-    void resize(std::size_t n, int stride_) {
-        stride = stride_;
-        pos.resize(n);
-        varyings.resize(n * static_cast<std::size_t>(stride_));
-        outcode.resize(n);
-        screen.resize(n);
-    }
+    // n vertices of stride_ varyings. Arrays that grow are reserved first in 2 MiB pages where the
+    // system grants them (src/exec/fresh_pages.hpp): the tiles read a line's or a point's varyings
+    // from anywhere in the draw, one translation each in 4 KiB pages.
+    void resize(std::size_t n, int stride_);
     const float* varyings_of(std::uint32_t i) const { return varyings.data() + static_cast<std::size_t>(i) * stride; }
 };
 
