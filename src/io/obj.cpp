@@ -742,7 +742,9 @@ private:
         model_.has_polygons = model_.has_polygons || corners > 4;
         mesh.uv_count += vts;
         mesh.has_normals = mesh.has_normals || vns > 0;
-        for (std::size_t k = 0; k < corners; ++k) model_.largest_vertex = std::max(model_.largest_vertex, v[k]);
+        std::uint32_t largest = model_.largest_vertex;  // in a register (v might point at the member)
+        for (std::size_t k = 0; k < corners; ++k) largest = std::max(largest, v[k]);
+        model_.largest_vertex = largest;
         if (model_.total_triangles > options_.max_triangles) model_.counting_only = true;
         if (model_.counting_only) return;
         model_.face_corners.push_back(static_cast<std::uint16_t>(corners));
