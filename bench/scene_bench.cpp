@@ -15,7 +15,7 @@
 //
 //   facet_bench_scenes [--frames N] [--rounds R] [--warmup N] [--threads 1,2] [--sizes 1920x1080,512x512]
 //                      [--scenes bunny,armadillo,elephant,sphere1m,quads64,nefertiti,homer] [--markdown FILE]
-//                      [--no-memory] [--no-agreement]
+//                      [--no-memory] [--no-agreement] [--no-llvmpipe]
 #include <spawn.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -30,6 +30,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -60,7 +61,7 @@ struct Options {
     std::vector<Size> sizes{{1920, 1080}, {512, 512}};
     std::vector<std::string> scenes{"bunny", "armadillo", "elephant", "sphere1m", "quads64", "nefertiti", "homer"};
     std::string markdown;
-    bool memory = true, agreement = true;
+    bool memory = true, agreement = true, llvmpipe = true;
     // Child modes.
     int llvmpipe_worker = -1;  // facet thread count whose llvmpipe equivalent to measure
     std::string memory_worker; // "facet" or "llvmpipe"
@@ -77,7 +78,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
 constexpr const char* k_usage =
     "usage: facet_bench_scenes [--frames N] [--rounds R] [--warmup N] [--threads 1,2] [--sizes WxH,...]\n"
     "                          [--scenes bunny,armadillo,elephant,sphere1m,quads64,nefertiti,homer] [--markdown FILE]\n"
-    "                          [--no-memory] [--no-agreement]\n"
+    "                          [--no-memory] [--no-agreement] [--no-llvmpipe]\n"
     "Renders each scene with facet and with Mesa llvmpipe (EGL, surfaceless) on the same camera, size,\n"
     "shading and thread count, and prints both median frame times and their ratio (llvmpipe / facet),\n"
     "then the peak memory of the 1M-triangle sphere and how far the two images agree. The two take\n"
@@ -91,7 +92,8 @@ constexpr const char* k_usage =
     "  --scenes LIST     which scenes, default all seven\n"
     "  --markdown FILE   also write the results as the Markdown of docs/BENCHMARKS.md\n"
     "  --no-memory       skip the peak-memory measurement\n"
-    "  --no-agreement    skip the image-agreement measurement\n";
+    "  --no-agreement    skip the image-agreement measurement\n"
+    "  --no-llvmpipe     facet alone (A/B runs of two facet builds; implies --no-memory --no-agreement)\n";
 
 [[noreturn]] void usage_error(const std::string& message) {
     std::cerr << "facet_bench_scenes: " << message << "\n" << k_usage;
@@ -128,6 +130,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--markdown") o.markdown = value(i);
         else if (a == "--no-memory") o.memory = false;
         else if (a == "--no-agreement") o.agreement = false;
+        else if (a == "--no-llvmpipe") o.llvmpipe = false, o.memory = false, o.agreement = false;
         else if (a == "--llvmpipe-worker") o.llvmpipe_worker = std::max(1, std::atoi(value(i).c_str()));
         else if (a == "--memory-worker") o.memory_worker = value(i);
         else usage_error("unknown option " + a);
@@ -509,9 +512,10 @@ int run_parent(const Options& o) {
     for (std::size_t ti = 0; ti < o.threads.size(); ++ti) {
         const int t = o.threads[ti];
         Renderer renderer(RendererConfig{.threads = t});
-        Child worker({"--llvmpipe-worker", std::to_string(t)});
-        bool worker_ok = worker.running();
-        for (const std::string& line : worker.read_until("READY")) {
+        std::optional<Child> child;
+        if (o.llvmpipe) child.emplace(std::vector<std::string>{"--llvmpipe-worker", std::to_string(t)});
+        bool worker_ok = child && child->running();
+        for (const std::string& line : child ? child->read_until("READY") : std::vector<std::string>{}) {
             std::istringstream in(line);
             std::string tag, k, rest;
             in >> tag;
@@ -548,7 +552,7 @@ int run_parent(const Options& o) {
                     const std::string command = "MEASURE " + name + " " + size.str() + " " + std::to_string(warmup) + " " +
                                                 std::to_string(o.frames) + " " + (agree ? "1" : "0");
                     bool got = false;
-                    for (const std::string& line : worker.ask(command)) {
+                    for (const std::string& line : child->ask(command)) {
                         std::istringstream in(line);
                         std::string tag, n, sz;
                         in >> tag;
@@ -594,7 +598,8 @@ int run_parent(const Options& o) {
                           << " ms (min " << fixed(r.facet_min, 3) << "), llvmpipe " << (have_gl ? fixed(r.gl_ms, 2) : "-")
                           << " ms (min " << (have_gl ? fixed(r.gl_min, 3) : "-") << ")\n";
             }
-        if (const int status = worker.finish(); status != 0) {
+        if (!child) continue;
+        if (const int status = child->finish(); status != 0) {
             std::cerr << "facet_bench_scenes: the llvmpipe worker for " << t << " thread(s) exited with " << status << "\n";
             gl_ok = false;
         }
@@ -687,7 +692,7 @@ int run_parent(const Options& o) {
             return 1;
         }
     }
-    return gl_ok ? 0 : 1;
+    return gl_ok || !o.llvmpipe ? 0 : 1;
 }
 
 }  // namespace
