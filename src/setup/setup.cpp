@@ -56,6 +56,15 @@ void set_planes(TriangleSetup& t, const ScreenVertex& v0, const ScreenVertex& v1
 
 }  // namespace
 
+bool covers_no_centre_of_small_bounds(const TriangleSetup& t) {
+    const int w = t.max_x - t.min_x, h = t.max_y - t.min_y;
+    if (w >= k_small_bounds || h >= k_small_bounds) return false;
+    for (int y = t.min_y; y <= t.max_y; ++y)
+        for (int x = t.min_x; x <= t.max_x; ++x)
+            if (edge_at(t, 0, x, y) >= 0 && edge_at(t, 1, x, y) >= 0 && edge_at(t, 2, x, y) >= 0) return false;
+    return true;
+}
+
 SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&vertex_ref)[3],
                            const FrontEndParams& params, TriangleSetup& t) {
     // Twice the signed area in fixed point. Screen y grows downward, so a positive area is a
@@ -87,6 +96,7 @@ SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&ve
     set_edge(t, 0, v0, v1);
     set_edge(t, 1, v1, v2);
     set_edge(t, 2, v2, v0);
+    if (covers_no_centre_of_small_bounds(t)) return SetupResult::empty;
     t.small_edges = edges_fit_32_bits(t);
     set_planes(t, v0, v1, v2, area);
     t.vertex[0] = vertex_ref[0];

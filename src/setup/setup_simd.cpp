@@ -18,6 +18,7 @@
 // conversions to float round to nearest as static_cast does. e0 is stored as the two words of an int64,
 // split exactly in double (int64_words).
 #include <cstdint>
+#include <type_traits>
 
 #include "setup/setup.hpp"
 
@@ -78,7 +79,8 @@ HWY_INLINE void int64_words(V v, VU& low, VU& high) {
 
 struct Edge {
     VU a, b, e0_low, e0_high;
-    M small;  // as edges_fit_32_bits tests each edge
+    M small;     // as edges_fit_32_bits tests each edge
+    V A, B, e0;  // a, b and e0 as doubles
 };
 
 // Edge a->b as set_edge: A, B, c = floor((C + bias + 128 (A + B)) / 256) and e0 = c + A min_x + B min_y,
@@ -93,6 +95,7 @@ HWY_INLINE Edge set_edge(const Corner& a, const Corner& b, V min_x, V min_y) {
     const V c = hn::Add(hn::Add(C, bias), hn::Mul(hn::Set(d, k_subpixel_one / 2), hn::Add(A, B)));
     const V e0 = hn::Add(hn::Add(floor_div_256(c), hn::Mul(A, min_x)), hn::Mul(B, min_y));
     Edge edge;
+    edge.A = A, edge.B = B, edge.e0 = e0;
     edge.a = word_of_integer(A);
     edge.b = word_of_integer(B);
     int64_words(e0, edge.e0_low, edge.e0_high);
@@ -137,6 +140,42 @@ hn::Mask<Tag> culled_lanes(Tag t, hn::Vec<Tag> signed_area, hn::Mask<Tag> front,
     return zero_area;
 }
 
+// Lanes whose bounds are within k_small_bounds pixels on both axes (w, h: max - min) and whose
+// triangle covers none of their centres, as covers_no_centre_of_small_bounds tests them: each edge
+// from its value at the bounds' corner (e0) by its steps per column (a) and row (b), exactly in
+// either kind of lane (int32: every value below 2^22; double: integers below 2^53). A step past the
+// bounds is a step of 0, so those positions repeat one inside them. The sign bits of the three
+// edges ORed say "outside", ANDed over the positions "outside at all of them"; double lanes compare
+// for the sign instead (a sum there can be -0).
+template <class Tag>
+HWY_INLINE hn::Mask<Tag> small_and_empty(Tag t, const hn::Vec<Tag> (&e0)[3], const hn::Vec<Tag> (&a)[3],
+                                         const hn::Vec<Tag> (&b)[3], hn::Vec<Tag> w, hn::Vec<Tag> h) {
+    static_assert(k_small_bounds == 3, "two steps per axis");
+    using VT = hn::Vec<Tag>;
+    constexpr bool k_integer = std::is_integral_v<hn::TFromD<Tag>>;
+    const auto negative = [t](VT v) {  // sign bit set where v < 0
+        if constexpr (std::is_integral_v<hn::TFromD<Tag>>) return v;
+        else return hn::VecFromMask(t, hn::Lt(v, hn::Zero(t)));
+    };
+    const VT zero = hn::Zero(t), one = hn::Set(t, 1);
+    const auto w1 = hn::Gt(w, zero), w2 = hn::Gt(w, one), h1 = hn::Gt(h, zero), h2 = hn::Gt(h, one);
+    VT row[3] = {e0[0], e0[1], e0[2]}, outside_everywhere{};
+    for (int y = 0; y < k_small_bounds; ++y) {
+        if (y > 0)
+            for (int k = 0; k < 3; ++k) row[k] = hn::Add(row[k], hn::IfThenElseZero(y == 1 ? h1 : h2, b[k]));
+        VT e[3] = {row[0], row[1], row[2]};
+        for (int x = 0; x < k_small_bounds; ++x) {
+            if (x > 0)
+                for (int k = 0; k < 3; ++k) e[k] = hn::Add(e[k], hn::IfThenElseZero(x == 1 ? w1 : w2, a[k]));
+            const VT outside = hn::Or(hn::Or(negative(e[0]), negative(e[1])), negative(e[2]));
+            outside_everywhere = x == 0 && y == 0 ? outside : hn::And(outside_everywhere, outside);
+        }
+    }
+    if constexpr (k_integer) outside_everywhere = hn::ShiftRight<sizeof(hn::TFromD<Tag>) * 8 - 1>(outside_everywhere);
+    const VT limit = hn::Set(t, k_small_bounds);
+    return hn::And(hn::MaskFromVec(outside_everywhere), hn::And(hn::Lt(w, limit), hn::Lt(h, limit)));
+}
+
 // Triangles i0 .. i0 + Lanes(D) - 1 of the batch in double lanes, exact for every coordinate below
 // 2^24. False, having written nothing useful, when a coordinate is larger.
 bool SetUpGroupInDouble(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& out, int i0) {
@@ -167,12 +206,14 @@ bool SetUpGroupInDouble(const SetupBatch& batch, const FrontEndParams& p, SetupL
 
     out.culled |= mask_bits(culled) << i0;
     if (hn::AllFalse(d, keep)) return true;
-    out.keep |= mask_bits(keep) << i0;
 
     // Orient so that the inside of every edge is where its function is positive.
     const Corner v1 = select(flip, s2, s1), v2 = select(flip, s1, s2);
     const Edge e[3] = {set_edge(s0, v1, min_x, min_y), set_edge(v1, v2, min_x, min_y),
                        set_edge(v2, s0, min_x, min_y)};
+    const V e0s[3] = {e[0].e0, e[1].e0, e[2].e0}, as[3] = {e[0].A, e[1].A, e[2].A}, bs[3] = {e[0].B, e[1].B, e[2].B};
+    out.keep |= mask_bits(hn::AndNot(small_and_empty(d, e0s, as, bs, hn::Sub(max_x, min_x), hn::Sub(max_y, min_y)), keep))
+                << i0;
     // The attribute planes as set_planes.
     const V x1 = hn::Sub(v1.x, s0.x), x2 = hn::Sub(v2.x, s0.x);
     const V y1 = hn::Sub(v1.y, s0.y), y2 = hn::Sub(v2.y, s0.y);
@@ -312,12 +353,14 @@ bool SetUpGroupIn32Bits(const SetupBatch& batch, const FrontEndParams& p, SetupL
 
     out.culled |= mask_bits32(culled) << i0;
     if (hn::AllFalse(di, keep)) return true;
-    out.keep |= mask_bits32(keep) << i0;
 
     const Corner32 v1 = select32(flip, s2, s1), v2 = select32(flip, s1, s2);
     const VI32 cx = hn::Add(hn::ShiftLeft<k_subpixel_bits>(min_x), half);
     const VI32 cy = hn::Add(hn::ShiftLeft<k_subpixel_bits>(min_y), half);
     const Edge32 e[3] = {set_edge32(s0, v1, cx, cy), set_edge32(v1, v2, cx, cy), set_edge32(v2, s0, cx, cy)};
+    const VI32 e0s[3] = {e[0].e0, e[1].e0, e[2].e0}, as[3] = {e[0].a, e[1].a, e[2].a}, bs[3] = {e[0].b, e[1].b, e[2].b};
+    out.keep |= mask_bits32(hn::AndNot(small_and_empty(di, e0s, as, bs, hn::Sub(max_x, min_x), hn::Sub(max_y, min_y)), keep))
+                << i0;
     // front_facing, and small_edges always set (see above).
     const VI32 flags = hn::Or(hn::IfThenElseZero(front, hn::Set(di, 1)), hn::Set(di, 1 << 8));
     const VI32 r0 = hn::BitCast(di, hn::LoadU(du, batch.ref[0] + i0));

@@ -124,7 +124,7 @@ TEST(Determinism, IdenticalBytesForEveryThreadCountAndTileSize) {
     EXPECT_GT(depths.size(), 10000u);
     EXPECT_LT(background, static_cast<int>(reference.depth.size() / 10));
     EXPECT_GT(reference.opaque_stats.triangles_clipped, 100u);
-    EXPECT_GT(reference.opaque_stats.triangles_rasterized, 5000u);
+    EXPECT_GT(reference.opaque_stats.triangles_rasterized, 4500u);  // less the smallest that cover no pixel
 
     for (int threads : {1, 2, 3, 8})
         for (int tile : {8, 16, 32, 64}) {

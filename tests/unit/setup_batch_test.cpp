@@ -21,6 +21,7 @@
 #include "geometry/project.hpp"
 #include "setup/setup.hpp"
 #include "support/pixels.hpp"
+#include "support/reference_raster.hpp"
 
 namespace {
 
@@ -237,6 +238,62 @@ TEST(SetupBatch, EveryIsaWritesTheRecordsOfSetupTriangle) {
         EXPECT_EQ(mismatches, 0u) << isa;
         EXPECT_GT(records, 100000u) << isa;  // the comparison saw many surviving triangles
     }
+}
+
+// Triangles under 3 pixels across, whose bounds hold at most 3x3 pixel centres: setup_triangle
+// keeps exactly those that cover a centre by the reference rasterizer's rule (the others are empty:
+// never binned), and the batch kernels of every ISA keep the same ones.
+TEST(SetupBatch, TrianglesOfSmallBoundsAreKeptExactlyWhenTheyCoverACentre) {
+    namespace R = facet_test::raster;
+    IsaGuard guard;
+    std::mt19937 rng(777);
+    const auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<std::uint32_t>(n)); };
+    FrontEndParams p{};
+    p.state.cull = CullMode::none;
+    p.vp_x = 0, p.vp_y = 0, p.vp_w = 64, p.vp_h = 64;
+    p.tile_size = 64, p.tiles_x = 1, p.tiles_y = 1;
+    int kept = 0, empty = 0;
+    SetupBatch batch{};
+    for (int round = 0; round < 2000; ++round) {
+        // Sometimes a scissor that cuts the bounds.
+        p.scissor = pick(4) == 0 ? PixelRect{20 + pick(4), 20 + pick(4), 22 + pick(4), 22 + pick(4)} : PixelRect{0, 0, 64, 64};
+        batch.count = SetupBatch::k_capacity;
+        for (int i = 0; i < batch.count; ++i) {
+            // On centres and half pixels often (edges through centres), else anywhere.
+            const int step = pick(2) ? 128 : 1, extent = 3 * k_subpixel_one - 1;
+            const std::int32_t ox = 20 * k_subpixel_one + pick(k_subpixel_one), oy = 20 * k_subpixel_one + pick(k_subpixel_one);
+            ScreenVertex v[3];
+            R::Fixed f[3];
+            for (int k = 0; k < 3; ++k) {
+                v[k] = {ox + pick(extent / step + 1) * step, oy + pick(extent / step + 1) * step, 0.5f, 1.0f};
+                f[k] = {v[k].x, v[k].y};
+                batch.v[k][i] = v[k], batch.ref[k][i] = static_cast<std::uint32_t>(k);
+            }
+            int centres = 0;
+            for (int y = p.scissor.y0; y < p.scissor.y1; ++y)
+                for (int x = p.scissor.x0; x < p.scissor.x1; ++x) centres += R::covers(f, R::pixel_centre(x, y));
+            TriangleSetup t;
+            const std::uint32_t ref[3] = {0, 1, 2};
+            const SetupResult result = setup_triangle(v, ref, p, t);
+            if (R::signed_area2(f[0], f[1], f[2]) == 0) {
+                EXPECT_EQ(result, SetupResult::culled);
+                continue;
+            }
+            ASSERT_EQ(result == SetupResult::ok, centres > 0) << "round " << round << " triangle " << i;
+            kept += centres > 0;
+            empty += centres == 0;
+        }
+        const Result want = set_up_one_by_one(batch, p);
+        for (const std::string& isa : available_isas()) {
+            ASSERT_TRUE(select_isa(isa));
+            const Result got = set_up_batch(batch, p);
+            ASSERT_EQ(got.records.size(), want.records.size()) << isa << " round " << round;
+            for (std::size_t i = 0; i < want.records.size(); ++i)
+                ASSERT_EQ(std::memcmp(&got.records[i], &want.records[i], sizeof(TriangleSetup)), 0) << isa << " round " << round;
+        }
+    }
+    EXPECT_GT(kept, 5000);
+    EXPECT_GT(empty, 2000);
 }
 
 // A whole front end over random geometry, some of it needing clipping (behind the eye, outside the
