@@ -32,12 +32,13 @@ template <int K>
 struct EdgeRectOf {
     static constexpr int k_edges = K;
     int x0, y0, x1, y1;
-    std::uint32_t e[K], a[K], b[K];  // value at (x0, y0), step per column, per row; unsigned: lanes wrap
+    int ex;                          // the column e is given at: x0, or (32-bit edges) the record's first
+    std::uint32_t e[K], a[K], b[K];  // value at (ex, y0), step per column, per row; unsigned: lanes wrap
 };
 using EdgeRect = EdgeRectOf<3>;
 
-// Edge k of r from its value at (r.x0, r.y0) and its steps, exact in 64 bits. False when it is
-// negative over the whole rectangle.
+// Edge k of r from its value at (r.x0, r.y0) and its steps, exact in 64 bits (r.ex is r.x0). False
+// when it is negative over the whole rectangle.
 template <int K>
 HWY_INLINE bool set_crossing_edge(EdgeRectOf<K>& r, int k, std::int64_t first, std::int32_t a, std::int32_t b) {
     const std::int64_t w1 = r.x1 - r.x0, h1 = r.y1 - r.y0;
@@ -60,14 +61,17 @@ HWY_INLINE bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
         // Every value fits, so 32-bit arithmetic that wraps gives each edge at the rectangle's corner
         // exactly. An edge >= 0 everywhere decides nothing, and one < 0 everywhere leaves no pixel
         // inside: the result is the general case's.
-        const auto dx = static_cast<std::uint32_t>(r.x0 - t.min_x), dy = static_cast<std::uint32_t>(r.y0 - t.min_y);
+        // e is given at the record's first column (the strips step it from there).
+        const auto dy = static_cast<std::uint32_t>(r.y0 - t.min_y);
+        r.ex = t.min_x;
         for (int k = 0; k < 3; ++k) {
             r.a[k] = static_cast<std::uint32_t>(t.a[k]);
             r.b[k] = static_cast<std::uint32_t>(t.b[k]);
-            r.e[k] = static_cast<std::uint32_t>(t.e0[k]) + r.a[k] * dx + r.b[k] * dy;
+            r.e[k] = static_cast<std::uint32_t>(t.e0[k]) + r.b[k] * dy;
         }
         return true;
     }
+    r.ex = r.x0;
     for (int k = 0; k < 3; ++k)
         if (!set_crossing_edge(r, k, edge_at(t, k, r.x0, r.y0), t.a[k], t.b[k])) return false;
     return true;
@@ -81,14 +85,16 @@ HWY_INLINE bool segment_edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRe
     const SegmentEdges s = segment_edges(t);
     const PixelIndex origin = segment_origin(t);
     if (t.small_edges) {  // every value fits: 32-bit arithmetic that wraps is exact, as edge_rect's
-        const auto dx = static_cast<std::uint32_t>(r.x0 - origin.x), dy = static_cast<std::uint32_t>(r.y0 - origin.y);
+        const auto dy = static_cast<std::uint32_t>(r.y0 - origin.y);
+        r.ex = origin.x;
         for (int k = 0; k < 4; ++k) {
             r.a[k] = static_cast<std::uint32_t>(s.a[k]);
             r.b[k] = static_cast<std::uint32_t>(s.b[k]);
-            r.e[k] = static_cast<std::uint32_t>(s.e[k]) + r.a[k] * dx + r.b[k] * dy;
+            r.e[k] = static_cast<std::uint32_t>(s.e[k]) + r.b[k] * dy;
         }
         return true;
     }
+    r.ex = r.x0;
     for (int k = 0; k < 4; ++k)
         if (!set_crossing_edge(r, k, segment_edge_at(s, origin, k, r.x0, r.y0), s.a[k], s.b[k])) return false;
     return true;
@@ -170,7 +176,7 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
     const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
     VI e[K], b[K];
     for (int k = 0; k < K; ++k) {
-        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.x0);
+        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.ex);
         e[k] = hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
                        hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), iota));
         b[k] = hn::Set(di, static_cast<std::int32_t>(r.b[k]));
@@ -231,7 +237,7 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
     const auto columns = hn::And(hn::Gt(column, hn::Set(di, lo - 1)), hn::Lt(column, hn::Set(di, hi + 1)));
     VI e[K], b2[K];
     for (int k = 0; k < K; ++k) {
-        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.x0);
+        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.ex);
         e[k] = hn::Add(hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
                                hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), column)),
                        hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.b[k])), row));
@@ -293,31 +299,29 @@ HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers
     // most common triangles of dense meshes (the 1M sphere's frame 3-4% faster at 1 thread); where a
     // 512-bit operation costs what a 256-bit one does, the narrow one costs no more.
     constexpr int k_narrow = 8;
-    if constexpr (K == 4) {
-        // A segment's rectangle narrower than a vector (a thin line's, nearly all) is one vector per
-        // row from its first column, unaligned, rather than aligned strips: two of those when it
-        // straddles their boundary, a line's most frequent case. The vector stays inside the arrays'
-        // rows. Each pixel is computed as in a strip: the same bytes.
-        constexpr int narrow = static_cast<int>(std::min<std::size_t>(k_narrow, hn::MaxLanes(df)));
-        if (r.x1 - r.x0 < narrow) {
-            const int start = std::min(r.x0, tile.x0 + k_max_tile_size - narrow);
+    constexpr int narrow = static_cast<int>(std::min<std::size_t>(k_narrow, hn::MaxLanes(df)));
+    if (r.x1 - r.x0 < narrow) {
+        const hn::CappedTag<float, narrow> nd;
+        // A triangle's rectangle within one aligned run of `narrow` columns (most of a dense mesh's):
+        // aligned vectors.
+        const int aligned = tile.x0 + ((r.x0 - tile.x0) & -narrow);
+        if (K == 3 && r.x1 < aligned + narrow) {
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
             if (r.y1 - r.y0 >= 2)
-                return resolve_row_pairs<D, DepthWrite, false>(t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
+                return resolve_row_pairs<D, DepthWrite>(t, tile, buffers, id, r, aligned, r.x0 - aligned, r.x1 - aligned);
 #endif
-            const hn::CappedTag<float, narrow> nd;
-            return resolve_strip<D, DepthWrite, false>(nd, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
+            return resolve_strip<D, DepthWrite>(nd, t, tile, buffers, id, r, aligned, r.x0 - aligned, r.x1 - aligned);
         }
-    }
-    if constexpr (hn::MaxLanes(df) > k_narrow) {
-        const int start = tile.x0 + ((r.x0 - tile.x0) & -k_narrow);
-        if (r.x1 < start + k_narrow) {
+        // A triangle's that straddles two such runs, and a segment's (a thin line's, nearly all; it
+        // straddles them most often): one vector per row from its first column, unaligned, rather
+        // than two aligned strips, each with its own set-up. The vector stays inside the arrays'
+        // rows. Each pixel is computed as in a strip: the same bytes.
+        const int start = std::min(r.x0, tile.x0 + k_max_tile_size - narrow);
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
-            if (r.y1 - r.y0 >= 2) return resolve_row_pairs<D, DepthWrite>(t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
+        if (r.y1 - r.y0 >= 2)
+            return resolve_row_pairs<D, DepthWrite, false>(t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
 #endif
-            const hn::CappedTag<float, k_narrow> narrow;
-            return resolve_strip<D, DepthWrite>(narrow, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
-        }
+        return resolve_strip<D, DepthWrite, false>(nd, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
     }
     bool any = false;
     for (int x = r.x0; x <= r.x1;) {
