@@ -132,10 +132,7 @@ bool finite_and_nonzero(const aiVector3D& n) {
     return std::isfinite(n.x) && std::isfinite(n.y) && std::isfinite(n.z) && (n.x != 0 || n.y != 0 || n.z != 0);
 }
 
-Vec4 clamp_colour(const aiColor4D& c) {
-    auto unit = [](float v) { return std::isfinite(v) ? clamp(v, 0.0f, 1.0f) : 1.0f; };
-    return {unit(c.r), unit(c.g), unit(c.b), unit(c.a)};
-}
+Vec4 clamp_colour(const aiColor4D& c) { return unit_colour(c.r, c.g, c.b, c.a); }
 
 bool finite_position(const SourceMesh& m, std::uint32_t i) {
     const aiVector3D& p = m.positions[i];

@@ -12,7 +12,9 @@
 
 #include "facet/detail/thread_pool.hpp"
 #include "facet/mesh.hpp"
+#include "io/import_notes.hpp"
 #include "io/load_common.hpp"
+#include "io/resources.hpp"
 #include "scene/creased_normals.hpp"
 
 namespace facet::io_detail {
@@ -27,8 +29,9 @@ Overloaded(F...) -> Overloaded<F...>;
 
 constexpr std::uint64_t k_file_bytes_for_threads = 256 * 1024;
 
-// The material assimp's reader gives such a file, as the assimp path converts it: grey for OFF,
-// white for STL and PLY (the files the readers take have no colours); two-sided.
+// The material assimp's reader gives such a file, as the assimp path converts it: grey for OFF
+// (COFF's colours are its vertices'), white for STL and PLY (the files the readers take have no
+// colours); two-sided.
 Material own_format_material(bool off) {
     Material m;
     if (off) m.base_colour = {0.6f, 0.6f, 0.6f, 1.0f};
@@ -103,11 +106,12 @@ std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::s
     const std::size_t triangles = mesh->indices.size() / 3;
     // Whatever the assimp path would refuse, it refuses with its own words.
     if (triangles > options.max_triangles || mesh->degenerate == triangles ||
-        estimated_scene_bytes(mesh->positions.size(), triangles, false, false) > options.max_scene_bytes)
+        estimated_scene_bytes(mesh->positions.size(), triangles, !mesh->colours.empty(), false) > options.max_scene_bytes)
         return std::nullopt;
     SceneObject object;
     object.mesh.positions = std::move(mesh->positions);
     object.mesh.indices = std::move(mesh->indices);
+    object.mesh.colours = std::move(mesh->colours);  // COFF's
     // The readers joined the vertices by position: nothing to weld.
     detail::compute_creased_normals_on(object.mesh, radians(options.crease_angle_degrees), workers,
                                        /*distinct_positions=*/true);
@@ -116,6 +120,12 @@ std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::s
     object.material = own_format_material(std::holds_alternative<OffHeader>(header_));
     LoadedModel out;
     out.scene.objects.push_back(std::move(object));
+    if (mesh->dropped_faces > 0) {  // the errors assimp's OFF reader logs, as the assimp path reports them
+        ImportNotes notes;
+        notes.error("OFF: Faces with zero indices aren't allowed");
+        if (mesh->faces_missing) notes.error("OFF: The number of faces in the header is incorrect");
+        notes.add_warnings(path, ResourceRoots(path, options.resource_dirs), out);
+    }
     return out;
 }
 

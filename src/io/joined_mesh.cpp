@@ -129,6 +129,7 @@ std::optional<JoinedMesh> join_identical_vertices(const std::vector<Vec3>& file_
     });
     out.positions.resize(numbered.size());
     for (std::size_t i = 0; i < numbered.size(); ++i) out.positions[i] = file_positions[numbered[i]];
+    out.source = std::move(numbered);
     const std::size_t triangles = out.indices.size() / 3;
     std::vector<std::size_t> degenerate(parts, 0);
     for_each_part(pool, parts, [&](std::size_t p) {

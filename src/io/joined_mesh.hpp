@@ -24,6 +24,10 @@ struct JoinedMesh {
     std::vector<Vec3> positions;          // joined by position, in order of first use by the triangles
     std::vector<std::uint32_t> indices;   // three per triangle, in file order
     std::size_t degenerate = 0;           // triangles with two corners at the same position
+    std::vector<std::uint32_t> source;    // each vertex's file vertex (the first of its group)
+    std::vector<Vec4> colours;            // empty, or one per vertex (the reader fills them from `source`)
+    std::size_t dropped_faces = 0;        // faces the reader left out as assimp's reader does (with an error)
+    bool faces_missing = false;           // fewer face lines than the header's count (assimp logs an error)
 };
 
 // The mesh of triangles `file_indices` (three per triangle, each < file_positions.size()) over

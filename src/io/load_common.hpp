@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -78,6 +79,13 @@ inline Mat4 up_axis_root(UpAxis up) {
                             0, 0, 1, 0,  //
                             0, -1, 0, 0,  //
                             0, 0, 0, 1});
+}
+
+// A colour read from a file (a vertex's or a material's) as the Scene holds it: each channel
+// clamped to [0, 1], a non-finite one taken as 1.
+inline Vec4 unit_colour(float r, float g, float b, float a) {
+    auto unit = [](float v) { return std::isfinite(v) ? clamp(v, 0.0f, 1.0f) : 1.0f; };
+    return {unit(r), unit(g), unit(b), unit(a)};
 }
 
 // What one instance of a mesh costs once converted: the vertices its triangles can use (each with

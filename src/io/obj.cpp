@@ -41,6 +41,7 @@
 #include "exec/fresh_pages.hpp"
 #include "io/assimp_join.hpp"
 #include "io/assimp_text.hpp"
+#include "io/assimp_triangulate.hpp"
 #include "io/import_notes.hpp"
 #include "io/load_common.hpp"
 #include "io/resources.hpp"
@@ -875,98 +876,6 @@ private:
 
 // ---- meshes: ObjFileImporter's vertex per corner, then the post-processing
 
-// Triangulate's quad: split from the corner where the angles to its neighbours, measured against
-// the diagonal, add up to more than pi (the concave corner), else from corner 0.
-int quad_start(const aiVector3D* const p[4]) {
-    for (int i = 0; i < 4; ++i) {
-        const aiVector3D &v0 = *p[(i + 3) % 4], &v1 = *p[(i + 2) % 4], &v2 = *p[(i + 1) % 4], &v = *p[i];
-        aiVector3D left = v0 - v, diag = v1 - v, right = v2 - v;
-        left.Normalize();
-        diag.Normalize();
-        right.Normalize();
-        const float angle = std::acos(left * diag) + std::acos(right * diag);
-        if (angle > AI_MATH_PI_F) return i;
-    }
-    return 0;
-}
-
-// PolyTools' GetArea2D and PointInTriangle2D, in their arithmetic (float differences and dot
-// products, double sums).
-double area_2d(const aiVector2D& v1, const aiVector2D& v2, const aiVector2D& v3) {
-    return 0.5 * (v1.x * (static_cast<double>(v3.y) - v2.y) + v2.x * (static_cast<double>(v1.y) - v3.y) +
-                  v3.x * (static_cast<double>(v2.y) - v1.y));
-}
-
-bool point_in_triangle_2d(const aiVector2D& p0, const aiVector2D& p1, const aiVector2D& p2, const aiVector2D& pp) {
-    const aiVector2D v0 = p1 - p0, v1 = p2 - p0, v2 = pp - p0;
-    double dot00 = v0 * v0, dot11 = v1 * v1;
-    const double dot01 = v0 * v1, dot02 = v0 * v2, dot12 = v1 * v2;
-    const double denom = dot00 * dot11 - dot01 * dot01;
-    if (denom == 0.0) return false;
-    const double inv = 1.0 / denom;
-    dot11 = (dot11 * dot02 - dot01 * dot12) * inv;
-    dot00 = (dot00 * dot12 - dot01 * dot02) * inv;
-    return dot11 > 0 && dot00 > 0 && dot11 + dot00 < 1;
-}
-
-// Triangulate's polygon of n > 4 corners at positions p: projected onto the plane of its Newell
-// normal's largest component, then cut into ears. Out: triangles as corner numbers, in assimp's
-// order; false when it found no ear (assimp logs an error and keeps the triangles cut so far).
-bool cut_ears(const std::vector<aiVector3D>& p, std::vector<std::array<int, 3>>& out) {
-    const int n = static_cast<int>(p.size());
-    std::vector<aiVector3D> v(p);
-    v.push_back(p[0]);
-    v.push_back(p[1]);
-    float sum_xy = 0, sum_yz = 0, sum_zx = 0;
-    for (int k = 0; k < n; ++k) {
-        sum_xy += v[k + 1].x * (v[k + 2].y - v[k].y);
-        sum_yz += v[k + 1].y * (v[k + 2].z - v[k].z);
-        sum_zx += v[k + 1].z * (v[k + 2].x - v[k].x);
-    }
-    const aiVector3D normal(sum_yz, sum_zx, sum_xy);
-    const float ax = normal.x > 0 ? normal.x : -normal.x, ay = normal.y > 0 ? normal.y : -normal.y,
-                az = normal.z > 0 ? normal.z : -normal.z;
-    unsigned ac = 0, bc = 1;
-    float inv = normal.z;
-    if (ax > ay) {
-        if (ax > az) ac = 1, bc = 2, inv = normal.x;
-    } else if (ay > az) {
-        ac = 2, bc = 0, inv = normal.y;
-    }
-    if (inv < 0.f) std::swap(ac, bc);
-    std::vector<aiVector2D> t(static_cast<std::size_t>(n));
-    std::vector<char> done(static_cast<std::size_t>(n), 0);
-    for (int k = 0; k < n; ++k) t[k] = aiVector2D(p[k][ac], p[k][bc]);
-    int num = n, ear = 0, prev = n - 1, next = 0;
-    while (num > 3) {
-        int found = 0;
-        for (ear = next;; prev = ear, ear = next) {
-            for (next = ear + 1; done[next >= n ? (next = 0) : next]; ++next) {
-            }
-            if (next < ear && ++found == 2) break;
-            const aiVector2D &p1 = t[ear], &p0 = t[prev], &p2 = t[next];
-            if (area_2d(p0, p1, p2) > 0) continue;  // not convex (OnLeftSideOfLine2D)
-            int k = 0;
-            for (; k < n; ++k)
-                if (t[k] != p1 && t[k] != p2 && t[k] != p0 && point_in_triangle_2d(p0, p1, p2, t[k])) break;
-            if (k != n) continue;
-            break;
-        }
-        if (found == 2) return false;
-        out.push_back({prev, ear, next});
-        done[ear] = 1;
-        --num;
-    }
-    std::array<int, 3> last{};
-    int k = 0;
-    for (int& c : last) {
-        while (done[k]) ++k;
-        c = k++;
-    }
-    out.push_back(last);
-    return true;
-}
-
 // ObjFileImporter's aiMesh of one mesh (a vertex per face corner), post-processed.
 class MeshBuilder {
 public:
@@ -1094,40 +1003,17 @@ private:
     void triangulate(const ObjMesh& mesh, const std::uint32_t* mesh_v, const UniqueOf& unique_of_corner,
                      std::vector<std::uint32_t>& out) {
         detail::reserve_in_huge_pages(out, 3 * mesh.triangles);
-        std::uint32_t last_first = ~0u;  // corner
-        auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-            if (a == last_first) std::swap(a, c), std::swap(b, c);
-            last_first = a;
+        triangulator_.encoder = {};
+        const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
             out.insert(out.end(), {unique_of_corner(a), unique_of_corner(b), unique_of_corner(c)});
         };
-        const auto position = [&](std::size_t c) -> const aiVector3D& { return model_.vertices[mesh_v[c]]; };
         std::uint32_t c = 0;
         for (std::size_t face = mesh.first_face; face < mesh.first_face + mesh.faces; ++face) {
             const std::uint32_t n = model_.face_corners[face];
-            if (n == 3) {
-                emit(c, c + 1, c + 2);
-            } else if (n == 4) {
-                const aiVector3D* p[4] = {&position(c), &position(c + 1), &position(c + 2), &position(c + 3)};
-                const auto s = static_cast<std::uint32_t>(quad_start(p));
-                const auto at = [&](std::uint32_t k) { return c + (s + k) % 4; };
-                // ngonEncodeQuad: the fan's corner rotated away from the last one's (never, with a
-                // corner per face vertex, but kept as assimp has it).
-                std::uint32_t t1[3] = {at(0), at(1), at(2)}, t2[3] = {at(0), at(2), at(3)};
-                if (t1[0] == last_first) {
-                    std::swap(t1[0], t1[2]), std::swap(t1[1], t1[2]);
-                    std::swap(t2[1], t2[2]), std::swap(t2[0], t2[2]);
-                }
-                last_first = t1[0];
-                for (std::uint32_t k : t1) out.push_back(unique_of_corner(k));
-                for (std::uint32_t k : t2) out.push_back(unique_of_corner(k));
-            } else {
-                polygon_.clear();
-                for (std::uint32_t k = 0; k < n; ++k) polygon_.push_back(position(c + k));
-                ears_.clear();
-                if (!cut_ears(polygon_, ears_)) notes_.error("Failed to triangulate polygon (no ear found). Probably not a simple polygon?");
-                for (const std::array<int, 3>& e : ears_)
-                    emit(c + static_cast<std::uint32_t>(e[0]), c + static_cast<std::uint32_t>(e[1]), c + static_cast<std::uint32_t>(e[2]));
-            }
+            const auto corner = [c](std::uint32_t k) { return c + k; };
+            const auto position = [&](std::uint32_t k) -> const aiVector3D& { return model_.vertices[mesh_v[c + k]]; };
+            if (!triangulator_.face(n, corner, position, emit))
+                notes_.error("Failed to triangulate polygon (no ear found). Probably not a simple polygon?");
             c += n;
         }
     }
@@ -1137,8 +1023,7 @@ private:
     std::vector<Stamped> by_vertex_;  // stamped by mesh
     std::vector<ByIndices> indices_;
     std::uint32_t stamp_ = 0;
-    std::vector<aiVector3D> polygon_;
-    std::vector<std::array<int, 3>> ears_;
+    Triangulator triangulator_;
 };
 
 // ---- materials (ObjFileImporter::createMaterials)

@@ -2,20 +2,28 @@
 // a file of the accepted form, so that the two paths give the same mesh bit for bit:
 //  - lines: assimp's OFF reader takes the text line by line, skipping empty lines (a line of
 //    spaces is not empty), into a 4096-byte buffer that would cut longer lines (refused here);
-//  - vertices: SkipSpaces then fast_atoreal_move<float> three times, the rest of the line ignored;
+//  - the header: NextToken between its words (spaces, line ends and '#' lines skipped), the
+//    keyword ("OFF", or "COFF" for colours), the three counts; the body begins at the next word;
+//  - vertices: SkipSpaces then fast_atoreal_move<float> three times, for COFF four more (a '#'
+//    after one leaves the rest at 0, 0, 1), the rest of the line ignored;
 //  - faces: SkipSpaces then strtoul10 for the count and each index, the rest ignored (a missing
 //    index reads as 0 in both);
+//  - Triangulate, for a mesh with a polygon (io/assimp_triangulate.hpp): quads split at their
+//    concave corner, larger polygons cut into ears, every triangle through the NGONEncoder;
 //  - JoinIdenticalVertices and facet's conversion: join_identical_vertices (io/joined_mesh.hpp),
-//    which leaves files with positions only assimp's tolerance would join to assimp.
+//    which leaves files with positions only assimp's tolerance would join to assimp; colours are
+//    not compared, a joined vertex keeps its first one's (clamped to [0, 1] by the conversion).
 #include "io/plain_off.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
 
 #include "facet/detail/thread_pool.hpp"
 #include "io/assimp_text.hpp"
+#include "io/assimp_triangulate.hpp"
 #include "io/joined_mesh.hpp"
 #include "io/load_common.hpp"
 
@@ -81,16 +89,27 @@ std::size_t count_lines(const char* begin, const char* end, bool& nul) {
 struct OffTarget {
     std::uint32_t vertex_count, face_count;
     Vec3* positions;
-    std::uint32_t* indices;
+    std::array<float, 4>* colours;  // COFF: each vertex's colour as the file gives it, else null
+    std::uint32_t* indices;         // three per face; a polygon's are in its OffPolygon instead
+};
+
+// A face of 4 to 9 corners, triangulated once every face is read, or one assimp drops (corners 0).
+struct OffPolygon {
+    std::uint32_t face, corners;
+    std::uint32_t index[9];
 };
 
 // Reads the lines of the piece [begin, end), the first of them line number `line` of the body;
 // returns the number after the last line read, or nullopt where assimp's reader would read the
 // file differently. A line's reader stops at or before its end (numbers and spaces never take a
 // line-end character), and the line is skipped from there.
-std::optional<std::size_t> read_piece(const char* begin, const char* end, std::size_t line, const OffTarget& to) {
+// Faces assimp drops do not count: the reading goes on until it has face_count others. They are
+// counted in `dropped`, or, without it (threads read pieces whose lines are numbered before), decline.
+std::optional<std::size_t> read_piece(const char* begin, const char* end, std::size_t line, const OffTarget& to,
+                                      std::vector<OffPolygon>& polygons, std::size_t* dropped) {
     const std::size_t last = std::size_t{to.vertex_count} + to.face_count;
-    for (const char* c = begin; line < last; ++line) {
+    std::size_t skipped = 0;
+    for (const char* c = begin; line < last + skipped; ++line) {
         while (c < end && is_line_end(*c)) ++c;
         if (c >= end) break;
         const char* const start = c;
@@ -101,44 +120,119 @@ std::optional<std::size_t> read_piece(const char* begin, const char* end, std::s
                 c = read_float(c, p[dim]);  // throws where assimp's reader fails
                 if (!std::isfinite(p[dim])) return std::nullopt;
             }
+            if (to.colours) {
+                std::array<float, 4>& rgba = to.colours[line];
+                constexpr float cut_off[4] = {0, 0, 0, 1};  // what assimp gives the channels after a '#'
+                c = read_float(skip_spaces(c), rgba[0]);
+                for (std::size_t k = 1; k < 4; ++k) {
+                    if (*c == '#')
+                        rgba[k] = cut_off[k];
+                    else
+                        c = read_float(skip_spaces(c), rgba[k]);
+                }
+            }
         } else {
-            std::uint32_t* index = to.indices + 3 * (line - to.vertex_count);
+            const std::size_t face = line - to.vertex_count - skipped;
             c = skip_spaces(c);
-            if (Assimp::strtoul10(c, &c) != 3) return std::nullopt;  // polygons: assimp triangulates them
-            for (std::size_t k = 0; k < 3; ++k) {
+            const std::uint32_t corners = Assimp::strtoul10(c, &c);
+            if (corners == 1 || corners == 2) return std::nullopt;  // a point or a line: SortByPType splits the mesh
+            // No corners (a comment read as a face, too) or more than 9: assimp drops the face with an error.
+            const bool drop = corners == 0 || corners > 9;
+            if (drop && !dropped) return std::nullopt;
+            skipped += drop;
+            OffPolygon polygon{static_cast<std::uint32_t>(face), drop ? 0 : corners, {}};
+            std::uint32_t* index = polygon.corners == 3 ? to.indices + 3 * face : polygon.index;
+            for (std::size_t k = 0; k < polygon.corners; ++k) {
                 c = skip_spaces(c);
                 index[k] = Assimp::strtoul10(c, &c);
                 if (index[k] >= to.vertex_count) return std::nullopt;  // assimp clamps it and logs an error
             }
+            if (polygon.corners > 3) polygons.push_back(polygon);
         }
         while (*c != '\0' && !is_line_end(*c)) ++c;
         if (c - start >= k_max_line) return std::nullopt;
     }
+    if (dropped) *dropped = skipped;
     return line;
 }
 
-// A whole decimal count of at most 9 digits, then spaces; nullopt otherwise.
-std::optional<std::uint32_t> parse_small_count(const char*& c) {
-    c = skip_spaces(c);
+// Triangulate's faces of a mesh with a polygon: `indices` (three per face, a polygon's unset; the
+// polygons of faces past them not used) becomes the triangles, every one through the NGONEncoder.
+// False where a polygon has no ear.
+bool triangulate(const std::vector<Vec3>& positions, const std::vector<std::vector<OffPolygon>>& polygons,
+                 std::vector<std::uint32_t>& indices) {
+    const std::size_t faces = indices.size() / 3;
+    std::vector<std::uint32_t> triangles;
+    std::size_t more = 0;
+    for (const std::vector<OffPolygon>& piece : polygons)
+        for (const OffPolygon& p : piece) more += p.face < faces ? p.corners - 3 : 0;
+    triangles.reserve(indices.size() + 3 * more);
+    Triangulator triangulator;
+    const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { triangles.insert(triangles.end(), {a, b, c}); };
+    const auto at = [&](std::uint32_t v) {
+        const Vec3& p = positions[v];
+        return aiVector3D(p.x, p.y, p.z);
+    };
+    auto piece = polygons.begin();
+    std::size_t next = 0;  // in *piece
+    for (std::size_t face = 0; face < faces; ++face) {
+        while (piece != polygons.end() && next == piece->size()) ++piece, next = 0;
+        const OffPolygon* polygon = piece != polygons.end() && (*piece)[next].face == face ? &(*piece)[next++] : nullptr;
+        const std::uint32_t* index = polygon ? polygon->index : &indices[3 * face];
+        const auto id = [index](std::uint32_t k) { return index[k]; };
+        if (!triangulator.face(polygon ? polygon->corners : 3, id, [&](std::uint32_t k) { return at(index[k]); }, emit))
+            return false;
+    }
+    indices = std::move(triangles);
+    return true;
+}
+
+// assimp's NextToken: past spaces and line ends, then past each line that begins with '#'.
+const char* next_token(const char* c) {
+    const auto skip_blank = [](const char* p) {
+        while (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n') ++p;
+        return p;
+    };
+    for (c = skip_blank(c); *c == '#'; c = skip_blank(c))
+        while (*c != '\r' && *c != '\n' && *c != '\0') ++c;
+    return c;
+}
+
+// A count of the header: 1 to 9 digits, then a space or a line end; nullopt otherwise.
+std::optional<std::uint32_t> header_count(const char*& c) {
     std::uint32_t v = 0;
     int digits = 0;
     for (; *c >= '0' && *c <= '9'; ++c, ++digits) v = v * 10 + static_cast<std::uint32_t>(*c - '0');
-    if (digits == 0 || digits > 9 || !(is_space(*c) || is_line_end(*c) || *c == '\0')) return std::nullopt;
+    if (digits == 0 || digits > 9 || !(is_space(*c) || *c == '\n' || *c == '\r')) return std::nullopt;
     return v;
 }
 
-// "OFF" alone on the first line, the vertex, face and edge counts alone on the second.
+// "OFF" or "COFF", then the vertex, face and edge counts, with spaces, line ends and '#' lines
+// between them; the body begins on a line of its own.
 std::optional<OffHeader::Plain> parse_plain_header(const char* text) {
-    const char* c = text;
-    if (c[0] != 'O' || c[1] != 'F' || c[2] != 'F') return std::nullopt;
-    c = skip_spaces(c + 3);
-    if (!is_line_end(*c)) return std::nullopt;
-    while (is_line_end(*c)) ++c;
-    const auto vertices = parse_small_count(c), faces = parse_small_count(c), edges = parse_small_count(c);
-    if (!vertices || !faces || !edges || *vertices == 0 || *faces == 0) return std::nullopt;
-    c = skip_spaces(c);
-    if (!is_line_end(*c)) return std::nullopt;
-    return OffHeader::Plain{*vertices, *faces, static_cast<std::size_t>(c - text)};
+    // A byte order mark (assimp converts such a text first) or another encoding: not taken.
+    if (static_cast<unsigned char>(text[0]) >= 0x80) return std::nullopt;
+    const char* c = next_token(text);
+    const bool colours = *c == 'C';
+    c += colours;
+    if (c[0] != 'O' || c[1] != 'F' || c[2] != 'F' || !(is_space(c[3]) || c[3] == '\n' || c[3] == '\r')) return std::nullopt;
+    c += 3;
+    std::uint32_t counts[3];
+    for (std::uint32_t& n : counts) {
+        c = next_token(c);
+        const std::optional<std::uint32_t> count = header_count(c);
+        if (!count) return std::nullopt;
+        n = *count;
+    }
+    if (counts[0] == 0 || counts[1] == 0) return std::nullopt;
+    const char* const counts_end = c;
+    c = next_token(c);
+    if (*c == '\0' || *c == '\f') return std::nullopt;  // the end, or a line end NextToken does not skip
+    // The reader begins at the line end before the body's first word (spaces alone between them).
+    const char* line = c;
+    while (line > counts_end && is_space(line[-1])) --line;
+    if (line <= counts_end || (line[-1] != '\n' && line[-1] != '\r')) return std::nullopt;
+    return OffHeader::Plain{counts[0], counts[1], static_cast<std::size_t>(line - 1 - text), colours};
 }
 
 }  // namespace
@@ -208,13 +302,18 @@ std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, co
     }
 
     std::vector<Vec3> positions(plain->vertices);
+    std::vector<std::array<float, 4>> colours(plain->colours ? plain->vertices : 0);
     std::vector<std::uint32_t> indices(std::size_t{3} * plain->faces);
-    const OffTarget target{plain->vertices, plain->faces, positions.data(), indices.data()};
+    const OffTarget target{plain->vertices, plain->faces, positions.data(), plain->colours ? colours.data() : nullptr,
+                           indices.data()};
     std::vector<std::size_t> stopped(piece.size() - 1, 0);
     std::vector<char> declined(piece.size() - 1, 0);
+    std::vector<std::vector<OffPolygon>> polygons(piece.size() - 1);  // per piece, in face order
+    std::size_t dropped = 0;
     auto read = [&](std::size_t k) {
         try {
-            const std::optional<std::size_t> read_to = read_piece(piece[k], piece[k + 1], first_line[k], target);
+            const std::optional<std::size_t> read_to =
+                read_piece(piece[k], piece[k + 1], first_line[k], target, polygons[k], pool ? nullptr : &dropped);
             declined[k] = !read_to;
             stopped[k] = read_to.value_or(0);
         } catch (const NotANumber&) {
@@ -226,10 +325,32 @@ std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, co
     else
         read(0);
     if (std::find(declined.begin(), declined.end(), 1) != declined.end()) return std::nullopt;
-    if (!pool && stopped[0] < lines) return std::nullopt;  // threads: the lines were counted before
+    // Threads: the lines were counted before. One thread: assimp's mesh has face_count faces less
+    // the dropped ones: the first of those read, or, where the lines ran out after a drop, all of
+    // them (with an error); a face missing otherwise would fail its validation.
+    bool faces_missing = false;
+    if (!pool) {
+        if (stopped[0] < lines + dropped) {
+            faces_missing = dropped > 0 && stopped[0] == lines;
+            if (!faces_missing) return std::nullopt;
+        }
+        indices.resize(3 * (std::size_t{plain->faces} - dropped));
+    }
+    const auto kept = [faces = indices.size() / 3](const std::vector<OffPolygon>& p) { return !p.empty() && p.front().face < faces; };
+    if (std::any_of(polygons.begin(), polygons.end(), kept))
+        if (!triangulate(positions, polygons, indices)) return std::nullopt;
     // The join stays on this thread: shared, its five short loops cost the bunny 4-6 ms more CPU
     // (the pool's spins between them) for no wall time that showed (docs/BENCHMARKS.md).
-    return join_identical_vertices(positions, indices);
+    std::optional<PlainOffMesh> mesh = join_identical_vertices(positions, indices);
+    if (mesh) mesh->dropped_faces = dropped, mesh->faces_missing = faces_missing;
+    if (mesh && plain->colours) {
+        mesh->colours.reserve(mesh->source.size());
+        for (const std::uint32_t v : mesh->source) {
+            const std::array<float, 4>& c = colours[v];
+            mesh->colours.push_back(unit_colour(c[0], c[1], c[2], c[3]));
+        }
+    }
+    return mesh;
 }
 
 std::optional<PlainOffMesh> read_plain_off(std::string_view text) { return read_plain_off_with_header(text, parse_off_header(text)); }

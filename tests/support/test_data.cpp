@@ -20,7 +20,10 @@ std::optional<fs::path> cgal_meshes() {
     static const std::optional<fs::path> dir = []() -> std::optional<fs::path> {
         const fs::path out = fs::path(FACET_BINARY_DIR) / "test_data" / "cgal";
         const fs::path meshes = out / "data" / "meshes";
-        const char* names[] = {"bunny00.off", "armadillo.off", "elephant.off"};
+        const char* names[] = {"bunny00.off", "armadillo.off", "elephant.off",
+                               // OFF's other forms, for the OFF reader's tests (small files)
+                               "sphere966.off", "dino.off", "cactus.off", "plane.off", "3torus.off", "corner_poly.off",
+                               "double-torus-example.off", "P.off", "torus_quad.off", "mpi.off"};
         auto present = [&] {
             return std::all_of(std::begin(names), std::end(names), [&](const char* n) { return fs::exists(meshes / n); });
         };

@@ -20,7 +20,7 @@ namespace facet_test {
 inline const std::filesystem::path k_assimp_models = "/usr/share/assimp/models";             // assimp-testmodels
 inline const std::filesystem::path k_cgal_data = "/usr/share/doc/libcgal-dev/data.tar.gz";   // libcgal-demo
 
-// The directory holding bunny00.off, armadillo.off and elephant.off, unpacked from k_cgal_data
+// The directory holding bunny00.off, armadillo.off, elephant.off and a few small OFF files (test_data.cpp), unpacked from k_cgal_data
 // into <build>/test_data/cgal on first use (safe when several test processes race to do it);
 // nothing when the tarball is missing or cannot be unpacked.
 std::optional<std::filesystem::path> cgal_meshes();

@@ -982,8 +982,9 @@ TEST(AssimpImports, RefusedWhileNotAllowedCountedAndLoadedOnceAllowed) {
     const fs::path dir = temp_dir();
     const std::string tetrahedron = "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
     const std::string own = facet_test::write_file(dir / "own.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + tetrahedron);
-    // A quad face: facet's OFF reader leaves the file to assimp.
-    const std::string quad = facet_test::write_file(dir / "quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n");
+    // NOFF (normals): facet's OFF reader leaves the file to assimp.
+    const std::string quad = facet_test::write_file(
+        dir / "quad.off", "NOFF\n4 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n1 1 0 0 0 1\n0 1 0 0 0 1\n4 0 1 2 3\n");
     const std::size_t before = assimp_import_count();
     allow_assimp_imports(false);
     const Result<LoadedModel> refused = load_model(quad);

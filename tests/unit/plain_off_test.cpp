@@ -1,4 +1,4 @@
-// The plain OFF fast path (src/io/plain_off.hpp): load_model must give exactly the Scene the
+// The OFF fast path (src/io/plain_off.hpp): load_model must give exactly the Scene the
 // assimp path gives (io_detail::load_model_through_assimp), field by field and bit for bit, for
 // CGAL's meshes, assimp's OFF test models and small files written here, including files the fast
 // reader declines (it must decline them, and the result must still match) and damaged files
@@ -49,6 +49,15 @@ TEST(PlainOff, CgalMeshesTakeTheFastPathAndMatchAssimp) {
         z_up_sharp.crease_angle_degrees = 10;
         expect_same_as_assimp(path, z_up_sharp);
     }
+    // COFF's colours, quads and polygons of up to 9 corners (triangulated as assimp does), faces
+    // assimp drops with an error: of 10 corners (mpi.off) and a comment among the faces
+    // (sphere966.off: read as a face of no corners, so the last face is never read).
+    for (const char* name : {"dino.off", "cactus.off", "plane.off", "3torus.off", "corner_poly.off", "double-torus-example.off",
+                             "P.off", "torus_quad.off", "mpi.off", "sphere966.off"}) {
+        const std::string path = (*dir / name).string();
+        EXPECT_TRUE(fast_reader_takes(path)) << path;
+        expect_same_as_assimp(path);
+    }
     // Read by two threads (the lines, the join and the normals shared): the same scene.
     LoadOptions two_threads;
     two_threads.threads = 2;
@@ -85,6 +94,32 @@ TEST(PlainOff, AcceptedFormsMatchAssimp) {
         {"tiny_equal.off", "OFF\n5 2 0\n1e-30 0 0\n1 0 0\n0 1 0\n1e-30 0 0\n0 0 1\n3 0 1 2\n3 3 2 4\n"},
         // Read, but nothing but degenerate triangles: load_model leaves the error to the assimp path.
         {"all_degenerate.off", "OFF\n3 1 0\n0 0 0\n0 0 0\n0 1 0\n3 0 1 2\n"},
+        // The header as assimp's NextToken reads it: '#' lines (indented too), counts on the
+        // keyword's line, blank lines and lines of spaces before the body, a body line indented.
+        {"comment.off", "# made by hand\n#\nOFF\n# counts next\n  # indented\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"counts_on_first_line.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"spaces_line.off", "OFF\n3 1 0\n   \n\t0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        // COFF: four numbers after the position (integers or not, clamped by the conversion), the
+        // colours of a joined vertex its first one's; a '#' cuts the rest to 0, 0, 1.
+        {"coff.off", "COFF\n4 2 0\n0 0 0 1 0 0 1\n1 0 0 0 255 0 1\n0 1 0 0 0 0.5 0.25\n1 0 0 9 9 9 9\n3 0 1 2\n3 3 2 0\n"},
+        {"coff_cut.off", "COFF\n3 1 0\n0 0 0 0.5#red\n1 0 0 0.25 0.5# 1\n0 1 0 -1 2 nan 0.5\n3 0 1 2\n"},
+        // Quads: convex, concave at a corner other than the first, non-planar; a triangle and a
+        // quad starting at the vertex the last one began with (NGONEncoder rotates them).
+        {"quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"},
+        {"quads.off", "OFF\n7 5 0\n0 0 0\n2 0 0\n2 2 0\n0.5 0.5 0\n0 2 1\n3 3 3\n-1 1 0.5\n"
+                      "4 0 1 2 3\n4 3 0 4 6\n3 2 5 1\n3 2 4 5\n4 2 4 5 1\n"},
+        // Polygons of 5 to 9 corners, convex and not, among triangles; shared first corners.
+        // Faces assimp drops with an error (and reads on for the count): of no corners, of 10, a
+        // comment among the faces; here the lines run out first (another error).
+        {"dropped_faces.off", "OFF\n10 6 0\n0 0 0\n1 0 0\n2 0 0\n3 1 0\n3 2 0\n2 3 0\n1 3 0\n0 2 0\n0 1 0\n1 1 0\n"
+                              "10 0 1 2 3 4 5 6 7 8 9\n3 0 1 9\n0\n# 2 faces\n3 1 2 3\n3 4 5 6\n"},
+        {"dropped_and_quads.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n# faces\n4 0 1 2 3\n3 0 2 3\n"},
+        // Lines enough after a drop: the last face read is not used (here the only quad: no
+        // Triangulate, the triangles as they are).
+        {"dropped_then_all_faces.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n12 0 1 2 3 0 1 2 3 0 1 2 3\n"
+                                       "3 0 2 3\n3 3 0 2\n4 0 1 2 3\n3 1 2 3\n"},
+        {"polygons.off", "OFF\n10 5 0\n0 0 0\n2 0 0\n3 1 0\n2 2 0\n1 0.5 0\n0 2 0\n-1 1 0\n0 0 1\n1 1 2\n2 0 1\n"
+                         "5 0 1 2 3 5\n6 0 1 2 3 4 5\n9 0 1 2 3 4 5 6 7 8\n3 0 8 9\n7 9 8 7 6 5 4 3\n"},
     };
     for (const auto& [name, text] : files) {
         const std::string path = write_file(dir / name, text);
@@ -98,10 +133,14 @@ TEST(PlainOff, AcceptedFormsMatchAssimp) {
 TEST(PlainOff, DeclinedFormsGoThroughAssimp) {
     const fs::path dir = temp_dir();
     const std::vector<std::pair<std::string, std::string>> files = {
-        {"comment.off", "OFF\n# made by hand\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
-        {"quad.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"},
-        {"coff.off", "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n"},
-        {"counts_on_first_line.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"comment_among_vertices.off", "OFF\n3 1 0\n0 0 0\n# vertices\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"colour_then_space_then_comment.off", "COFF\n3 1 0\n0 0 0 1 #\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2\n"},
+        {"vertex_on_counts_line.off", "OFF\n3 1 0 0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"noff.off", "NOFF\n3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n"},
+        {"coff_three_channels.off", "COFF\n3 1 0\n0 0 0 1 0 0\n1 0 0 0 1 0\n0 1 0 0 0 1\n3 0 1 2\n"},
+        {"line_face.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n2 0 1\n"},
+        {"polygon_out_of_range.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 4\n"},
+        {"bom.off", "\xEF\xBB\xBFOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
         {"no_edge_count.off", "OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
         {"index_out_of_range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n"},
         {"nan.off", "OFF\n4 2 0\nnan 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 1 2 3\n"},
@@ -110,7 +149,7 @@ TEST(PlainOff, DeclinedFormsGoThroughAssimp) {
         {"too_few_faces.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
         {"not_a_number.off", "OFF\n3 1 0\n0 0 0\n1 x 0\n0 1 0\n3 0 1 2\n"},
         {"zero_faces.off", "OFF\n3 0 0\n0 0 0\n1 0 0\n0 1 0\n"},
-        {"spaces_line.off", "OFF\n3 1 0\n   \n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"spaces_line_in_body.off", "OFF\n3 1 0\n0 0 0\n   \n1 0 0\n0 1 0\n3 0 1 2\n"},
         {"nul.off", std::string("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n\0junk", 39)},
         {"long_line.off", "OFF\n3 1 0\n0 0 0" + std::string(5000, ' ') + "\n1 0 0\n0 1 0\n3 0 1 2\n"},
         // The last line read is too long past its numbers (checked after the reading, too).
@@ -140,23 +179,27 @@ TEST(PlainOff, GeneratedFilesMatchAssimp) {
         return r < 3 ? end + end : r < 4 ? end + "   " + end : end;
     };
     auto number = [&] { return facet_test::random_number_text(rng); };
-    int taken = 0;
+    int taken = 0, taken_coff = 0, taken_polygons = 0;
     const int files = facet_test::sweep_size(600, 120);
     for (int i = 0; i < files; ++i) {
         crlf = pick(4) == 0;
         const int vertices = 3 + pick(8), faces = 1 + pick(8);
         const int said_vertices = pick(20) == 0 ? vertices + 1 : vertices, said_faces = pick(20) == 0 ? faces - 1 : faces;
-        std::string out = (pick(15) == 0 ? std::string("# made by a test") + line_break() : "") + (pick(20) == 0 ? "COFF" : "OFF");
+        const bool coff = pick(8) == 0;
+        std::string out = (pick(15) == 0 ? std::string("# made by a test") + line_break() : "") + (coff ? "COFF" : "OFF");
         out += pick(15) == 0 ? space() : line_break();
         out += std::to_string(said_vertices) + space() + std::to_string(said_faces) + (pick(10) == 0 ? "" : space() + "0") + line_break();
         for (int v = 0; v < vertices; ++v) {
             out += (pick(10) == 0 ? space() : "") + number() + space() + number() + space() + number();
-            if (pick(10) == 0) out += space() + number();  // a fourth value
+            if (coff) out += space() + number() + space() + number() + space() + number();  // a colour (its alpha next)
+            if (pick(10) == 0 || (coff && pick(20) != 0)) out += space() + number();       // a fourth value
             if (pick(40) == 0) out += " # note";
             out += line_break();
         }
+        bool polygons = false;
         for (int f = 0; f < faces; ++f) {
-            const int corners = pick(12) == 0 ? 4 : 3;
+            const int corners = pick(6) == 0 ? 4 + pick(7) : 3;  // up to 10: assimp drops those
+            polygons |= corners > 3;
             out += std::to_string(corners);
             for (int k = 0; k < corners; ++k) out += space() + std::to_string(pick(40) == 0 ? vertices : pick(vertices));
             if (pick(10) == 0) out += space() + "0.5 0.5 0.5";  // a colour
@@ -164,10 +207,15 @@ TEST(PlainOff, GeneratedFilesMatchAssimp) {
         }
         if (pick(15) == 0) out += "trailing" + line_break();
         const std::string path = write_file(temp_dir() / ("generated_" + std::to_string(i) + ".off"), out);
-        taken += io_detail::read_plain_off(out).has_value();
+        const bool took = io_detail::read_plain_off(out).has_value();
+        taken += took;
+        taken_coff += took && coff;
+        taken_polygons += took && polygons;
         expect_same_as_assimp(path);
     }
     EXPECT_GT(taken, files / 5) << "the fast reader took too few of the generated files to test it";
+    EXPECT_GT(taken_coff, files / 50);
+    EXPECT_GT(taken_polygons, files / 20);
 }
 
 // Cut and damaged copies of a valid file: whatever each path makes of them (a scene, or an error
@@ -201,16 +249,23 @@ TEST(PlainOff, LargeFilesReadInPiecesByThreadsMatchAssimp) {
     const int vertices = 6000, faces = 9000;
     std::string body;
     std::vector<std::size_t> line_at;  // where each vertex and face line begins in `body`
+    std::string coloured;  // the same as COFF, every 7th face a quad
     for (int v = 0; v < vertices; ++v) {
         body += pick(50) == 0 ? "\r\n\n" : "";
         line_at.push_back(body.size());
-        body += facet_test::random_number_text(rng) + " " + facet_test::random_number_text(rng) + "\t" +
-                facet_test::random_number_text(rng) + (pick(20) == 0 ? " 0.5" : "") + "\n";
+        const std::string position = facet_test::random_number_text(rng) + " " + facet_test::random_number_text(rng) + "\t" +
+                                     facet_test::random_number_text(rng);
+        body += position + (pick(20) == 0 ? " 0.5" : "") + "\n";
+        coloured += position + " " + std::to_string(pick(256)) + " 0.5 1 255\n";
     }
     for (int f = 0; f < faces; ++f) {
         line_at.push_back(body.size());
         body += "3 " + std::to_string(pick(vertices)) + " " + std::to_string(pick(vertices)) + "  " +
                 std::to_string(pick(vertices)) + (pick(30) == 0 ? std::string(300, ' ') : "") + "\n";
+        const int corners = f % 7 == 0 ? 4 : 3;
+        coloured += std::to_string(corners);
+        for (int k = 0; k < corners; ++k) coloured += " " + std::to_string(pick(vertices));
+        coloured += "\n";
     }
     const std::string header = "OFF\n" + std::to_string(vertices) + " " + std::to_string(faces) + " 0\n";
     ASSERT_GT(body.size(), 300'000u);
@@ -219,6 +274,7 @@ TEST(PlainOff, LargeFilesReadInPiecesByThreadsMatchAssimp) {
     };
     const std::vector<std::pair<std::string, std::string>> files = {
         {"good", header + body},
+        {"good_coff_polygons", "C" + header + coloured},
         {"nul", with(vertices + 5000, std::string("3 1 2 3\n\0\n", 10))},
         {"long_line", with(vertices + 4000, "3 1 2 3" + std::string(5000, ' ') + "\n")},
         {"not_a_number", with(5000, "1 x 2\n")},
@@ -233,11 +289,12 @@ TEST(PlainOff, LargeFilesReadInPiecesByThreadsMatchAssimp) {
         const std::optional<io_detail::PlainOffMesh> alone = io_detail::read_plain_off(text);
         const std::optional<io_detail::PlainOffMesh> shared =
             io_detail::read_plain_off_with_header(text, io_detail::parse_off_header(text), &two);
-        EXPECT_EQ(alone.has_value(), name == "good");
+        EXPECT_EQ(alone.has_value(), name.starts_with("good"));
         ASSERT_EQ(shared.has_value(), alone.has_value());
         if (alone) {
             EXPECT_EQ(facet_test::bits_of(shared->positions), facet_test::bits_of(alone->positions));
             EXPECT_EQ(shared->indices, alone->indices);
+            EXPECT_EQ(facet_test::bits_of(shared->colours), facet_test::bits_of(alone->colours));
         }
         const std::string path = write_file(temp_dir() / ("large_" + name + ".off"), text);
         expect_same_as_assimp(path, threads);
@@ -274,6 +331,7 @@ TEST(JoinIdenticalVertices, SharedBetweenThreadsGivesTheOneThreadMesh) {
             if (!alone) continue;
             EXPECT_EQ(facet_test::bits_of(shared->positions), facet_test::bits_of(alone->positions));
             EXPECT_EQ(shared->indices, alone->indices);
+            EXPECT_EQ(facet_test::bits_of(shared->colours), facet_test::bits_of(alone->colours));
             EXPECT_EQ(shared->degenerate, alone->degenerate);
             EXPECT_LT(alone->positions.size(), positions.size());  // something was joined or left out
         }
