@@ -8,29 +8,45 @@
 #include <memory>
 #include <vector>
 
-namespace facet {
-namespace {
+#include "scene/box_blur.hpp"
 
-// Three box filters of radius r along rows then columns (about a Gaussian), clamped at the edges.
-void blur(std::vector<float>& v, int n, int r) {
-    std::vector<float> tmp(v.size());
+namespace facet {
+namespace detail {
+
+// Each output texel is the sum of its 2r + 1 inputs in order, from -r to r, times 1 / (2r + 1) (the
+// rule's loop); the loops run along whole rows (a row padded with its end texels, or whole rows
+// added), which the compiler vectorizes without changing any texel's sum.
+void box_blur(std::vector<float>& v, int n, int r) {
+    const auto w = static_cast<std::size_t>(n), radius = static_cast<std::size_t>(r);
+    std::vector<float> tmp(v.size()), padded(w + 2 * radius);
     const float scale = 1.0f / static_cast<float>(2 * r + 1);
-    for (int pass = 0; pass < 3; ++pass)
-        for (int axis = 0; axis < 2; ++axis) {
-            for (int j = 0; j < n; ++j)
-                for (int i = 0; i < n; ++i) {
-                    float s = 0;
-                    for (int k = -r; k <= r; ++k) {
-                        const int t = std::clamp(i + k, 0, n - 1);
-                        s += axis == 0 ? v[static_cast<std::size_t>(j) * n + t] : v[static_cast<std::size_t>(t) * n + j];
-                    }
-                    (axis == 0 ? tmp[static_cast<std::size_t>(j) * n + i] : tmp[static_cast<std::size_t>(i) * n + j]) = s * scale;
-                }
-            v.swap(tmp);
+    for (int pass = 0; pass < 3; ++pass) {
+        for (std::size_t j = 0; j < w; ++j) {  // along the rows
+            const float* row = &v[j * w];
+            std::fill_n(padded.begin(), radius, row[0]);
+            std::copy_n(row, w, padded.begin() + static_cast<std::ptrdiff_t>(radius));
+            std::fill_n(padded.begin() + static_cast<std::ptrdiff_t>(radius + w), radius, row[w - 1]);
+            float* out = &tmp[j * w];
+            std::fill_n(out, w, 0.0f);
+            for (std::size_t k = 0; k <= 2 * radius; ++k)
+                for (std::size_t i = 0; i < w; ++i) out[i] += padded[i + k];
+            for (std::size_t i = 0; i < w; ++i) out[i] *= scale;
         }
+        v.swap(tmp);
+        for (int i = 0; i < n; ++i) {  // along the columns: output row i sums rows i - r to i + r
+            float* out = &tmp[static_cast<std::size_t>(i) * w];
+            std::fill_n(out, w, 0.0f);
+            for (int k = -r; k <= r; ++k) {
+                const float* row = &v[static_cast<std::size_t>(std::clamp(i + k, 0, n - 1)) * w];
+                for (std::size_t j = 0; j < w; ++j) out[j] += row[j];
+            }
+            for (std::size_t j = 0; j < w; ++j) out[j] *= scale;
+        }
+        v.swap(tmp);
+    }
 }
 
-}  // namespace
+}  // namespace detail
 
 ObjectView ContactShadow::view() const {
     return {mesh.positions.data(), mesh.normals.data(), nullptr, mesh.uvs.data(), static_cast<std::uint32_t>(mesh.positions.size()),
@@ -68,7 +84,7 @@ std::optional<ContactShadow> make_contact_shadow(Renderer& renderer, std::span<c
         const float d = std::clamp(depth.depth_data()[i], 0.0f, 1.0f);
         shade[i] = (1 - d) * (1 - d);
     }
-    blur(shade, n, n / 32);
+    detail::box_blur(shade, n, n / 32);
     Image image{n, n, std::vector<Rgba8>(static_cast<std::size_t>(n) * n)};
     for (std::size_t i = 0; i < shade.size(); ++i) {
         const float a = std::clamp(opacity * shade[i], 0.0f, 1.0f);

@@ -1,14 +1,19 @@
 // The contact shadow (facet/contact_shadow.hpp): where its quad lies, that it is darkest under the
 // model's base and fades out before the quad's edges, that a model lifted off the ground casts a
-// fainter one, and `--contact-shadow` on the command line (the lit mode's thumbnails' default).
+// fainter one, its blur (the rule's loop, bit for bit), and `--contact-shadow` on the command line
+// (the lit mode's thumbnails' default).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "facet/contact_shadow.hpp"
 #include "facet/math/transform.hpp"
+#include "scene/box_blur.hpp"
 #include "support/cli.hpp"
 #include "support/test_data.hpp"
 
@@ -31,6 +36,42 @@ std::uint8_t alpha_at(const ContactShadow& s, float u, float v) {
     const int x = std::clamp(static_cast<int>(u * static_cast<float>(img.width)), 0, img.width - 1);
     const int y = std::clamp(static_cast<int>(v * static_cast<float>(img.height)), 0, img.height - 1);
     return img.at(x, y).a;
+}
+
+// The blur's rule as a plain loop: every texel the sum of its neighbours along the row (then the
+// column), clamped at the edges, in order from -r to r, times 1 / (2r + 1).
+std::vector<float> blurred_by_the_rule(std::vector<float> v, int n, int r) {
+    std::vector<float> tmp(v.size());
+    const float scale = 1.0f / static_cast<float>(2 * r + 1);
+    for (int pass = 0; pass < 3; ++pass)
+        for (int axis = 0; axis < 2; ++axis) {
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    float s = 0;
+                    for (int k = -r; k <= r; ++k) {
+                        const int t = std::clamp(i + k, 0, n - 1);
+                        s += axis == 0 ? v[static_cast<std::size_t>(j * n + t)] : v[static_cast<std::size_t>(t * n + j)];
+                    }
+                    (axis == 0 ? tmp[static_cast<std::size_t>(j * n + i)] : tmp[static_cast<std::size_t>(i * n + j)]) = s * scale;
+                }
+            v.swap(tmp);
+        }
+    return v;
+}
+
+TEST(ContactShadow, BlurIsTheRulesLoopBitForBit) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    for (const auto& [n, r] : {std::pair{128, 4}, {1, 4}, {3, 5}, {17, 1}, {16, 0}, {40, 7}}) {
+        std::vector<float> v(static_cast<std::size_t>(n * n));
+        for (float& x : v) x = unit(rng) < 0.3f ? 0.0f : unit(rng) * unit(rng);  // runs of zeros, as under a model's edge
+        const std::vector<float> expected = blurred_by_the_rule(v, n, r);
+        detail::box_blur(v, n, r);
+        std::vector<std::uint32_t> got_bits, expected_bits;
+        for (float x : v) got_bits.push_back(std::bit_cast<std::uint32_t>(x));
+        for (float x : expected) expected_bits.push_back(std::bit_cast<std::uint32_t>(x));
+        EXPECT_EQ(got_bits, expected_bits) << n << " " << r;
+    }
 }
 
 TEST(ContactShadow, ADarkPatchUnderTheBaseFadingBeforeTheEdges) {
