@@ -93,7 +93,7 @@ struct OffTarget {
     std::uint32_t* indices;         // three per face; a polygon's are in its OffPolygon instead
 };
 
-// A face of 4 to 9 corners, triangulated once every face is read, or one assimp drops (corners 0).
+// A face of 4 to 9 corners, triangulated once every face is read.
 struct OffPolygon {
     std::uint32_t face, corners;
     std::uint32_t index[9];
