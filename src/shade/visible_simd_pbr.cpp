@@ -60,16 +60,26 @@ HWY_INLINE void octahedral_uv(const Vec3Lanes& d, VF& u, VF& v) {
     v = hn::IfThenElse(centre, half, hn::Add(hn::Mul(pz, half), half));
 }
 
-// Environment::sample_level for lanes whose levels are `level` (each lane its own).
-HWY_INLINE Vec3Lanes sample_level(const Environment& env, VI level, const Vec3Lanes& d) {
+// The environment's mip levels as sample_level reads them (each one's size and offset), taken once
+// per tile.
+struct EnvironmentLevels {
+    HWY_ALIGN std::int32_t sizes[8] = {}, offsets[8] = {};
+    explicit EnvironmentLevels(const Environment* env) {
+        for (int i = 0; env && i < Environment::k_levels; ++i) {
+            sizes[i] = env->level(i).size;
+            offsets[i] = static_cast<std::int32_t>(env->level(i).offset);
+        }
+    }
+};
+
+// Environment::sample_level for lanes whose levels are `level` (each lane its own), or all
+// `uniform` when that is not negative (the same values, without the gathers).
+HWY_INLINE Vec3Lanes sample_level(const Environment& env, const EnvironmentLevels& levels, VI level, const Vec3Lanes& d,
+                                  int uniform) {
     const DF df;
     const DI di;
-    HWY_ALIGN std::int32_t sizes[8] = {}, offsets[8] = {};
-    for (int i = 0; i < Environment::k_levels; ++i) {
-        sizes[i] = env.level(i).size;
-        offsets[i] = static_cast<std::int32_t>(env.level(i).offset);
-    }
-    const VI size = hn::GatherIndex(di, sizes, level), offset = hn::GatherIndex(di, offsets, level);
+    const VI size = uniform >= 0 ? hn::Set(di, levels.sizes[uniform]) : hn::GatherIndex(di, levels.sizes, level);
+    const VI offset = uniform >= 0 ? hn::Set(di, levels.offsets[uniform]) : hn::GatherIndex(di, levels.offsets, level);
     VF u, v;
     octahedral_uv(d, u, v);
     const VF fsize = hn::ConvertTo(df, size), half = hn::Set(df, 0.5f);
@@ -94,8 +104,9 @@ HWY_INLINE Vec3Lanes sample_level(const Environment& env, VI level, const Vec3La
     return {c[0], c[1], c[2]};
 }
 
-// Environment::specular
-HWY_INLINE Vec3Lanes specular(const Environment& env, const Vec3Lanes& r, VF lod) {
+// Environment::specular; `uniform_lod`: every lane's lod is the same (a material's roughness).
+HWY_INLINE Vec3Lanes specular(const Environment& env, const EnvironmentLevels& levels, const Vec3Lanes& r, VF lod,
+                              bool uniform_lod) {
     const DF df;
     const DI di;
     constexpr int top = Environment::k_levels - 1;
@@ -103,10 +114,12 @@ HWY_INLINE Vec3Lanes specular(const Environment& env, const Vec3Lanes& r, VF lod
     const VF l0 = hn::Floor(lod);
     const VF t = hn::Sub(lod, l0);
     const VI i0 = hn::ConvertTo(di, l0);
-    const Vec3Lanes c0 = sample_level(env, i0, r);
+    const int u0 = uniform_lod ? hn::GetLane(i0) : -1;
+    const Vec3Lanes c0 = sample_level(env, levels, i0, r, u0);
     const MF blend = hn::Ne(t, hn::Zero(df));
     if (hn::AllFalse(df, blend)) return c0;
-    const Vec3Lanes c1 = sample_level(env, hn::Min(hn::Add(i0, hn::Set(di, 1)), hn::Set(di, top)), r);
+    const Vec3Lanes c1 =
+        sample_level(env, levels, hn::Min(hn::Add(i0, hn::Set(di, 1)), hn::Set(di, top)), r, uniform_lod ? std::min(u0 + 1, top) : -1);
     const Vec3Lanes mixed = add(c0, mul(sub(c1, c0), t));
     return select(blend, mixed, c0);
 }
@@ -251,6 +264,7 @@ struct PbrLanes {
     static constexpr int D = S::k_derivative_count;  // the uv pair's derivatives, for the maps' mip levels
     static constexpr bool k_normal_map = Layout::has(shaders::Varying::tangent);
     const S& s;
+    const EnvironmentLevels levels{s.pbr.environment};
 
     // A map sampled by the scalar sampler (shaders::detail::sample_map), lane by lane.
     HWY_INLINE ColourLanes sample(const MapBinding& m, const LanesIn<N, D>& in) const {
@@ -294,7 +308,7 @@ struct PbrLanes {
         const Vec3Lanes n = normal(in);
         const Vec3Lanes position = vec3_lanes<Layout, shaders::Varying::position>(in.v);
         const Vec3Lanes v = normalize(sub(splat(s.u.eye), position), in.scalar);
-        Vec3Lanes c = image_based_light(base_rgb, metallic, roughness, n, v, *p.environment);
+        Vec3Lanes c = image_based_light(base_rgb, metallic, roughness, !p.metallic_roughness.texture, n, v, *p.environment);
         if (p.occlusion.texture) {
             const ColourLanes t = sample(p.occlusion, in);
             const VF ao = hn::Add(hn::Set(df, 1.0f), hn::Mul(hn::Set(df, p.occlusion_strength), hn::Sub(t.r, hn::Set(df, 1.0f))));
@@ -336,8 +350,8 @@ struct PbrLanes {
     }
 
     // shaders::detail::image_based_light
-    HWY_INLINE Vec3Lanes image_based_light(const Vec3Lanes& base, VF metallic, VF roughness, const Vec3Lanes& n,
-                                           const Vec3Lanes& v, const Environment& env) const {
+    HWY_INLINE Vec3Lanes image_based_light(const Vec3Lanes& base, VF metallic, VF roughness, bool uniform_roughness,
+                                           const Vec3Lanes& n, const Vec3Lanes& v, const Environment& env) const {
         const DF df;
         const VF one = hn::Set(df, 1.0f);
         const VF n_dot_v_raw = dot(n, v);
@@ -360,7 +374,8 @@ struct PbrLanes {
                                    hn::Div(hn::Mul(hn::Mul(fss_ess.y, f_avg.y), ems), hn::Sub(one, hn::Mul(f_avg.y, ems))),
                                    hn::Div(hn::Mul(hn::Mul(fss_ess.z, f_avg.z), ems), hn::Sub(one, hn::Mul(f_avg.z, ems)))};
         const Vec3Lanes k_d = mul(c_diff, add(sub(ones, fss_ess), fms_ems));
-        const Vec3Lanes spec = mul(specular(env, r, hn::Mul(roughness, hn::Set(df, static_cast<float>(Environment::k_levels - 1)))), fss_ess);
+        const VF lod = hn::Mul(roughness, hn::Set(df, static_cast<float>(Environment::k_levels - 1)));
+        const Vec3Lanes spec = mul(specular(env, levels, r, lod, uniform_roughness), fss_ess);
         const Vec3Lanes diff = mul(add(fms_ems, k_d), diffuse(env, n));
         return add(diff, spec);
     }
