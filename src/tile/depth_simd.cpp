@@ -15,7 +15,9 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cstring>
+#include <utility>
 
 #include "raster/segment.hpp"
 #include "tile/depth_pass.hpp"
@@ -37,6 +39,14 @@ struct EdgeRectOf {
 };
 using EdgeRect = EdgeRectOf<3>;
 
+// r's x0, y0, x1, y1: t's pixel bounds within the tile. False when they miss it.
+template <class R>
+HWY_INLINE bool bounds_in_tile(const TriangleSetup& t, PixelRect tile, R& r) {
+    r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
+    r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
+    return !((r.x0 > r.x1) | (r.y0 > r.y1));  // one branch, not two
+}
+
 // Edge k of r from its value at (r.x0, r.y0) and its steps, exact in 64 bits (r.ex is r.x0). False
 // when it is negative over the whole rectangle.
 template <int K>
@@ -56,7 +66,7 @@ HWY_INLINE bool set_crossing_edge(EdgeRectOf<K>& r, int k, std::int64_t first, s
 HWY_INLINE bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
     r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
     r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
-    if (r.x0 > r.x1 || r.y0 > r.y1) return false;
+    if (r.x0 > r.x1 || r.y0 > r.y1) return false;  // not bounds_in_tile: two branches measured cheaper here
     if (t.small_edges) {
         // Every value fits, so 32-bit arithmetic that wraps gives each edge at the rectangle's corner
         // exactly. An edge >= 0 everywhere decides nothing, and one < 0 everywhere leaves no pixel
@@ -77,28 +87,27 @@ HWY_INLINE bool edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRect& r) {
     return true;
 }
 
-// edge_rect for a segment's record: its four edges (raster/segment.hpp).
+// edge_rect for a segment's record (raster/segment.hpp) whose values do not all fit in 32 bits: its
+// four edges as the triangle's three.
 HWY_INLINE bool segment_edge_rect(const TriangleSetup& t, PixelRect tile, EdgeRectOf<4>& r) {
-    r.x0 = std::max(tile.x0, t.min_x), r.y0 = std::max(tile.y0, t.min_y);
-    r.x1 = std::min(tile.x1 - 1, t.max_x), r.y1 = std::min(tile.y1 - 1, t.max_y);
-    if (r.x0 > r.x1 || r.y0 > r.y1) return false;
+    if (!bounds_in_tile(t, tile, r)) return false;
     const SegmentEdges s = segment_edges(t);
     const PixelIndex origin = segment_origin(t);
-    if (t.small_edges) {  // every value fits: 32-bit arithmetic that wraps is exact, as edge_rect's
-        const auto dy = static_cast<std::uint32_t>(r.y0 - origin.y);
-        r.ex = origin.x;
-        for (int k = 0; k < 4; ++k) {
-            r.a[k] = static_cast<std::uint32_t>(s.a[k]);
-            r.b[k] = static_cast<std::uint32_t>(s.b[k]);
-            r.e[k] = static_cast<std::uint32_t>(s.e[k]) + r.b[k] * dy;
-        }
-        return true;
-    }
     r.ex = r.x0;
     for (int k = 0; k < 4; ++k)
         if (!set_crossing_edge(r, k, segment_edge_at(s, origin, k, r.x0, r.y0), s.a[k], s.b[k])) return false;
     return true;
 }
+
+// The rectangle of a segment whose edges all fit in 32 bits over its bounds (small_edges, nearly
+// all): the strips read the four edges from the record itself, where each strip starts
+// (edge_vectors), in one 4-lane step rather than one edge at a time through copies.
+struct SmallSegmentRect {
+    static constexpr int k_edges = 4;
+    int x0, y0, x1, y1;
+    const TriangleSetup* t;
+    PixelIndex origin;  // segment_origin(*t)
+};
 
 }  // namespace facet::detail
 #endif
@@ -141,6 +150,58 @@ HWY_INLINE V or_of(const V (&e)[K]) {
     return v;
 }
 
+// Each edge of a rectangle along a strip's first row, r.y0: e[k] lane j is edge k at column
+// start + column[j], b[k] its step per row in every lane. What a strip's rows start from.
+template <class DI, int K>
+HWY_INLINE void edge_vectors(DI di, const EdgeRectOf<K>& r, int start, hn::Vec<DI> column, hn::Vec<DI> (&e)[K],
+                             hn::Vec<DI> (&b)[K]) {
+    for (int k = 0; k < K; ++k) {
+        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.ex);
+        e[k] = hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
+                       hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), column));
+        b[k] = hn::Set(di, static_cast<std::int32_t>(r.b[k]));
+    }
+}
+
+// A small segment's four edges at (start, r.y0) in one step: its record's a[4], b[4] and e[4]
+// (SegmentEdges, 16 bytes each) loaded into every 128-bit block, e + a (start - origin.x) +
+// b (r.y0 - origin.y) in unsigned lanes that wrap (exact where the value fits: over the bounds, by
+// small_edges; lanes outside them are never inside), then lane k spread to edge k's vector.
+template <int k, class DI, class V>
+HWY_INLINE hn::Vec<DI> spread_lane(DI di, V v) {
+    return hn::BitCast(di, hn::Broadcast<k>(v));
+}
+template <class DI>
+HWY_INLINE void edge_vectors(DI di, const SmallSegmentRect& r, int start, hn::Vec<DI> column, hn::Vec<DI> (&e)[4],
+                             hn::Vec<DI> (&b)[4]) {
+    static_assert(sizeof(SegmentEdges) == 48 && offsetof(SegmentEdges, b) == 16 && offsetof(SegmentEdges, e) == 32,
+                  "a[4], b[4], e[4]: one 128-bit block each");
+#if HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
+    if constexpr (hn::MaxLanes(di) >= 4) {
+        const hn::RebindToUnsigned<DI> du;
+        const auto* record = reinterpret_cast<const std::uint32_t*>(r.t);
+        const auto a = hn::LoadDup128(du, record), b4 = hn::LoadDup128(du, record + 4);
+        const auto at_start = hn::Add(hn::LoadDup128(du, record + 8),
+                                      hn::Add(hn::Mul(a, hn::Set(du, static_cast<std::uint32_t>(start - r.origin.x))),
+                                              hn::Mul(b4, hn::Set(du, static_cast<std::uint32_t>(r.y0 - r.origin.y)))));
+        [&]<int... k>(std::integer_sequence<int, k...>) {
+            ((e[k] = hn::Add(spread_lane<k>(di, at_start), hn::Mul(spread_lane<k>(di, a), column)),
+              b[k] = spread_lane<k>(di, b4)),
+             ...);
+        }(std::make_integer_sequence<int, 4>{});
+        return;
+    }
+#endif
+    const SegmentEdges s = segment_edges(*r.t);  // one lane (the scalar target): edge by edge
+    const auto dx = static_cast<std::uint32_t>(start - r.origin.x), dy = static_cast<std::uint32_t>(r.y0 - r.origin.y);
+    for (int k = 0; k < 4; ++k) {
+        const auto a = static_cast<std::uint32_t>(s.a[k]), b_k = static_cast<std::uint32_t>(s.b[k]);
+        const auto at_start = static_cast<std::int32_t>(static_cast<std::uint32_t>(s.e[k]) + a * dx + b_k * dy);
+        e[k] = hn::Add(hn::Set(di, at_start), hn::Mul(hn::Set(di, s.a[k]), column));
+        b[k] = hn::Set(di, s.b[k]);
+    }
+}
+
 // A row's vector of the tile's depth or owner array: aligned (a strip starts at a multiple of the
 // lane count) or not (a narrow segment's vector starts at its first column).
 template <bool Aligned, class DV>
@@ -166,21 +227,17 @@ constexpr int k_row_group = 2;
 // vectors; without, start + lanes <= tile.x0 + k_max_tile_size (inside the arrays' rows). A row past
 // the rectangle (in the last group) is loaded and stored unchanged, past the tile in the arrays'
 // spare row (TileBuffers::k_rows).
-template <DepthTest D, bool DepthWrite, bool Aligned = true, class DF, int K>
+template <DepthTest D, bool DepthWrite, bool Aligned = true, class DF, class R>
 HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileBuffers& buffers,
-                              std::uint32_t id, const EdgeRectOf<K>& r, int start, int lo, int hi) {
+                              std::uint32_t id, const R& r, int start, int lo, int hi) {
+    constexpr int K = R::k_edges;
     const hn::RebindToSigned<DF> di;
     const hn::RebindToUnsigned<DF> du;
     using VI = hn::Vec<decltype(di)>;
     const VI iota = hn::Iota(di, 0);
     const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
     VI e[K], b[K];
-    for (int k = 0; k < K; ++k) {
-        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.ex);
-        e[k] = hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
-                       hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), iota));
-        b[k] = hn::Set(di, static_cast<std::int32_t>(r.b[k]));
-    }
+    edge_vectors(di, r, start, iota, e, b);
     // z = (z0 + dzdx dx) + dzdy dy as depth_at; the first sum is the same for every row.
     const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
     const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
@@ -224,9 +281,10 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
 // or two rows, most of the 1M sphere's, the wider set-up cost more than it saved (sphere 2.5%
 // slower), so those keep resolve_strip's single group of two 8-lane rows.
 constexpr int k_pair_group = 2;  // vectors per group
-template <DepthTest D, bool DepthWrite, bool Aligned = true, int K>
+template <DepthTest D, bool DepthWrite, bool Aligned = true, class R>
 HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
-                                  const EdgeRectOf<K>& r, int start, int lo, int hi) {
+                                  const R& r, int start, int lo, int hi) {
+    constexpr int K = R::k_edges;
     const hn::Full512<float> df;
     const hn::Full256<float> dh;
     const hn::RebindToSigned<decltype(df)> di;
@@ -236,12 +294,10 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
     const VI column = hn::And(iota, hn::Set(di, 7)), row = hn::ShiftRight<3>(iota);
     const auto columns = hn::And(hn::Gt(column, hn::Set(di, lo - 1)), hn::Lt(column, hn::Set(di, hi + 1)));
     VI e[K], b2[K];
-    for (int k = 0; k < K; ++k) {
-        const std::uint32_t at_start = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start - r.ex);
-        e[k] = hn::Add(hn::Add(hn::Set(di, static_cast<std::int32_t>(at_start)),
-                               hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.a[k])), column)),
-                       hn::Mul(hn::Set(di, static_cast<std::int32_t>(r.b[k])), row));
-        b2[k] = hn::Set(di, static_cast<std::int32_t>(2 * r.b[k]));
+    edge_vectors(di, r, start, column, e, b2);
+    for (int k = 0; k < K; ++k) {  // lanes 8-15 a row below lanes 0-7; two rows per step
+        e[k] = hn::Add(e[k], hn::Mul(b2[k], row));
+        b2[k] = hn::Add(b2[k], b2[k]);
     }
     const auto dx = hn::Sub(hn::Add(hn::ConvertTo(df, hn::Add(column, hn::Set(di, start))), hn::Set(df, 0.5f)),
                             hn::Set(df, t.x0));
@@ -285,14 +341,38 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
 }
 #endif
 
+// resolve_rect for a rectangle wider than the narrow vector: strips of one vector aligned within the
+// tile's arrays.
+template <DepthTest D, bool DepthWrite, class R>
+HWY_INLINE bool resolve_strips(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
+                               const R& r) {
+    const hn::ScalableTag<float> df;
+    const int lanes = static_cast<int>(hn::Lanes(df));
+    bool any = false;
+    for (int x = r.x0; x <= r.x1;) {
+        const int start = tile.x0 + ((x - tile.x0) & -lanes);  // x >= tile.x0; lanes is a power of two
+        const int end = std::min(r.x1, start + lanes - 1);
+        any |= resolve_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
+        x = end + 1;
+    }
+    return any;
+}
+
+// Out of line: few segments are this wide, and their strips' set-up would otherwise take registers
+// from the narrow ones' (spilled around each call).
+template <DepthTest D, bool DepthWrite, class R>
+HWY_NOINLINE bool resolve_wide_segment(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
+                                       const R& r) {
+    return resolve_strips<D, DepthWrite>(t, tile, buffers, id, r);
+}
+
 // Pass one for one triangle's or segment's rectangle in the tile, r, in strips of one vector aligned
 // within the tile's arrays (whose rows are wider than the tile when it is narrower than a vector:
 // those lanes are never inside).
-template <DepthTest D, bool DepthWrite, int K>
+template <DepthTest D, bool DepthWrite, class R>
 HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
-                             const EdgeRectOf<K>& r) {
+                             const R& r) {
     const hn::ScalableTag<float> df;
-    const int lanes = static_cast<int>(hn::Lanes(df));
     static_assert(k_max_tile_size % (HWY_MAX_BYTES / sizeof(float)) == 0, "a row is whole vectors");
     // A rectangle within 8 aligned columns in half-width vectors when full ones are wider: on CPUs
     // that run a 512-bit operation as two 256-bit halves (AMD's Zen 4) that halves the work of the
@@ -305,7 +385,7 @@ HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers
         // A triangle's rectangle within one aligned run of `narrow` columns (most of a dense mesh's):
         // aligned vectors.
         const int aligned = tile.x0 + ((r.x0 - tile.x0) & -narrow);
-        if (K == 3 && r.x1 < aligned + narrow) {
+        if (R::k_edges == 3 && r.x1 < aligned + narrow) {
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
             if (r.y1 - r.y0 >= 2)
                 return resolve_row_pairs<D, DepthWrite>(t, tile, buffers, id, r, aligned, r.x0 - aligned, r.x1 - aligned);
@@ -323,19 +403,19 @@ HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers
 #endif
         return resolve_strip<D, DepthWrite, false>(nd, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
     }
-    bool any = false;
-    for (int x = r.x0; x <= r.x1;) {
-        const int start = tile.x0 + ((x - tile.x0) & -lanes);  // x >= tile.x0; lanes is a power of two
-        const int end = std::min(r.x1, start + lanes - 1);
-        any |= resolve_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
-        x = end + 1;
-    }
-    return any;
+    if constexpr (R::k_edges == 4) return resolve_wide_segment<D, DepthWrite>(t, tile, buffers, id, r);
+    else return resolve_strips<D, DepthWrite>(t, tile, buffers, id, r);
 }
 
 // Out of line: a segment's record (raster/segment.hpp), which only the bins of line draws hold.
 template <DepthTest D, bool DepthWrite>
 HWY_NOINLINE bool resolve_segment(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
+    if (t.small_edges) [[likely]] {
+        SmallSegmentRect r;
+        if (!bounds_in_tile(t, tile, r)) return false;
+        r.t = &t, r.origin = segment_origin(t);
+        return resolve_rect<D, DepthWrite>(t, tile, buffers, id, r);
+    }
     EdgeRectOf<4> r;
     if (!segment_edge_rect(t, tile, r)) return false;
     return resolve_rect<D, DepthWrite>(t, tile, buffers, id, r);

@@ -19,6 +19,7 @@
 #include "facet/isa.hpp"
 #include "facet/shaders.hpp"
 #include "geometry/project.hpp"
+#include "raster/segment.hpp"
 #include "setup/setup.hpp"
 #include "support/pixels.hpp"
 #include "tile/depth_pass.hpp"
@@ -156,6 +157,49 @@ bool same_state(const DepthPassState& a, const DepthPassState& b, PixelRect tile
     return true;
 }
 
+// A random tile of a width x height target for a bin, its depth test and write flag, and where the
+// bin's records are centred: within 4 pixels of the tile.
+struct BinTile {
+    PixelRect tile;
+    DepthTest test;
+    bool write;
+    std::uniform_real_distribution<double> near_x, near_y;
+};
+BinTile random_bin_tile(std::mt19937& rng, int width, int height) {
+    constexpr DepthTest tests[] = {DepthTest::less, DepthTest::lequal, DepthTest::greater, DepthTest::always};
+    const PixelRect tile = random_tile(rng, width, height, {.mostly_full = true, .right_edge_often = false});
+    const DepthTest test = tests[rng() % std::size(tests)];
+    const bool write = std::uniform_int_distribution<int>(0, 3)(rng) != 0;
+    return {tile, test, write, std::uniform_real_distribution<double>(tile.x0 - 4.0, tile.x1 + 4.0),
+            std::uniform_real_distribution<double>(tile.y0 - 4.0, tile.y1 + 4.0)};
+}
+
+// `bin` over `tile` of a width x height target (depth 1 everywhere) by isa's kernel and by the scalar
+// specification, in two calls as for two chunks' bins (the second's ids follow the first's): the
+// same records listed, in the same order, and the same depths, owners and covered pixels. Adds the
+// number listed to `listed`.
+void expect_bin_as_specified(const std::string& isa, const std::vector<TriangleSetup>& bin, std::size_t split,
+                             PixelRect tile, int width, int height, DepthTest test, bool write, DepthPassState& simd,
+                             DepthPassState& spec, int& listed) {
+    ASSERT_LE(split, bin.size());
+    std::vector<std::size_t> order[2];
+    for (DepthPassState* s : {&simd, &spec}) {
+        ASSERT_TRUE(select_isa(s == &simd ? isa : "scalar"));
+        s->depth.assign(static_cast<std::size_t>(width) * height, 1.0f);
+        s->buffers.begin(tile, 1, {nullptr, s->depth.data(), width});
+        const ResolveBinKernel kernel = resolve_bin_kernel(test, write);
+        kernel(bin.data(), split, tile, s->buffers);
+        kernel(bin.data() + split, bin.size() - split, tile, s->buffers);
+        s->buffers.end(tile, {nullptr, s->depth.data(), width}, write);
+        for (const TriangleSetup* t : s->buffers.triangles)
+            order[s == &spec].push_back(static_cast<std::size_t>(t - bin.data()));
+    }
+    ASSERT_EQ(order[0], order[1]) << isa;
+    ASSERT_TRUE(same_state(simd, spec, tile))
+        << isa << ": tile at " << tile.x0 << "," << tile.y0 << " size " << tile.x1 - tile.x0 << "x" << tile.y1 - tile.y0;
+    listed += static_cast<int>(order[1].size());
+}
+
 TEST(Isa, FusedDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     IsaGuard guard;
     const int width = 150, height = 140;
@@ -227,25 +271,20 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     const int width = 200, height = 130;
     const FrontEndParams params = params_for(width, height);
     const double extents[] = {0.6, 1.5, 3, 6, 20, 5000};
-    const DepthTest tests[] = {DepthTest::less, DepthTest::lequal, DepthTest::greater, DepthTest::always};
     const std::uint32_t refs[3] = {0, 1, 2};
     auto simd = std::make_unique<DepthPassState>(), spec = std::make_unique<DepthPassState>();
     int tiles = 0, listed = 0;
     for (const std::string& isa : available_isas()) {
         std::mt19937 rng(20261121);
         for (int n = 0; n < 300; ++n) {
-            const PixelRect tile = random_tile(rng, width, height, {.mostly_full = true, .right_edge_often = false});
-            const int x0 = tile.x0, y0 = tile.y0, w = tile.x1 - tile.x0, h = tile.y1 - tile.y0;
+            BinTile c = random_bin_tile(rng, width, height);
             std::uniform_int_distribution<int> coin(0, 3);
-            const DepthTest test = tests[rng() % std::size(tests)];
-            const bool write = coin(rng) != 0;
             std::vector<TriangleSetup> bin;
             std::uniform_real_distribution<float> unit(0, 1);
-            std::uniform_real_distribution<double> near_x(x0 - 4.0, x0 + w + 4.0), near_y(y0 - 4.0, y0 + h + 4.0);
             while (bin.size() < 150) {
                 const double extent = extents[rng() % std::size(extents)];
                 ScreenVertex v[3];
-                random_triangle(rng, near_x(rng), near_y(rng), extent, v);
+                random_triangle(rng, c.near_x(rng), c.near_y(rng), extent, v);
                 // Mostly inside [0, 1]; some reaching past it (the clamp), some at -0 (which the
                 // clamp keeps, as depth_at does: depths are compared byte for byte).
                 const int depths = coin(rng) ? 0 : 1 + coin(rng) % 2;
@@ -254,29 +293,61 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
                 if (setup_triangle(v, refs, params, t) == SetupResult::ok) bin.push_back(t);
                 if (coin(rng) == 0) bin.push_back(bin.empty() ? t : bin.back());  // equal depths meet
             }
-            std::vector<float> depth(static_cast<std::size_t>(width) * height, 1.0f);
-            std::vector<std::size_t> order[2];
-            for (DepthPassState* s : {simd.get(), spec.get()}) {
-                ASSERT_TRUE(select_isa(s == simd.get() ? isa : "scalar"));
-                s->depth = depth;
-                s->buffers.begin(tile, 1, {nullptr, s->depth.data(), width});
-                // Two calls, as for two chunks' bins: the second's ids follow the first's.
-                const ResolveBinKernel kernel = resolve_bin_kernel(test, write);
-                kernel(bin.data(), 100, tile, s->buffers);
-                kernel(bin.data() + 100, bin.size() - 100, tile, s->buffers);
-                s->buffers.end(tile, {nullptr, s->depth.data(), width}, write);
-                for (const TriangleSetup* t : s->buffers.triangles)
-                    order[s == spec.get()].push_back(static_cast<std::size_t>(t - bin.data()));
-            }
-            ASSERT_EQ(order[0], order[1]) << isa << ": tile " << n;
-            ASSERT_TRUE(same_state(*simd, *spec, tile))
-                << isa << ": tile " << n << " at " << x0 << "," << y0 << " size " << w << "x" << h;
-            listed += static_cast<int>(order[1].size());
+            ASSERT_NO_FATAL_FAILURE(expect_bin_as_specified(isa, bin, 100, c.tile, width, height, c.test, c.write, *simd, *spec, listed))
+                << "tile " << n;
             ++tiles;
         }
     }
     EXPECT_GT(listed, 5000);
     EXPECT_EQ(tiles, 300 * static_cast<int>(available_isas().size()));
+}
+
+// The same for bins of line segments' records (raster/segment.hpp): thin and wide, short and
+// crossing the tile, and long ones whose edges do not fit 32 bits over their bounds (small_edges
+// false); the kernel reads a small segment's four edges from the record in one step per strip.
+TEST(Isa, SegmentBinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
+    IsaGuard guard;
+    const int width = 200, height = 130;
+    const PixelRect scissor{0, 0, width, height};
+    const double lengths[] = {0.7, 2, 5, 12, 40, 600, 5000};
+    const double half_widths[] = {0.5, 0.5, 0.5, 1, 2.5, 6};
+    auto simd = std::make_unique<DepthPassState>(), spec = std::make_unique<DepthPassState>();
+    int tiles = 0, listed = 0, small = 0, large = 0;
+    for (const std::string& isa : available_isas()) {
+        std::mt19937 rng(20261127);
+        for (int n = 0; n < 60; ++n) {
+            BinTile c = random_bin_tile(rng, width, height);
+            std::uniform_int_distribution<int> coin(0, 3);
+            std::vector<TriangleSetup> bin;
+            std::uniform_real_distribution<float> unit(0, 1);
+            std::uniform_real_distribution<double> angle(0, 6.283185307179586);
+            while (bin.size() < 100) {
+                const double length = lengths[rng() % std::size(lengths)], turn = angle(rng);
+                const double cx = c.near_x(rng), cy = c.near_y(rng);
+                const double ends[2][2] = {{cx - 0.5 * length * std::cos(turn), cy - 0.5 * length * std::sin(turn)},
+                                           {cx + 0.5 * length * std::cos(turn), cy + 0.5 * length * std::sin(turn)}};
+                ScreenVertex v[2];
+                for (int i = 0; i < 2; ++i)
+                    v[i] = {static_cast<std::int32_t>(std::lround(ends[i][0] * k_subpixel_one)),
+                            static_cast<std::int32_t>(std::lround(ends[i][1] * k_subpixel_one)),
+                            coin(rng) ? unit(rng) : unit(rng) * 1.2f - 0.1f, 1.0f};
+                if (v[0].x == v[1].x && v[0].y == v[1].y) continue;
+                const SegmentEnd end = square_end(v[0], v[1], half_widths[rng() % std::size(half_widths)]);
+                TriangleSetup t{};
+                if (segment_record(v[0], v[1], end, end, 0, 1, scissor, t) != SegmentResult::record) continue;
+                (t.small_edges ? small : large) += isa == available_isas().front();
+                bin.push_back(t);
+                if (coin(rng) == 0) bin.push_back(t);  // equal depths meet
+            }
+            ASSERT_NO_FATAL_FAILURE(expect_bin_as_specified(isa, bin, 60, c.tile, width, height, c.test, c.write, *simd, *spec, listed))
+                << "tile " << n;
+            ++tiles;
+        }
+    }
+    EXPECT_GT(listed, 1000);
+    EXPECT_GT(small, 1000);
+    EXPECT_GT(large, 100);
+    EXPECT_EQ(tiles, 60 * static_cast<int>(available_isas().size()));
 }
 
 // The projection pass on every ISA against project_vertex one vertex at a time: outcodes and snapped
