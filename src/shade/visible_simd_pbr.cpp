@@ -60,6 +60,25 @@ HWY_INLINE void octahedral_uv(const Vec3Lanes& d, VF& u, VF& v) {
     v = hn::IfThenElse(centre, half, hn::Add(hn::Mul(pz, half), half));
 }
 
+// t[i] and t[i + 1] for each lane's index i: one 64-bit gather per pair of floats instead of two
+// 32-bit ones (half the elements to fetch), split into the two floats by even and odd lanes. The
+// same bits as GatherIndex of i and i + 1; t[i + 1] is always one the caller reads.
+HWY_INLINE void gather_pair(const float* t, VI i, VF& first, VF& second) {
+    const DF df;
+#if HWY_TARGET == HWY_SCALAR
+    const DI di;
+    first = hn::GatherIndex(df, t, i), second = hn::GatherIndex(df, t, hn::Add(i, hn::Set(di, 1)));
+#else
+    const hn::Repartition<std::int64_t, DF> d64;
+    const hn::Half<DI> dh;
+    const auto* pairs = reinterpret_cast<const std::int64_t*>(t);  // read by bytes: any float is a start
+    const auto bytes = [&](hn::Vec<hn::Half<DI>> half) { return hn::ShiftLeft<2>(hn::PromoteTo(d64, half)); };
+    const VF lo = hn::BitCast(df, hn::GatherOffset(d64, pairs, bytes(hn::LowerHalf(dh, i))));
+    const VF hi = hn::BitCast(df, hn::GatherOffset(d64, pairs, bytes(hn::UpperHalf(dh, i))));
+    first = hn::ConcatEven(df, hi, lo), second = hn::ConcatOdd(df, hi, lo);
+#endif
+}
+
 // The environment's mip levels as sample_level reads them (each one's size and offset), taken once
 // per tile.
 struct EnvironmentLevels {
@@ -91,12 +110,17 @@ HWY_INLINE Vec3Lanes sample_level(const Environment& env, const EnvironmentLevel
     const VI texel = hn::Add(hn::Mul(hn::Add(hn::ConvertTo(di, y0), one), stride), hn::Add(hn::ConvertTo(di, x0), one));
     const VI a = hn::Add(offset, hn::Mul(texel, three));
     const VI b = hn::Add(a, hn::Mul(stride, three));
+    // Each row's two texels are six floats in a row (RGB, RGB): three pairs.
     const float* t = env.texels().data();
+    VF row_a[6], row_b[6];
+    for (int k = 0; k < 6; k += 2) {
+        const VI kk = hn::Set(di, k);
+        gather_pair(t, hn::Add(a, kk), row_a[k], row_a[k + 1]);
+        gather_pair(t, hn::Add(b, kk), row_b[k], row_b[k + 1]);
+    }
     VF c[3];
     for (int k = 0; k < 3; ++k) {
-        const VI kk = hn::Set(di, k), kk3 = hn::Set(di, k + 3);
-        const VF a0 = hn::GatherIndex(df, t, hn::Add(a, kk)), a1 = hn::GatherIndex(df, t, hn::Add(a, kk3));
-        const VF b0 = hn::GatherIndex(df, t, hn::Add(b, kk)), b1 = hn::GatherIndex(df, t, hn::Add(b, kk3));
+        const VF a0 = row_a[k], a1 = row_a[k + 3], b0 = row_b[k], b1 = row_b[k + 3];
         const VF top = hn::Add(a0, hn::Mul(hn::Sub(a1, a0), tx));
         const VF bottom = hn::Add(b0, hn::Mul(hn::Sub(b1, b0), tx));
         c[k] = hn::Add(top, hn::Mul(hn::Sub(bottom, top), ty));
@@ -158,14 +182,14 @@ HWY_INLINE void split_sum(VF n_dot_v, VF roughness, VF& a, VF& b) {
     const VI i0 = hn::ConvertTo(di, x0), j0 = hn::ConvertTo(di, y0);
     const VI last = hn::Set(di, n - 1), one = hn::Set(di, 1), width = hn::Set(di, n), two = hn::Set(di, 2);
     const VI i1 = hn::Min(hn::Add(i0, one), last), j1 = hn::Min(hn::Add(j0, one), last);
-    auto at = [&](VI i, VI j, int k) {
-        return hn::GatherIndex(df, table, hn::Add(hn::Mul(hn::Add(hn::Mul(j, width), i), two), hn::Set(di, k)));
-    };
+    // A texel's A and B are a pair of floats.
+    VF p00[2], p10[2], p01[2], p11[2];
+    auto at = [&](VI i, VI j, VF* ab) { gather_pair(table, hn::Mul(hn::Add(hn::Mul(j, width), i), two), ab[0], ab[1]); };
+    at(i0, j0, p00), at(i1, j0, p10), at(i0, j1, p01), at(i1, j1, p11);
     VF r[2];
     for (int k = 0; k < 2; ++k) {
-        const VF p00 = at(i0, j0, k), p10 = at(i1, j0, k), p01 = at(i0, j1, k), p11 = at(i1, j1, k);
-        const VF top_row = hn::Add(p00, hn::Mul(hn::Sub(p10, p00), tx));
-        const VF bottom_row = hn::Add(p01, hn::Mul(hn::Sub(p11, p01), tx));
+        const VF top_row = hn::Add(p00[k], hn::Mul(hn::Sub(p10[k], p00[k]), tx));
+        const VF bottom_row = hn::Add(p01[k], hn::Mul(hn::Sub(p11[k], p01[k]), tx));
         r[k] = hn::Add(top_row, hn::Mul(hn::Sub(bottom_row, top_row), ty));
     }
     a = r[0], b = r[1];
