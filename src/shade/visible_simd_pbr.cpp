@@ -3,9 +3,10 @@
 // ISA by Highway. Every step is the scalar fragment()'s (shaders.hpp, environment.hpp,
 // tone_mapping.hpp) in lanes, operation for operation: the environment's octahedral maps, the
 // split-sum table and the SH irradiance read with gathers and the same bilinear arithmetic, the
-// tone mappers and sRGB's portable_pow in lanes. Texture maps are sampled by the scalar sampler,
-// lane by lane (the same function, so the same bits); the ...Masked shaders, which discard, take
-// the one-pass order and have no kernel.
+// tone mappers and sRGB's portable_pow in lanes, texture maps with Texture::sample's arithmetic in
+// lanes (bilinear and trilinear, untransformed; std::log2 of the level of detail lane by lane; the
+// other maps by the scalar sampler, lane by lane); the ...Masked shaders, which discard, take the
+// one-pass order and have no kernel.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "shade/visible_simd_pbr.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -278,6 +279,125 @@ HWY_INLINE Vec3Lanes display(const Vec3Lanes& radiance, const PbrUniforms& p) {
     return {linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z)};
 }
 
+// ---- Texture::sample in lanes (texture.cpp), trilinear ----------------------------------------------
+
+// One level's bilinear filter, Texture's bilinear(): footprint() on each axis (the coordinate
+// folded by its wrap, the two texels either side and the weight of the second), the four texels'
+// channels as floats 0..255, mixed along x and then y.
+struct LevelLanes {
+    const std::uint32_t* texels;  // Rgba8, red in the low byte
+    int width, height;
+
+    static HWY_INLINE VF wrap_coord(VF u, Wrap wrap) {
+        const DF df;
+        switch (wrap) {
+            case Wrap::repeat: return hn::Sub(u, hn::Floor(u));
+            case Wrap::clamp: return clamp_to(u, 0.0f, 1.0f);
+            case Wrap::mirror: {
+                const VF t = hn::Sub(u, hn::Mul(hn::Set(df, 2.0f), hn::Floor(hn::Mul(u, hn::Set(df, 0.5f)))));
+                return hn::IfThenElse(hn::Gt(t, hn::Set(df, 1.0f)), hn::Sub(hn::Set(df, 2.0f), t), t);
+            }
+        }
+        return hn::Zero(df);
+    }
+    // clamp(): v < lo ? lo : (v > hi ? hi : v)
+    static HWY_INLINE VF clamp_to(VF v, float lo, float hi) {
+        const DF df;
+        return hn::IfThenElse(hn::Lt(v, hn::Set(df, lo)), hn::Set(df, lo), hn::IfThenElse(hn::Gt(v, hn::Set(df, hi)), hn::Set(df, hi), v));
+    }
+    static HWY_INLINE VI wrap_index(VI i, int size, Wrap wrap) {
+        const DI di;
+        const VI last = hn::Set(di, size - 1);
+        if (wrap == Wrap::repeat)
+            return hn::IfThenElse(hn::Lt(i, hn::Zero(di)), last, hn::IfThenElse(hn::Lt(i, hn::Set(di, size)), i, hn::Zero(di)));
+        return hn::Min(hn::Max(i, hn::Zero(di)), last);
+    }
+    static HWY_INLINE VF footprint(VF u, int size, Wrap wrap, VI& i0, VI& i1) {
+        const DF df;
+        const DI di;
+        const VF x = hn::Sub(hn::Mul(wrap_coord(u, wrap), hn::Set(df, static_cast<float>(size))), hn::Set(df, 0.5f));
+        const VF x0 = hn::Floor(x);
+        const VI first = hn::ConvertTo(di, x0);
+        i0 = wrap_index(first, size, wrap), i1 = wrap_index(hn::Add(first, hn::Set(di, 1)), size, wrap);
+        return hn::Sub(x, x0);
+    }
+    HWY_INLINE ColourLanes texel(VI x, VI y) const {
+        const DF df;
+        const DI di;
+        const DU du;
+        const auto packed = hn::GatherIndex(du, texels, hn::Add(hn::Mul(y, hn::Set(di, width)), x));
+        auto channel = [&](int shift) {
+            return hn::ConvertTo(df, hn::BitCast(di, hn::And(hn::ShiftRightSame(packed, shift), hn::Set(du, 0xffu))));
+        };
+        return {channel(0), channel(8), channel(16), channel(24)};
+    }
+    static HWY_INLINE ColourLanes mix(const ColourLanes& a, const ColourLanes& b, VF t) {
+        auto m = [&](VF p, VF q) { return hn::Add(p, hn::Mul(hn::Sub(q, p), t)); };
+        return {m(a.r, b.r), m(a.g, b.g), m(a.b, b.b), m(a.a, b.a)};
+    }
+    HWY_INLINE ColourLanes operator()(VF u, VF v, const Sampler& s) const {
+        VI x0, x1, y0, y1;
+        const VF tx = footprint(u, width, s.wrap_u, x0, x1), ty = footprint(v, height, s.wrap_v, y0, y1);
+        const ColourLanes top = mix(texel(x0, y0), texel(x1, y0), tx);
+        const ColourLanes bottom = mix(texel(x0, y1), texel(x1, y1), tx);
+        return mix(top, bottom, ty);
+    }
+};
+
+HWY_INLINE LevelLanes level_lanes(const Texture& t, int i) {
+    const Image& l = t.level(i);
+    return {reinterpret_cast<const std::uint32_t*>(l.pixels.data()), l.width, l.height};
+}
+
+// Texture::sample with Filter::bilinear or trilinear for the `visible` lanes (the others 0), in
+// sample_at_lod's operations: the level of detail of lod_of (std::log2 lane by lane, the rest in
+// lanes), clamped, its floor's level and the next mixed by its fraction, divided by 255. The lanes
+// are taken one level at a time (a vector's pixels mostly share one).
+HWY_INLINE ColourLanes sample_filtered(const Texture& texture, const Sampler& s, VF u, VF v, VF ux, VF vx, VF uy,
+                                       VF vy, MF visible) {
+    const DF df;
+    const DI di;
+    constexpr int lanes = static_cast<int>(hn::MaxLanes(DF()));
+    u = hn::IfThenElseZero(hn::IsFinite(u), u), v = hn::IfThenElseZero(hn::IsFinite(v), v);
+    const VF k255 = hn::Set(df, 255.0f);
+    if (s.filter == Filter::bilinear) {
+        const ColourLanes c = level_lanes(texture, 0)(u, v, s);
+        return {hn::IfThenElseZero(visible, hn::Div(c.r, k255)), hn::IfThenElseZero(visible, hn::Div(c.g, k255)),
+                hn::IfThenElseZero(visible, hn::Div(c.b, k255)), hn::IfThenElseZero(visible, hn::Div(c.a, k255))};
+    }
+    const VF w = hn::Set(df, static_cast<float>(texture.width())), h = hn::Set(df, static_cast<float>(texture.height()));
+    auto length = [&](VF du, VF dv) {
+        const VF a = hn::Mul(du, w), b = hn::Mul(dv, h);
+        return hn::Sqrt(hn::Add(hn::Mul(a, a), hn::Mul(b, b)));
+    };
+    const VF rho_x = length(ux, vx), rho_y = length(uy, vy);
+    const MF nan = hn::Or(hn::IsNaN(rho_x), hn::IsNaN(rho_y));
+    const VF rho = hn::IfThenElse(hn::Lt(rho_x, rho_y), rho_y, rho_x);
+    HWY_ALIGN float lod_of[lanes];
+    hn::Store(rho, df, lod_of);
+    const std::uint64_t logged = mask_bits(hn::AndNot(nan, hn::And(visible, hn::Gt(rho, hn::Zero(df)))));
+    for (int l = 0; l < lanes; ++l) lod_of[l] = (logged >> l) & 1 ? std::log2(lod_of[l]) : 0.0f;
+    const float top = static_cast<float>(texture.level_count() - 1);
+    const VF lod = LevelLanes::clamp_to(hn::Load(df, lod_of), 0.0f, top);
+    const VF l0 = hn::Floor(lod);
+    const VF t = hn::Sub(lod, l0);
+    const VI level = hn::ConvertTo(di, l0);
+    ColourLanes out{hn::Zero(df), hn::Zero(df), hn::Zero(df), hn::Zero(df)};
+    HWY_ALIGN std::int32_t levels[lanes];
+    hn::Store(level, di, levels);
+    for (std::uint64_t left = mask_bits(visible); left != 0;) {
+        const int i = levels[std::countr_zero(left)];
+        const MF these = hn::And(visible, hn::RebindMask(df, hn::Eq(level, hn::Set(di, i))));
+        ColourLanes c = level_lanes(texture, i)(u, v, s);
+        if (i + 1 < texture.level_count() && !hn::AllTrue(df, hn::Or(hn::Not(these), hn::Eq(t, hn::Zero(df)))))
+            c = LevelLanes::mix(c, level_lanes(texture, i + 1)(u, v, s), t);  // t = 0: c exactly
+        out = {hn::IfThenElse(these, hn::Div(c.r, k255), out.r), hn::IfThenElse(these, hn::Div(c.g, k255), out.g),
+               hn::IfThenElse(these, hn::Div(c.b, k255), out.b), hn::IfThenElse(these, hn::Div(c.a, k255), out.a)};
+        left &= ~mask_bits(these);
+    }
+    return out;
+}
+
 // ---- the shader ------------------------------------------------------------------------------------
 
 // The lane-wide fragment() of PbrShader<NormalMap, false>.
@@ -290,7 +410,8 @@ struct PbrLanes {
     const S& s;
     const EnvironmentLevels levels{s.pbr.environment};
 
-    // A map sampled by the scalar sampler (shaders::detail::sample_map), lane by lane.
+    // A map sampled (shaders::detail::sample_map): bilinear and trilinear maps in lanes, the others by
+    // the scalar sampler lane by lane.
     HWY_INLINE ColourLanes sample(const MapBinding& m, const LanesIn<N, D>& in) const {
         const DF df;
         constexpr int uv = Layout::at(shaders::Varying::uv);
@@ -300,6 +421,9 @@ struct PbrLanes {
         hn::Store(in.v[uv], df, u), hn::Store(in.v[uv + 1], df, v);
         hn::Store(in.ddx[uv], df, ux), hn::Store(in.ddx[uv + 1], df, vx);
         hn::Store(in.ddy[uv], df, uy), hn::Store(in.ddy[uv + 1], df, vy);
+        if (m.sampler.filter != Filter::nearest && !m.transformed)
+            return sample_filtered(*m.texture, m.sampler, in.v[uv], in.v[uv + 1], in.ddx[uv], in.ddx[uv + 1], in.ddy[uv],
+                                    in.ddy[uv + 1], in.visible);
         const std::uint64_t visible = mask_bits(in.visible);
         for (int l = 0; l < lanes; ++l) {
             const Vec4 t = (visible >> l) & 1 ? shaders::detail::sample_map(m, {u[l], v[l]}, {ux[l], vx[l]}, {uy[l], vy[l]}) : Vec4{};

@@ -244,8 +244,16 @@ void expect_lit_mode_matches_the_specification() {
                 for (int i = 0; i < 5; ++i) maps[i]->texture = textures[i].get();
                 p.normal.sampler = {Wrap::mirror, Wrap::clamp, Filter::trilinear};
                 p.emissive_map.sampler.filter = Filter::bilinear;
-                p.base_colour.transform = turned;
-                p.base_colour.transformed = true;
+                if (c.exposure > 1) {
+                    // The other samplers: the kernel samples bilinear and trilinear maps in lanes,
+                    // the others (nearest, transformed) lane by lane with the scalar sampler.
+                    p.metallic_roughness.sampler = {Wrap::clamp, Wrap::mirror, Filter::bilinear};
+                    p.occlusion.sampler = {Wrap::repeat, Wrap::repeat, Filter::nearest};
+                    p.emissive_map.sampler = {Wrap::mirror, Wrap::repeat, Filter::trilinear};
+                } else {
+                    p.base_colour.transform = turned;
+                    p.base_colour.transformed = true;
+                }
             }
             return S{MeshArrays::of(mesh), uniforms(k_width, k_height, 40.0f), p};
         });
