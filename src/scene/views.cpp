@@ -178,10 +178,11 @@ DrawStats ViewRenderer::render_frames(std::span<const ObjectView> objects, const
     const int f = r.ssaa, n = r.aa;
     Framebuffer& samples = sized(samples_, r.width * f, r.height * f);
     const std::size_t pixels = static_cast<std::size_t>(r.width) * static_cast<std::size_t>(r.height);
-    if (n > 1 && colour) {
-        frame_.resize(pixels);
-        colour_sum_.assign(pixels * 4, 0);  // 8 frames of 255 fit
-    }
+    // The frames' colours averaged: two by a rounded mean of the output and the second frame, more by
+    // a sum per channel. A frame is read in the samples themselves when there is nothing to filter.
+    const bool averaged = n > 1 && colour;
+    if (averaged && f > 1) frame_.resize(pixels);
+    if (averaged && n > 2) colour_sum_.assign(pixels * 4, 0);  // 8 frames of 255 fit
     if (n > 1 && window_depth) frame_depth_.resize(pixels);
     if (alpha) covered_.assign(pixels, 0);
     RenderSettings settings = r.settings;
@@ -195,17 +196,22 @@ DrawStats ViewRenderer::render_frames(std::span<const ObjectView> objects, const
         const DrawStats s = render_scene(renderer_, samples, objects, camera, settings);
         if (i == 0) first = s;
         float* depth = window_depth && i > 0 ? frame_depth_.data() : window_depth;
-        if (colour || depth) resolve_supersampled(samples, f, n > 1 && colour ? frame_.data() : colour, depth);
-        if (n > 1 && colour) {
-            // Channel by channel over the bytes (Rgba8 is four of them): a loop the compiler vectorizes.
-            const auto* bytes = reinterpret_cast<const std::uint8_t*>(frame_.data());
-            for (std::size_t k = 0; k < pixels * 4; ++k) colour_sum_[k] = static_cast<std::uint16_t>(colour_sum_[k] + bytes[k]);
+        Rgba8* resolved = !averaged || (n == 2 && i == 0) ? colour : f > 1 ? frame_.data() : nullptr;
+        if (resolved || depth) resolve_supersampled(samples, f, resolved, depth);
+        if (averaged && resolved != colour) {
+            // Channel by channel over the bytes (Rgba8 is four of them): loops the compiler vectorizes.
+            const auto* bytes = reinterpret_cast<const std::uint8_t*>(resolved ? resolved : samples.colour_data());
+            auto* out = reinterpret_cast<std::uint8_t*>(colour);
+            if (n == 2)  // (sum + n / 2) >> 1, as below
+                for (std::size_t k = 0; k < pixels * 4; ++k) out[k] = static_cast<std::uint8_t>((out[k] + bytes[k] + 1u) >> 1);
+            else
+                for (std::size_t k = 0; k < pixels * 4; ++k) colour_sum_[k] = static_cast<std::uint16_t>(colour_sum_[k] + bytes[k]);
         }
         if (depth && i > 0)
             for (std::size_t p = 0; p < pixels; ++p) window_depth[p] = std::min(window_depth[p], depth[p]);
         if (alpha) count_covered(samples, f, covered_.data());
     }
-    if (n > 1 && colour) {
+    if (averaged && n > 2) {
         // The rounded mean, (sum + n / 2) / n: n is a power of two (antialias_offsets), so a shift.
         const int shift = std::countr_zero(static_cast<unsigned>(n));
         auto* bytes = reinterpret_cast<std::uint8_t*>(colour);
