@@ -44,8 +44,9 @@ class Emitter {
     static constexpr int k_record_write_distance = 24;
 
 public:
-    Emitter(const FrontEndParams& p, FrontEndChunk& out)
-        : p_(p), out_(out) {}
+    // `primitives`: how many the chunk holds, for the bins' first allocations (first_bin_capacity).
+    Emitter(const FrontEndParams& p, FrontEndChunk& out, std::size_t primitives)
+        : p_(p), out_(out), first_capacity_(first_bin_capacity(primitives, p)) {}
 
     // Triangle `triangle` of the draw, with every vertex inside all clip planes (most of them): set
     // up later with its batch.
@@ -165,7 +166,7 @@ private:
     struct BinGrid;
     template <bool Prefetch = true>
     [[gnu::always_inline]] static TriangleSetup& slot(const BinGrid& grid, std::size_t tile, std::uint32_t primitive) {
-        TriangleSetup& t = grid.bins[tile].emplace_back();
+        TriangleSetup& t = grid.bin(tile).emplace_back();
         if constexpr (Primitives) grid.primitives[tile].push_back(primitive);
         if constexpr (Prefetch) prefetch_for_write(&t + k_record_write_distance);
         return t;
@@ -187,12 +188,30 @@ private:
     struct TileSpan {
         int x0, x1, y0, y1;
     };
+    // A bin's first allocation: the chunk's primitives shared among the tiles (16 records at least,
+    // 1024 at most), where std::vector's growth would start at 1 and double. A first frame grew each
+    // of the bunny's bins 10 times or more, allocating, copying and faulting in about twice the
+    // records' memory (1,250 allocations at 2 threads): its front end took 4 ms more than a warm
+    // frame's (docs/BENCHMARKS.md). Bins that get nothing allocate nothing; a renderer's bins keep
+    // their memory from one draw to the next.
+    static std::size_t first_bin_capacity(std::size_t primitives, const FrontEndParams& p) {
+        const std::size_t tiles = static_cast<std::size_t>(std::max(1, p.tiles_x)) * static_cast<std::size_t>(std::max(1, p.tiles_y));
+        return std::clamp<std::size_t>(primitives / tiles, 16, 1024);
+    }
+
     // The chunk's bins, and which tiles pixel bounds reach.
     struct BinGrid {
         int shift;
         std::size_t tiles_x;
         TileBin* bins;
         std::vector<std::uint32_t>* primitives;  // with Primitives
+        std::size_t first_capacity;
+        // Tile t's bin, with room for one more record.
+        [[gnu::always_inline]] TileBin& bin(std::size_t t) const {
+            TileBin& b = bins[t];
+            if (b.size() == b.capacity()) [[unlikely]] grow(b, first_capacity);
+            return b;
+        }
         TileSpan tiles_of(int min_x, int max_x, int min_y, int max_y) const {
             return {min_x >> shift, max_x >> shift, min_y >> shift, max_y >> shift};
         }
@@ -206,7 +225,10 @@ private:
     };
     BinGrid grid_of() const {
         return {std::countr_zero(static_cast<unsigned>(p_.tile_size)), static_cast<std::size_t>(p_.tiles_x),
-                out_.bins.data(), out_.primitives.data()};
+                out_.bins.data(), out_.primitives.data(), first_capacity_};
+    }
+    [[gnu::noinline]] static void grow(TileBin& bin, std::size_t first_capacity) {
+        bin.reserve(std::max(2 * bin.capacity(), first_capacity));
     }
 
     // Record i of `lanes` into the bin of every tile it reaches: a record that goes to one tile
@@ -256,7 +278,7 @@ private:
         const BinGrid grid = grid_of();
         if (grid.one_tile(t.min_x, t.max_x, t.min_y, t.max_y)) {
             const std::size_t tile = grid.tile_of_pixel(t.min_x, t.min_y);
-            grid.bins[tile].push_back(t);
+            grid.bin(tile).push_back(t);
             if constexpr (Primitives) grid.primitives[tile].push_back(primitive);
             return;
         }
@@ -273,7 +295,7 @@ private:
                 if (t.segment ? segment_rejects(t, r)
                               : edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r))
                     continue;
-                grid.bins[grid.tile(tx, ty)].push_back(t);
+                grid.bin(grid.tile(tx, ty)).push_back(t);
                 if constexpr (Primitives) grid.primitives[grid.tile(tx, ty)].push_back(primitive);
             }
     }
@@ -281,6 +303,7 @@ private:
     const FrontEndParams& p_;
     FrontEndChunk& out_;
     std::uint64_t set_up_ = 0, culled_ = 0;
+    std::size_t first_capacity_;
     bool streamed_ = false;
     SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
     SetupLanes lanes_;

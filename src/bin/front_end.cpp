@@ -99,14 +99,14 @@ void run_front_end_of(const ClipVertices& vertices, const DrawInput& input, std:
         FrontEndParams params = p;
         params.state.cull = CullMode::none;
         params.state.front_face = FrontFace::cw;
-        Emitter<Primitives> emitter(params, out);
+        Emitter<Primitives> emitter(params, out, end - first);
         if (input.topology == Topology::points) assemble_points(vertices, input, first, end, params, emitter, out);
         else assemble_lines(vertices, input, first, end, params, emitter, out, passes);
         emitter.finish();
         return;
     }
     const GuardBand guard = guard_band(p);
-    Emitter<Primitives> emitter(p, out);
+    Emitter<Primitives> emitter(p, out, end - first);
     out.stats.triangles_in += end - first;
     if (input.indices.empty()) {
         // Indices past 2^32 - 1 cannot name a vertex (vertex counts are 32-bit): they stay out of range.
