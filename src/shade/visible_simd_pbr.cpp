@@ -94,14 +94,15 @@ struct EnvironmentLevels {
 
 // Environment::sample_level for lanes whose levels are `level` (each lane its own), or all
 // `uniform` when that is not negative (the same values, without the gathers).
-HWY_INLINE Vec3Lanes sample_level(const Environment& env, const EnvironmentLevels& levels, VI level, const Vec3Lanes& d,
+// `u`, `v`: octahedral_uv of the direction (the same for both levels of a lookup). `Grey`: the
+// environment's texels are grey (grey_studio), so the red channel's result is each channel's.
+template <bool Grey>
+HWY_INLINE Vec3Lanes sample_level(const Environment& env, const EnvironmentLevels& levels, VI level, VF u, VF v,
                                   int uniform) {
     const DF df;
     const DI di;
     const VI size = uniform >= 0 ? hn::Set(di, levels.sizes[uniform]) : hn::GatherIndex(di, levels.sizes, level);
     const VI offset = uniform >= 0 ? hn::Set(di, levels.offsets[uniform]) : hn::GatherIndex(di, levels.offsets, level);
-    VF u, v;
-    octahedral_uv(d, u, v);
     const VF fsize = hn::ConvertTo(df, size), half = hn::Set(df, 0.5f);
     const VF x = hn::Sub(hn::Mul(u, fsize), half), y = hn::Sub(hn::Mul(v, fsize), half);
     const VF x0 = hn::Floor(x), y0 = hn::Floor(y);
@@ -111,8 +112,17 @@ HWY_INLINE Vec3Lanes sample_level(const Environment& env, const EnvironmentLevel
     const VI texel = hn::Add(hn::Mul(hn::Add(hn::ConvertTo(di, y0), one), stride), hn::Add(hn::ConvertTo(di, x0), one));
     const VI a = hn::Add(offset, hn::Mul(texel, three));
     const VI b = hn::Add(a, hn::Mul(stride, three));
-    // Each row's two texels are six floats in a row (RGB, RGB): three pairs.
     const float* t = env.texels().data();
+    if constexpr (Grey) {
+        const VI three_on = hn::Set(di, 3);
+        const VF a0 = hn::GatherIndex(df, t, a), a1 = hn::GatherIndex(df, t, hn::Add(a, three_on));
+        const VF b0 = hn::GatherIndex(df, t, b), b1 = hn::GatherIndex(df, t, hn::Add(b, three_on));
+        const VF top = hn::Add(a0, hn::Mul(hn::Sub(a1, a0), tx));
+        const VF bottom = hn::Add(b0, hn::Mul(hn::Sub(b1, b0), tx));
+        const VF c = hn::Add(top, hn::Mul(hn::Sub(bottom, top), ty));
+        return {c, c, c};
+    }
+    // Each row's two texels are six floats in a row (RGB, RGB): three pairs.
     VF row_a[6], row_b[6];
     for (int k = 0; k < 6; k += 2) {
         const VI kk = hn::Set(di, k);
@@ -130,6 +140,7 @@ HWY_INLINE Vec3Lanes sample_level(const Environment& env, const EnvironmentLevel
 }
 
 // Environment::specular; `uniform_lod`: every lane's lod is the same (a material's roughness).
+template <bool Grey>
 HWY_INLINE Vec3Lanes specular(const Environment& env, const EnvironmentLevels& levels, const Vec3Lanes& r, VF lod,
                               bool uniform_lod) {
     const DF df;
@@ -140,16 +151,19 @@ HWY_INLINE Vec3Lanes specular(const Environment& env, const EnvironmentLevels& l
     const VF t = hn::Sub(lod, l0);
     const VI i0 = hn::ConvertTo(di, l0);
     const int u0 = uniform_lod ? hn::GetLane(i0) : -1;
-    const Vec3Lanes c0 = sample_level(env, levels, i0, r, u0);
+    VF u, v;
+    octahedral_uv(r, u, v);
+    const Vec3Lanes c0 = sample_level<Grey>(env, levels, i0, u, v, u0);
     const MF blend = hn::Ne(t, hn::Zero(df));
     if (hn::AllFalse(df, blend)) return c0;
     const Vec3Lanes c1 =
-        sample_level(env, levels, hn::Min(hn::Add(i0, hn::Set(di, 1)), hn::Set(di, top)), r, uniform_lod ? std::min(u0 + 1, top) : -1);
+        sample_level<Grey>(env, levels, hn::Min(hn::Add(i0, hn::Set(di, 1)), hn::Set(di, top)), u, v, uniform_lod ? std::min(u0 + 1, top) : -1);
     const Vec3Lanes mixed = add(c0, mul(sub(c1, c0), t));
     return select(blend, mixed, c0);
 }
 
-// Environment::diffuse: the SH sum over sh_basis, clamped at 0.
+// Environment::diffuse: the SH sum over sh_basis, clamped at 0 (`Grey`: the coefficients are grey).
+template <bool Grey>
 HWY_INLINE Vec3Lanes diffuse(const Environment& env, const Vec3Lanes& d) {
     const DF df;
     auto k = [&](float c) { return hn::Set(df, c); };
@@ -163,6 +177,12 @@ HWY_INLINE Vec3Lanes diffuse(const Environment& env, const Vec3Lanes& d) {
                      hn::Mul(hn::Mul(k(1.092548431f), d.x), d.z),
                      hn::Mul(k(0.546274215f), hn::Sub(hn::Mul(d.x, d.x), hn::Mul(d.y, d.y)))};
     const auto& sh = env.diffuse_sh();
+    if constexpr (Grey) {
+        VF c = hn::Zero(df);
+        for (std::size_t i = 0; i < 9; ++i) c = hn::Add(c, hn::Mul(hn::Set(df, sh[i].x), y[i]));
+        c = max_zero(c);
+        return {c, c, c};
+    }
     Vec3Lanes c{hn::Zero(df), hn::Zero(df), hn::Zero(df)};
     for (std::size_t i = 0; i < 9; ++i) c = add(c, mul(splat(sh[i]), y[i]));
     return {max_zero(c.x), max_zero(c.y), max_zero(c.z)};
@@ -277,6 +297,22 @@ HWY_INLINE Vec3Lanes display(const Vec3Lanes& radiance, const PbrUniforms& p) {
         case ToneMapping::linear: break;
     }
     return {linear_to_srgb(t.x), linear_to_srgb(t.y), linear_to_srgb(t.z)};
+}
+
+// Whether `env` is the built-in studio and its texels and SH are grey (each channel's bits the
+// same), which they are: looked at once. Only the studio, which lives as long as the process: an
+// environment of the caller's could be freed and another built at its address.
+inline bool grey_studio(const Environment* env) {
+    static const Environment* const studio = Environment::studio().get();
+    static const bool grey_texels_and_sh = [] {
+        const std::vector<float>& t = studio->texels();
+        for (std::size_t i = 0; i + 2 < t.size(); i += 3)
+            if (!grey(Vec3{t[i], t[i + 1], t[i + 2]})) return false;
+        for (const Vec3& c : studio->diffuse_sh())
+            if (!grey(c)) return false;
+        return true;
+    }();
+    return env == studio && grey_texels_and_sh;
 }
 
 // ---- Texture::sample in lanes (texture.cpp), trilinear ----------------------------------------------
@@ -409,6 +445,10 @@ struct PbrLanes {
     static constexpr bool k_normal_map = Layout::has(shaders::Varying::tangent);
     const S& s;
     const EnvironmentLevels levels{s.pbr.environment};
+    // Every channel's light the same for a grey base colour: the studio's grey environment, a tone
+    // mapper of each channel alone (not ACES, whose matrix mixes them) and a grey emission.
+    const bool grey_scene = grey_studio(s.pbr.environment) && s.pbr.tone_mapping != ToneMapping::aces &&
+                            grey(s.pbr.emissive) && !s.pbr.emissive_map.texture;
 
     // A map sampled (shaders::detail::sample_map): bilinear and trilinear maps in lanes, the others by
     // the scalar sampler lane by lane.
@@ -456,19 +496,37 @@ struct PbrLanes {
         const Vec3Lanes n = normal(in);
         const Vec3Lanes position = vec3_lanes<Layout, shaders::Varying::position>(in.v);
         const Vec3Lanes v = normalize(sub(splat(s.u.eye), position), in.scalar);
-        Vec3Lanes c = image_based_light(base_rgb, metallic, roughness, !p.metallic_roughness.texture, n, v, *p.environment);
+        // A grey base colour in a grey scene: the three channels' operations are the same on the same
+        // bits, so they are written on one vector (the compiler computes each once).
+        const DU du;
+        const auto r_bits = hn::BitCast(du, base.r);
+        const MF grey_lanes = hn::RebindMask(df, hn::And(hn::Eq(r_bits, hn::BitCast(du, base.g)), hn::Eq(r_bits, hn::BitCast(du, base.b))));
+        const Vec3Lanes out = grey_scene && hn::AllTrue(df, hn::Or(hn::Not(in.visible), grey_lanes))
+                                  ? lit<true>(Vec3Lanes{base.r, base.r, base.r}, metallic, roughness, n, v, in)
+                                  : lit<false>(base_rgb, metallic, roughness, n, v, in);
+        return {out.x, out.y, out.z, base.a};
+    }
+
+    // The light of the surface and its display transform (fragment()'s rest); `Grey`: base's
+    // channels are one vector and the scene is grey (grey_scene).
+    template <bool Grey>
+    HWY_INLINE Vec3Lanes lit(const Vec3Lanes& base, VF metallic, VF roughness, const Vec3Lanes& n, const Vec3Lanes& v,
+                             const LanesIn<N, D>& in) const {
+        const DF df;
+        const PbrUniforms& p = s.pbr;
+        Vec3Lanes c = image_based_light<Grey>(base, metallic, roughness, !p.metallic_roughness.texture, n, v, *p.environment);
         if (p.occlusion.texture) {
             const ColourLanes t = sample(p.occlusion, in);
             const VF ao = hn::Add(hn::Set(df, 1.0f), hn::Mul(hn::Set(df, p.occlusion_strength), hn::Sub(t.r, hn::Set(df, 1.0f))));
             c = mul(c, ao);
         }
-        Vec3Lanes e = splat(p.emissive);
-        if (p.emissive_map.texture) {
+        const VF grey_emissive = hn::Set(df, p.emissive.x);
+        Vec3Lanes e = Grey ? Vec3Lanes{grey_emissive, grey_emissive, grey_emissive} : splat(p.emissive);
+        if (!Grey && p.emissive_map.texture) {
             const ColourLanes t = sample(p.emissive_map, in);
             e = mul(e, Vec3Lanes{srgb_to_linear(t.r), srgb_to_linear(t.g), srgb_to_linear(t.b)});
         }
-        const Vec3Lanes out = display(add(c, e), p);
-        return {out.x, out.y, out.z, base.a};
+        return display(add(c, e), p);
     }
 
     // PbrShader::normal
@@ -498,6 +556,7 @@ struct PbrLanes {
     }
 
     // shaders::detail::image_based_light
+    template <bool Grey>
     HWY_INLINE Vec3Lanes image_based_light(const Vec3Lanes& base, VF metallic, VF roughness, bool uniform_roughness,
                                            const Vec3Lanes& n, const Vec3Lanes& v, const Environment& env) const {
         const DF df;
@@ -523,8 +582,8 @@ struct PbrLanes {
                                    hn::Div(hn::Mul(hn::Mul(fss_ess.z, f_avg.z), ems), hn::Sub(one, hn::Mul(f_avg.z, ems)))};
         const Vec3Lanes k_d = mul(c_diff, add(sub(ones, fss_ess), fms_ems));
         const VF lod = hn::Mul(roughness, hn::Set(df, static_cast<float>(Environment::k_levels - 1)));
-        const Vec3Lanes spec = mul(specular(env, levels, r, lod, uniform_roughness), fss_ess);
-        const Vec3Lanes diff = mul(add(fms_ems, k_d), diffuse(env, n));
+        const Vec3Lanes spec = mul(specular<Grey>(env, levels, r, lod, uniform_roughness), fss_ess);
+        const Vec3Lanes diff = mul(add(fms_ems, k_d), diffuse<Grey>(env, n));
         return add(diff, spec);
     }
 };

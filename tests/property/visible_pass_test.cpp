@@ -216,6 +216,7 @@ struct LitCase {
     ToneMapping tone_mapping;
     bool maps, unlit;
     float exposure, metallic, roughness;
+    bool grey = false;  // grey base colours (most vertices) and emission: the kernel's one-channel path
 };
 
 template <class S>
@@ -227,8 +228,16 @@ void expect_lit_mode_matches_the_specification() {
     for (const LitCase& c : {LitCase{"neutral, every map", ToneMapping::neutral, true, false, 1.0f, 1.0f, 1.0f},
                              LitCase{"aces, factors", ToneMapping::aces, false, false, 2.5f, 0.3f, 0.45f},
                              LitCase{"linear, every map, bright", ToneMapping::linear, true, false, 8.0f, 0.0f, 0.0f},
-                             LitCase{"unlit", ToneMapping::neutral, true, true, 1.0f, 0.5f, 0.5f}}) {
+                             LitCase{"unlit", ToneMapping::neutral, true, true, 1.0f, 0.5f, 0.5f},
+                             LitCase{"neutral, grey", ToneMapping::neutral, false, false, 1.5f, 0.2f, 0.35f, true}}) {
+        Mesh grey;  // outlives the draws that read its arrays
         expect_every_isa_draws_what_scalar_draws<S>(c.name, [&](const Mesh& mesh) {
+            if (c.grey) {
+                // Grey vertex colours but every 7th: vectors of grey pixels, of others and mixed ones.
+                grey = mesh;
+                for (std::size_t i = 0; i < grey.colours.size(); ++i)
+                    if (i % 7 != 0) grey.colours[i] = {grey.colours[i].x, grey.colours[i].x, grey.colours[i].x, grey.colours[i].w};
+            }
             PbrUniforms p;
             p.environment = Environment::studio().get();
             p.tone_mapping = c.tone_mapping;
@@ -255,7 +264,8 @@ void expect_lit_mode_matches_the_specification() {
                     p.base_colour.transformed = true;
                 }
             }
-            return S{MeshArrays::of(mesh), uniforms(k_width, k_height, 40.0f), p};
+            if (c.grey) p.emissive = {0.2f, 0.2f, 0.2f};
+            return S{MeshArrays::of(c.grey ? grey : mesh), uniforms(k_width, k_height, 40.0f, c.grey ? Lights::grey : Lights::ordinary), p};
         });
     }
 }
