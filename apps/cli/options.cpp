@@ -417,8 +417,9 @@ const char* const k_app_description =
     "facet: a software 3D renderer. Renders model files to PNG on the CPU (no GPU, no display), or shows them in a "
     "window.";
 
-CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args) {
+CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args, bool with_options) {
     CLI::App* view = app.add_subcommand("view", "Open a model (or, with none, the default scene) in an interactive window");
+    if (!with_options) return view;
     view->add_option("model", args.model, "Model file (or drop one onto the window)");
     view->add_flag("--spin", args.spin, "Start with the turntable spinning (Space toggles it)");
     add_render_options(*view, args.options);

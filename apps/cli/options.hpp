@@ -201,8 +201,9 @@ int print_view_config(const ViewArgs& args, bool camera_options_given);
 // facet's description in --help, the same in both executables.
 extern const char* const k_app_description;
 
-// Adds the `view` subcommand with its options to `app`.
-CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args);
+// Adds the `view` subcommand to `app`, with its options unless `with_options` is false (a command
+// line that names another subcommand: see main.cpp).
+CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args, bool with_options = true);
 
 // Executes the viewer executable (k_viewer_executable next to the running `facet`, found through
 // /proc/self/exe) with facet's own command line `argv`; returns only if that fails, after saying why,
