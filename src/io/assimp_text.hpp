@@ -86,6 +86,30 @@ inline std::uint64_t digits_value(std::uint64_t word, unsigned n) {
 
 }  // namespace text_detail
 
+// The form OBJ, PLY and OFF exporters write ("%f": "[-]D.F", 1-7 digits each side) as
+// fast_atoreal_move reads it, by read_float's arithmetic below, when 16 bytes from c (past the sign)
+// may be read: each side's digits are one 8-byte word's. The number's end, or null for any other
+// form (read_float's to read).
+[[gnu::always_inline]] inline const char* read_plain_float(const char* c, float& out, const char* readable_end) {
+    const bool negative = *c == '-';
+    const char* const p = c + negative;
+    if (readable_end - p < 16) return nullptr;
+    std::uint64_t whole, fraction;
+    std::memcpy(&whole, p, sizeof whole);
+    const unsigned n = text_detail::leading_digits(whole);
+    if (n - 1 >= 7 || ((whole >> (8 * n)) & 0xFF) != '.') return nullptr;
+    std::memcpy(&fraction, p + n + 1, sizeof fraction);
+    const unsigned m = text_detail::leading_digits(fraction);
+    const unsigned after = static_cast<unsigned>(fraction >> (8 * m)) & 0xFF;  // m < 8
+    if (m - 1 >= 7 || after == 'e' || after == 'E' || after == ',' || after == '.') return nullptr;
+    // Below 2^63: as signed integers, the same values without the unsigned conversion's branch.
+    float f = static_cast<float>(static_cast<std::int64_t>(text_detail::digits_value(whole, n)));
+    f += static_cast<float>(static_cast<double>(static_cast<std::int64_t>(text_detail::digits_value(fraction, m))) *
+                            Assimp::fast_atof_table[m]);
+    out = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) ^ static_cast<std::uint32_t>(negative) << 31);  // -f, without a branch
+    return p + n + 1 + m;
+}
+
 // A float as fast_atoreal_move reads it; throws NotANumber where assimp's reader would fail. The
 // common "[-]D[.F]" (1-18 integer digits, 1-15 fraction digits, no exponent, comma or trailing dot)
 // is read here with fast_atoreal_move's own arithmetic in its own order (the integer part as an
@@ -93,7 +117,7 @@ inline std::uint64_t digits_value(std::uint64_t word, unsigned n) {
 // fast_atof_table[its digits], converted to float and added; then the sign), so the same bits
 // without its checks; every other form goes to fast_atoreal_move itself. With `readable_end` (the
 // end of the bytes that may be read, past the text's NUL), digits are read 8 at a time.
-inline const char* read_float(const char* c, float& out, const char* readable_end) {
+[[gnu::noinline]] inline const char* read_any_float(const char* c, float& out, const char* readable_end) {
     const char* p = c;
     const bool negative = *p == '-';
     p += negative;
@@ -122,6 +146,10 @@ inline const char* read_float(const char* c, float& out, const char* readable_en
     }
     return Assimp::fast_atoreal_move<float, NotANumber>(c, out);
 }
-inline const char* read_float(const char* c, float& out) { return read_float(c, out, c); }
+inline const char* read_float(const char* c, float& out, const char* readable_end) {
+    if (const char* end = read_plain_float(c, out, readable_end)) return end;
+    return read_any_float(c, out, readable_end);
+}
+inline const char* read_float(const char* c, float& out) { return read_any_float(c, out, c); }
 
 }  // namespace facet::io_detail

@@ -589,7 +589,18 @@ private:
     // "v x y z", "v x y z w" (divided by w) or "v x y z r g b"; other counts of numeric-looking
     // tokens are ignored, as assimp ignores them. Returns the line's end for the common form.
     const char* vertex(const char* c) {
-        // The common "v x y z": three numbers and the line end.
+        // The common "v x y z" of "%f" numbers (read_plain_float's) and the line end.
+        {
+            float x, y, z;
+            const char* p = read_plain_float(skip_blanks(c), x, readable_end_);
+            p = p && is_space(*p) ? read_plain_float(skip_blanks(p), y, readable_end_) : nullptr;
+            p = p && is_space(*p) ? read_plain_float(skip_blanks(p), z, readable_end_) : nullptr;
+            if (p && ends_line(*(p = skip_blanks(p)))) {
+                model_.vertices.push_back({x, y, z});  // finite: read as at most 7 + 7 digits
+                return p;
+            }
+        }
+        // Other numbers, then other forms.
         const char* p = c;
         aiVector3D v;
         bool plain = true;
@@ -673,20 +684,19 @@ private:
     // getFace: indices separated by '/' (vertex, texture coordinate, normal) and corners by spaces.
     // Returns the line's end.
     const char* face(const char* line) {
-        // The common "f 1 2 3": vertex indices alone, each plain (see below), up to 8 corners.
+        // The common "f 1 2 3": vertex indices alone, each plain (read_plain_index's), up to 8 corners.
         if (is_space(line[1])) {
             std::uint32_t v[8];
             std::size_t corners = 0;
             const char* p = skip_blanks(line + 1);
-            for (; corners < 8 && *p >= '1' && *p <= '9'; p = skip_blanks(p)) {
-                std::uint64_t value = 0;
-                const char* const d = p;
-                p = text_detail::read_digits(p, readable_end_, value);
-                if (p - d > 9 || !is_blank(*p)) break;
-                v[corners++] = static_cast<std::uint32_t>(value - 1);
+            for (const char* e; corners < 8 && (e = read_plain_index(p, v[corners]));) {
+                ++corners;
+                p = e;
+                if (!is_space(*p)) break;  // the line's end
+                p = skip_blanks(p + 1);
             }
             if (ends_line(*p)) {
-                add_face(v, corners, nullptr, 0, nullptr, 0);
+                if (corners != 3 || !add_plain_triangle(v)) add_face(v, corners, nullptr, 0, nullptr, 0);
                 return p;
             }
         }
@@ -725,6 +735,34 @@ private:
         }
         add_face(lists_[0].data(), lists_[0].size(), lists_[1].data(), lists_[1].size(), lists_[2].data(), lists_[2].size());
         return p;
+    }
+
+    // A vertex index as the face's reading below takes it ("[1-9]D{0,7}" then a space or line end),
+    // minus one, from one 8-byte word when 9 bytes from p may be read: its end, or null.
+    [[gnu::always_inline]] const char* read_plain_index(const char* p, std::uint32_t& index) const {
+        if (readable_end_ - p < 9) return nullptr;
+        std::uint64_t word;
+        std::memcpy(&word, p, sizeof word);
+        const unsigned n = text_detail::leading_digits(word);
+        if (n == 0 || (word & 0xFF) == '0' || !is_blank(p[n])) return nullptr;
+        index = static_cast<std::uint32_t>(text_detail::digits_value(word, n) - 1);
+        return p + n;
+    }
+
+    // add_face's work for three vertex indices alone in a mesh without texture coordinates and
+    // normals, below the triangle limit; false where add_face must do it.
+    [[gnu::always_inline]] bool add_plain_triangle(const std::uint32_t* v) {
+        if (model_.current_object < 0 || model_.current_mesh < 0 || model_.total_triangles >= options_.max_triangles) return false;
+        ObjMesh& mesh = model_.meshes[static_cast<std::size_t>(model_.current_mesh)];
+        if (mesh.uv_count != 0 || mesh.has_normals) return false;
+        ++mesh.faces;
+        ++mesh.triangles;
+        ++model_.total_triangles;
+        mesh.corners += 3;
+        model_.largest_vertex = std::max(model_.largest_vertex, std::max(v[0], std::max(v[1], v[2])));
+        model_.face_corners.push_back(3);
+        model_.corner_v.insert(model_.corner_v.end(), v, v + 3);
+        return true;
     }
 
     // A face's corners (vertex indices, and the texture coordinate and normal indices given) into

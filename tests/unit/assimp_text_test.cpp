@@ -1,7 +1,7 @@
-// assimp_text.hpp's read_float: its own reading of the common "[-]D[.F]" form must give
-// fast_atoreal_move's bits and stop where it stops, for every string, digit by digit and 8 digits at
-// a time, and leave every other form to fast_atoreal_move (the same result, or NotANumber where
-// that throws).
+// assimp_text.hpp's read_float (and read_plain_float, its first way): its own reading of the common
+// "[-]D[.F]" form must give fast_atoreal_move's bits and stop where it stops, for every string,
+// digit by digit and 8 digits at a time, and leave every other form to fast_atoreal_move (the same
+// result, or NotANumber where that throws).
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -72,6 +72,39 @@ TEST(AssimpText, ReadFloatIsFastAtofOnRandomStrings) {
         expect_as_fast_atof(s);
         if (HasFatalFailure()) return;
     }
+}
+
+// read_plain_float takes the "%f" forms (1-7 digits each side) itself, with fast_atof's bits and
+// end, and no other form.
+TEST(AssimpText, PlainFloatsAreReadByTheirOwnPath) {
+    std::mt19937_64 rng(22);
+    const char* const suffixes[] = {" ", "\n", "\r", "\t", "", "x", "/"};
+    std::string s;
+    for (int i = 0; i < 200000; ++i) {
+        s.clear();
+        const std::uint64_t r = rng();
+        if (r % 2) s += '-';
+        for (int k = 0, n = 1 + static_cast<int>((r >> 1) % 7); k < n; ++k) s += static_cast<char>('0' + rng() % 10);
+        s += '.';
+        for (int k = 0, n = 1 + static_cast<int>((r >> 4) % 7); k < n; ++k) s += static_cast<char>('0' + rng() % 10);
+        s += suffixes[(r >> 8) % std::size(suffixes)];
+        const std::string padded = s + std::string(1, '\0') + "9876543210 9.e";
+        float ours = 0, theirs = 0;
+        const char* end = facet::io_detail::read_plain_float(padded.c_str(), ours, padded.c_str() + padded.size());
+        const char* their_end = Assimp::fast_atoreal_move<float, NotANumber>(s.c_str(), theirs);
+        ASSERT_NE(end, nullptr) << s;
+        ASSERT_EQ(end - padded.c_str(), their_end - s.c_str()) << s;
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(ours), std::bit_cast<std::uint32_t>(theirs)) << s;
+    }
+    for (const char* other : {"1", "-1", "1.", "1.5e3", "1.5E3", "1.5,2", "1.5.5", "12345678.5", "1.12345678", ".5", "+1.5", "nan"}) {
+        const std::string padded = other + std::string(1, '\0') + "9876543210 9.e";
+        float value = 0;
+        EXPECT_EQ(facet::io_detail::read_plain_float(padded.c_str(), value, padded.c_str() + padded.size()), nullptr) << other;
+    }
+    // Fewer than 16 readable bytes past the sign: left to read_float's other ways.
+    float value = 0;
+    const std::string short_text = "-0.5 0.25";
+    EXPECT_EQ(facet::io_detail::read_plain_float(short_text.c_str(), value, short_text.c_str() + short_text.size() + 1), nullptr);
 }
 
 TEST(AssimpText, ReadFloatEdgeForms) {
