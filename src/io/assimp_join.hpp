@@ -65,6 +65,24 @@ inline std::size_t assimp_position_hash(const aiVector3D& p) {
 }
 // The bucket count of a std::unordered_map reserved for `n` elements.
 std::size_t reserved_buckets(std::size_t n);
+
+// h % d for a fixed d (2 to 2^32 - 1) by multiplications (Lemire, Kaser and Kurz, "Faster
+// remainder by direct computation", 2019: with a 128-bit fraction the remainder is exact for every
+// 64-bit h and d): the hash table's bucket of a hash without a 64-bit division per vertex.
+class Remainder {
+public:
+    explicit Remainder(std::uint64_t d) : d_(d), m_(~static_cast<unsigned __int128>(0) / d + 1) {}
+    std::uint64_t of(std::uint64_t h) const {
+        const unsigned __int128 low = m_ * h;  // the fraction h / d, modulo 1
+        const unsigned __int128 top = static_cast<unsigned __int128>(static_cast<std::uint64_t>(low >> 64)) * d_;
+        const unsigned __int128 bottom = static_cast<unsigned __int128>(static_cast<std::uint64_t>(low)) * d_ >> 64;
+        return static_cast<std::uint64_t>((top + bottom) >> 64);
+    }
+
+private:
+    std::uint64_t d_;
+    unsigned __int128 m_;
+};
 // assimp's areVerticesEqual with `margin` for its squared tolerance (1e-5f * 1e-5f).
 bool assimp_equal(const JoinVertex& a, const JoinVertex& b, float margin);
 
@@ -105,7 +123,8 @@ std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t
     const std::size_t mask = slots - 1;
     // A bucket's first slot: its number spread over the table.
     const auto slot_of = [&](std::uint64_t bucket) { return static_cast<std::size_t>(bucket * 0x9E3779B97F4A7C15ull >> shift); };
-    const auto bucket_of = [&](std::size_t i) { return assimp_position_hash(value(i).position) % buckets; };
+    const Remainder bucket_remainder(buckets);
+    const auto bucket_of = [&](std::size_t i) { return bucket_remainder.of(assimp_position_hash(value(i).position)); };
     std::uint64_t ring[ahead];
     for (std::size_t i = 0; i < std::min(count, ahead); ++i) {
         ring[i] = bucket_of(i);
@@ -117,6 +136,12 @@ std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t
         if (i + ahead < count) {
             ring[i % ahead] = bucket_of(i + ahead);
             __builtin_prefetch(&table[slot_of(ring[i % ahead])]);
+        }
+        // Half-way, the slot fetched for an item is read: a unique vertex of its bucket there is
+        // compared by position, which is fetched now (a random read of its own).
+        if (i + ahead / 2 < count) {
+            const std::uint64_t later = ring[(i + ahead / 2) % ahead], there = table[slot_of(later)];
+            if (there >> 32 == later && there != 0) __builtin_prefetch(positions.data() + static_cast<std::uint32_t>(there) - 1);
         }
         std::size_t slot = slot_of(bucket);
         for (; table[slot] != 0; slot = (slot + 1) & mask) {

@@ -170,9 +170,13 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         const aiVector3D &pa = in.positions[corner[0]], &pb = in.positions[corner[1]], &pc = in.positions[corner[2]];
         return pa == pb || pb == pc || pc == pa;
     };
-    if (in.triangles) detail::reserve_in_huge_pages(out.mesh.indices, 3 * in.triangle_count);
+    if (as_numbered && in.triangles_owner) {
+        out.mesh.indices = std::move(*in.triangles_owner);  // taken, not copied: in.triangles still points at them
+    } else if (in.triangles) {
+        detail::reserve_in_huge_pages(out.mesh.indices, 3 * in.triangle_count);
+        if (as_numbered) out.mesh.indices.assign(in.triangles, in.triangles + 3 * in.triangle_count);
+    }
     if (as_numbered) {
-        out.mesh.indices.assign(in.triangles, in.triangles + 3 * in.triangle_count);
         for (std::size_t t = 0; t < 3 * in.triangle_count; t += 3) out.degenerate += degenerate(in.triangles + t);
     }
     // (None when kept as numbered: a mesh without faces.)
@@ -576,13 +580,13 @@ SourceScene source_of(const aiScene& scene, bool gltf) {
     return out;
 }
 
-SourceScene OwnScene::view() const {
+SourceScene OwnScene::view() {
     SourceScene out;
     out.root = &root;
     out.gltf = gltf;
     out.embedded = embedded;
     out.meshes.reserve(meshes.size());
-    for (const OwnMesh& m : meshes) {
+    for (OwnMesh& m : meshes) {
         SourceMesh s;
         s.vertex_count = static_cast<std::uint32_t>(m.positions.size());
         s.positions = m.positions.data();
@@ -593,6 +597,7 @@ SourceScene OwnScene::view() const {
         s.material = m.material;
         s.triangles = m.triangles.data();
         s.triangle_count = m.triangles.size() / 3;
+        s.triangles_owner = &m.triangles;
         s.distinct_positions = m.distinct_positions;
         s.drawn_mesh = s.triangle_count > 0;
         out.meshes.push_back(s);

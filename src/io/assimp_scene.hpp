@@ -46,6 +46,9 @@ struct SourceMesh {
     std::uint32_t face_count = 0;
     const std::uint32_t* triangles = nullptr;  // facet's readers'
     std::size_t triangle_count = 0;
+    // The vector that holds `triangles`, which the conversion may take as the Mesh's indices
+    // instead of copying them (the array stays where it is); null for assimp's meshes.
+    std::vector<std::uint32_t>* triangles_owner = nullptr;
     bool distinct_positions = false;  // facet's readers': positions pairwise distinct (creased normals need not weld)
 };
 
@@ -89,7 +92,7 @@ struct OwnScene {
     std::map<std::string, std::string_view, std::less<>> embedded;  // views of data the reader keeps
     std::vector<std::string> kept;                                  // such data
 
-    SourceScene view() const;
+    SourceScene view();  // the meshes' triangles may be taken by the conversion
 };
 
 // The source of an aiScene (views of its arrays; the aiScene must outlive it).

@@ -917,7 +917,7 @@ private:
 // ObjFileImporter's aiMesh of one mesh (a vertex per face corner), post-processed.
 class MeshBuilder {
 public:
-    MeshBuilder(const ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes) {
+    MeshBuilder(ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes) {
         detail::reserve_in_huge_pages(by_vertex_, model.vertices.size());  // probed at random
         by_vertex_.resize(model.vertices.size());
     }
@@ -1008,6 +1008,12 @@ public:
         }
         // Joined by position alone: no two positions are the same (the creased normals need not weld).
         out.distinct_positions = by_vertex;
+        // A mesh of all the model's corners, in triangles: its triangles are written over its
+        // corners (each triangle's read before it is written), not into fresh pages.
+        if (mesh.first_corner == 0 && corners == model_.corner_v.size() && 3 * mesh.triangles == corners) {
+            out.triangles = std::move(model_.corner_v);  // mesh_v still points at them
+            out.triangles.clear();
+        }
         if (exact && by_vertex) {
             // Each vertex's unique vertex kept in its stamp (in the place of its group's number): a
             // corner then looks up one number, not two.
@@ -1056,7 +1062,7 @@ private:
         }
     }
 
-    const ObjModel& model_;
+    ObjModel& model_;  // its corners taken by a mesh that has them all
     ImportNotes& notes_;
     std::vector<Stamped> by_vertex_;  // stamped by mesh
     std::vector<ByIndices> indices_;

@@ -335,6 +335,21 @@ TEST(AssimpJoin, ReservedBucketsAreUnorderedMaps) {
     }
 }
 
+// The join's remainder by multiplications is the division's, for the bucket counts of meshes of
+// every size up to 2^32 vertices and hashes of every size.
+TEST(AssimpJoin, RemainderIsTheDivisions) {
+    std::mt19937_64 rng(31);
+    std::vector<std::uint64_t> divisors = {2, 3, 5, 7, 0xFFFFFFFFull, 0xFFFFFFFBull};
+    for (std::size_t n = 1; n < (std::size_t{1} << 32); n = n * 3 / 2 + 1) divisors.push_back(io_detail::reserved_buckets(n));
+    for (int i = 0; i < 100; ++i) divisors.push_back(2 + rng() % 0xFFFFFFFEull);
+    for (const std::uint64_t d : divisors) {
+        const io_detail::Remainder remainder(d);
+        std::vector<std::uint64_t> hashes = {0, 1, d - 1, d, d + 1, 2 * d - 1, ~0ull, ~0ull - 1, ~0ull / d * d, ~0ull / d * d - 1};
+        for (int i = 0; i < 2000; ++i) hashes.push_back(rng() >> (rng() % 64));
+        for (const std::uint64_t h : hashes) ASSERT_EQ(remainder.of(h), h % d) << h << " % " << d;
+    }
+}
+
 }  // namespace
 
 namespace {
