@@ -144,6 +144,7 @@ bool finite_position(const SourceMesh& m, std::uint32_t i) {
 // passes, the first stopping at the first number out of order.
 bool kept_as_numbered(const SourceMesh& in) {
     if (!in.triangles) return false;
+    if (in.numbered) return true;  // known to the reader
     std::uint32_t next = 0;  // the number the next new vertex must have
     for (std::size_t c = 0; c < 3 * in.triangle_count; ++c) {
         if (in.triangles[c] > next) return false;
@@ -599,6 +600,7 @@ SourceScene OwnScene::view() {
         s.triangle_count = m.triangles.size() / 3;
         s.triangles_owner = &m.triangles;
         s.distinct_positions = m.distinct_positions;
+        s.numbered = m.numbered;
         s.drawn_mesh = s.triangle_count > 0;
         out.meshes.push_back(s);
     }

@@ -50,6 +50,7 @@ struct SourceMesh {
     // instead of copying them (the array stays where it is); null for assimp's meshes.
     std::vector<std::uint32_t>* triangles_owner = nullptr;
     bool distinct_positions = false;  // facet's readers': positions pairwise distinct (creased normals need not weld)
+    bool numbered = false;  // facet's readers': as kept_as_numbered finds (every vertex used, in order of first use; finite)
 };
 
 // A node of facet's readers' trees (assimp's are aiNodes): transform relative to the parent, the
@@ -82,6 +83,7 @@ struct OwnMesh {
     std::vector<std::uint32_t> triangles;             // three per triangle, each < positions.size()
     unsigned material = 0;
     bool distinct_positions = false;  // known to be pairwise distinct (by bits, -0 as +0)
+    bool numbered = false;  // known to use every position, numbered in order of first use, and finite positions
 };
 
 struct OwnScene {

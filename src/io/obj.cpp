@@ -500,9 +500,14 @@ public:
         for (std::size_t begin = 0; begin < end;) {
             const char* line = text.data() + begin;
             const char* stop = nullptr;
-            if (!in_cstype)
-                stop = read_line(line, in_cstype);
-            else if (*line == 'e' && word_at(line) == "end")
+            if (!in_cstype) {
+                // The common lines first, in this loop; then every line's statement.
+                if (line[0] == 'v' && is_space(line[1]))
+                    stop = plain_vertex(line + 1);
+                else if (line[0] == 'f' && is_space(line[1]))
+                    stop = plain_face(line + 1);
+                if (!stop) stop = read_line(line, in_cstype);
+            } else if (*line == 'e' && word_at(line) == "end")
                 in_cstype = false;
             if (!stop)
                 for (stop = line; !ends_line(*stop);) ++stop;
@@ -588,19 +593,20 @@ private:
 
     // "v x y z", "v x y z w" (divided by w) or "v x y z r g b"; other counts of numeric-looking
     // tokens are ignored, as assimp ignores them. Returns the line's end for the common form.
+    // The common "v x y z" of "%f" numbers (read_plain_float's) and the line end: the line's end,
+    // or null (nothing done) for vertex() to read.
+    [[gnu::always_inline]] const char* plain_vertex(const char* c) {
+        float x, y, z;
+        const char* p = read_plain_float(skip_blanks(c), x, readable_end_);
+        p = p && is_space(*p) ? read_plain_float(skip_blanks(p), y, readable_end_) : nullptr;
+        p = p && is_space(*p) ? read_plain_float(skip_blanks(p), z, readable_end_) : nullptr;
+        if (!p || !ends_line(*(p = skip_blanks(p)))) return nullptr;
+        model_.vertices.push_back({x, y, z});  // finite: read as at most 7 + 7 digits
+        return p;
+    }
+
     const char* vertex(const char* c) {
-        // The common "v x y z" of "%f" numbers (read_plain_float's) and the line end.
-        {
-            float x, y, z;
-            const char* p = read_plain_float(skip_blanks(c), x, readable_end_);
-            p = p && is_space(*p) ? read_plain_float(skip_blanks(p), y, readable_end_) : nullptr;
-            p = p && is_space(*p) ? read_plain_float(skip_blanks(p), z, readable_end_) : nullptr;
-            if (p && ends_line(*(p = skip_blanks(p)))) {
-                model_.vertices.push_back({x, y, z});  // finite: read as at most 7 + 7 digits
-                return p;
-            }
-        }
-        // Other numbers, then other forms.
+        // Three plain numbers (other than plain_vertex's), then other forms.
         const char* p = c;
         aiVector3D v;
         bool plain = true;
@@ -683,23 +689,24 @@ private:
 
     // getFace: indices separated by '/' (vertex, texture coordinate, normal) and corners by spaces.
     // Returns the line's end.
-    const char* face(const char* line) {
-        // The common "f 1 2 3": vertex indices alone, each plain (read_plain_index's), up to 8 corners.
-        if (is_space(line[1])) {
-            std::uint32_t v[8];
-            std::size_t corners = 0;
-            const char* p = skip_blanks(line + 1);
-            for (const char* e; corners < 8 && (e = read_plain_index(p, v[corners]));) {
-                ++corners;
-                p = e;
-                if (!is_space(*p)) break;  // the line's end
-                p = skip_blanks(p + 1);
-            }
-            if (ends_line(*p)) {
-                if (corners != 3 || !add_plain_triangle(v)) add_face(v, corners, nullptr, 0, nullptr, 0);
-                return p;
-            }
+    // The common "f 1 2 3" (from c, past the 'f'): vertex indices alone, each plain
+    // (read_plain_index's), up to 8 corners. The line's end, or null (nothing done) for face().
+    [[gnu::always_inline]] const char* plain_face(const char* c) {
+        std::uint32_t v[8];
+        std::size_t corners = 0;
+        const char* p = skip_blanks(c);
+        for (const char* e; corners < 8 && (e = read_plain_index(p, v[corners]));) {
+            ++corners;
+            p = e;
+            if (!is_space(*p)) break;  // the line's end
+            p = skip_blanks(p + 1);
         }
+        if (!ends_line(*p)) return nullptr;
+        if (corners != 3 || !add_plain_triangle(v)) add_face(v, corners, nullptr, 0, nullptr, 0);
+        return p;
+    }
+
+    const char* face(const char* line) {
         const char* p = next_token(line);
         for (std::vector<std::uint32_t>& l : lists_) l.clear();
         const std::int64_t sizes[3] = {static_cast<std::int64_t>(model_.vertices.size()),
@@ -1010,15 +1017,16 @@ public:
         out.distinct_positions = by_vertex;
         // A mesh of all the model's corners, in triangles: its triangles are written over its
         // corners (each triangle's read before it is written), not into fresh pages.
-        if (mesh.first_corner == 0 && corners == model_.corner_v.size() && 3 * mesh.triangles == corners) {
+        if (mesh.first_corner == 0 && corners == model_.corner_v.size() && 3 * mesh.triangles == corners)
             out.triangles = std::move(model_.corner_v);  // mesh_v still points at them
-            out.triangles.clear();
-        }
         if (exact && by_vertex) {
-            // Each vertex's unique vertex kept in its stamp (in the place of its group's number): a
-            // corner then looks up one number, not two.
-            for (std::size_t g = 0; g < group_corner.size(); ++g) by_vertex_[mesh_v[group_corner[g]]].head = join.unique[g];
+            // Each vertex's unique vertex kept in its stamp (in the place of its group's number, the
+            // same when no two groups joined): a corner then looks up one number, not two.
+            if (join.first.size() != group_corner.size())
+                for (std::size_t g = 0; g < group_corner.size(); ++g) by_vertex_[mesh_v[group_corner[g]]].head = join.unique[g];
             triangulate(mesh, mesh_v, [&](std::uint32_t c) { return by_vertex_[mesh_v[c]].head; }, out.triangles);
+            // Triangles alone keep their corners' order: numbered in order of first use.
+            out.numbered = 3 * mesh.triangles == corners;
         } else {
             triangulate(mesh, mesh_v, [&](std::uint32_t c) { return unique_of_corner[c]; }, out.triangles);
         }
@@ -1047,6 +1055,13 @@ private:
     void triangulate(const ObjMesh& mesh, const std::uint32_t* mesh_v, const UniqueOf& unique_of_corner,
                      std::vector<std::uint32_t>& out) {
         detail::reserve_in_huge_pages(out, 3 * mesh.triangles);
+        if (3 * mesh.triangles == mesh.corners) {
+            // Triangles alone, as they are: NgonEncoder compares corners, which never repeat, and
+            // turns none. (out may hold the mesh's corners themselves: each is read, then written.)
+            out.resize(mesh.corners);
+            for (std::uint32_t c = 0; c < mesh.corners; ++c) out[c] = unique_of_corner(c);
+            return;
+        }
         triangulator_.encoder = {};
         const auto emit = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
             out.insert(out.end(), {unique_of_corner(a), unique_of_corner(b), unique_of_corner(c)});
