@@ -22,6 +22,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "exec/fresh_pages.hpp"
 #include "facet/detail/thread_pool.hpp"
 #include "scene/creased_normals.hpp"
@@ -607,13 +611,34 @@ bool has_area(const std::vector<std::uint64_t>& area, std::uint32_t t) { return 
 // those sides from the first corner comes back to it after all of them; otherwise the corners are
 // walked from the first, forward and back, which walks an open manifold fan in full. Anything else
 // (a bowtie, a non-manifold edge) is left to split_into_sets.
+// The first j < n with sides[j] == side, else n.
+template <class Side>
+std::uint32_t first_side(const Side* sides, std::uint32_t n, Side side) {
+    std::uint32_t j = 0;
+    while (j < n && sides[j] != side) ++j;
+    return j;
+}
+#if defined(__SSE2__)
+// The same for a PositionSums' sides (9), without a branch per side (where a fan's next corner is
+// among its corners follows no pattern a predictor learns): two overlapping compares of 8 lanes.
+std::uint32_t first_side(const std::int16_t* sides, std::uint32_t n, std::int16_t side) {
+    static_assert(k_max_edge_neighbours + 1 == 9);
+    const __m128i wanted = _mm_set1_epi16(side);
+    const auto equal_at = [&](const std::int16_t* from) {
+        const __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from));
+        return static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi16(lanes, wanted)));
+    };
+    const std::uint32_t equal = (equal_at(sides) | equal_at(sides + 1) << 2) & ((1u << 2 * n) - 1);  // two bits a side
+    return equal ? static_cast<std::uint32_t>(std::countr_zero(equal)) / 2 : n;
+}
+#endif
+
 template <class Side>
 bool joined_by_sides(const Side* next, const Side* prev, std::uint32_t n) {
     // Closed: from each corner to the first whose previous side is its next side, back to the
     // first corner after all of them (then each was reached once).
     for (std::uint32_t at = 0, step = 1; step <= n; ++step) {
-        std::uint32_t j = 0;
-        while (j < n && prev[j] != next[at]) ++j;
+        const std::uint32_t j = first_side(prev, n, next[at]);
         if (j == n) break;
         if ((at = j) == 0) {
             if (step == n) return true;
