@@ -102,6 +102,13 @@ Weld weld_by_position(const std::vector<Vec3>& positions) {
     return w;
 }
 
+// A vertex's welded position as the one-thread way reads it: its id in a weld, or the vertex
+// itself where the positions are distinct (no array of ids to fill and fetch from).
+struct WeldIds {
+    const std::uint32_t* id = nullptr;  // null: each vertex its own position
+    std::uint32_t operator[](std::uint32_t v) const { return id ? id[v] : v; }
+};
+
 // Work is handed out in blocks of this many triangles or welded positions: large enough that a
 // block costs far more than handing it out, small enough to share a mesh between the threads.
 constexpr std::size_t k_block = 4096;
@@ -570,7 +577,7 @@ struct FirstFaceTest {
 };
 
 // The triangles described in order: each position's sums, and a bit per triangle with area.
-void sum_by_position(const Mesh& mesh, const std::vector<std::uint32_t>& weld, const std::vector<bool>& in_range,
+void sum_by_position(const Mesh& mesh, WeldIds weld, const std::vector<bool>& in_range,
                      const FirstFaceTest& test, PositionSums* sums, std::vector<std::uint64_t>& area) {
     area.assign((in_range.size() + 63) / 64, 0);
     describe_range(mesh, in_range, 0, in_range.size(), [&](std::size_t t, const TriangleFacts& facts) {
@@ -676,7 +683,7 @@ bool one_set_by_first_face(const FirstFaceTest& test, const std::vector<FanCorne
 
 // The corner of triangle t at k as the specification describes it (for the few positions not
 // settled by their sums; the shape kernel gives the same bits for the others).
-FanCorner describe_corner(const Mesh& mesh, const std::vector<std::uint32_t>& weld, std::uint32_t c) {
+FanCorner describe_corner(const Mesh& mesh, WeldIds weld, std::uint32_t c) {
     const std::uint32_t t = c / 3, k = c % 3;
     const std::uint32_t* idx = mesh.indices.data() + 3 * t;
     const Vec3 p[3] = {mesh.positions[idx[0]], mesh.positions[idx[1]], mesh.positions[idx[2]]};
@@ -690,7 +697,7 @@ FanCorner describe_corner(const Mesh& mesh, const std::vector<std::uint32_t>& we
 // Vertices in no set (on degenerate triangles only, or on none): the normalized sum around their
 // position (around(w)).
 template <class Around>
-void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, const std::vector<std::uint32_t>& weld,
+void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, WeldIds weld,
                            const Around& around, std::vector<Vec3>& normals) {
     for (std::uint32_t v = 0; v < vertex_set.size(); ++v) {
         if (vertex_set[v] != k_no_set) continue;
@@ -702,7 +709,7 @@ void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, const s
 // The normals with one thread: the fans of the positions that their sums do not settle split as
 // split_fans does, and the others' vertices left to the fallback (their one set's normal is the
 // normalized sum).
-void creased_normals_in_order(Mesh& mesh, const std::vector<std::uint32_t>& weld, std::size_t positions,
+void creased_normals_in_order(Mesh& mesh, WeldIds weld, std::size_t positions,
                               const std::vector<bool>& in_range, float crease) {
     std::vector<std::uint32_t> vertex_set(mesh.positions.size(), k_no_set);
     detail::reserve_in_huge_pages(mesh.normals, mesh.positions.size());
@@ -779,12 +786,12 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
 
     Weld welded;
     std::size_t positions = vertex_count;
-    if (distinct_positions) {  // each vertex is its own welded position, in order
-        welded.id.resize(vertex_count);
-        std::iota(welded.id.begin(), welded.id.end(), 0u);
-    } else {
+    if (!distinct_positions) {
         welded = weld_by_position(mesh.positions);
         positions = welded.key.size();
+    } else if (workers) {  // each vertex is its own welded position, in order (one thread: WeldIds)
+        welded.id.resize(vertex_count);
+        std::iota(welded.id.begin(), welded.id.end(), 0u);
     }
     // Decided once: the copies below rewrite indices to vertices beyond vertex_count.
     std::vector<bool> in_range(triangles);
@@ -792,7 +799,8 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
         in_range[t] = mesh.indices[3 * t] < vertex_count && mesh.indices[3 * t + 1] < vertex_count &&
                       mesh.indices[3 * t + 2] < vertex_count;
     if (!workers) {
-        creased_normals_in_order(mesh, welded.id, positions, in_range, crease_angle_radians);
+        creased_normals_in_order(mesh, WeldIds{distinct_positions ? nullptr : welded.id.data()}, positions, in_range,
+                                 crease_angle_radians);
         return;
     }
 
@@ -809,7 +817,7 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
                                                 FirstFaceTest(crease_angle_radians), workers, scratch,
                                                 {vertex_set, mesh.normals});
     copy_vertices(scratch, mesh);
-    give_fallback_normals(vertex_set, welded.id, [&](std::uint32_t w) { return around[w]; }, mesh.normals);
+    give_fallback_normals(vertex_set, WeldIds{welded.id.data()}, [&](std::uint32_t w) { return around[w]; }, mesh.normals);
 }
 
 }  // namespace facet
