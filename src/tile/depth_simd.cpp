@@ -407,9 +407,9 @@ HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers
     else return resolve_strips<D, DepthWrite>(t, tile, buffers, id, r);
 }
 
-// Out of line: a segment's record (raster/segment.hpp), which only the bins of line draws hold.
+// A segment's record (raster/segment.hpp), which only the bins of line draws hold.
 template <DepthTest D, bool DepthWrite>
-HWY_NOINLINE bool resolve_segment(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
+HWY_INLINE bool resolve_segment(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
     if (t.small_edges) [[likely]] {
         SmallSegmentRect r;
         if (!bounds_in_tile(t, tile, r)) return false;
@@ -421,10 +421,16 @@ HWY_NOINLINE bool resolve_segment(const TriangleSetup& t, PixelRect tile, TileBu
     return resolve_rect<D, DepthWrite>(t, tile, buffers, id, r);
 }
 
+// Out of line, for ResolveTriangleFor: segments are drawn by bins (resolve_segment_run).
+template <DepthTest D, bool DepthWrite>
+HWY_NOINLINE bool resolve_segment_call(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
+    return resolve_segment<D, DepthWrite>(t, tile, buffers, id);
+}
+
 template <DepthTest D, bool DepthWrite>
 HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
     if (t.segment) [[unlikely]]
-        return resolve_segment<D, DepthWrite>(t, tile, buffers, id);
+        return resolve_segment_call<D, DepthWrite>(t, tile, buffers, id);
     EdgeRect r;
     if (!edge_rect(t, tile, r)) return false;
     return resolve_rect<D, DepthWrite>(t, tile, buffers, id, r);
@@ -438,15 +444,40 @@ bool ResolveTriangleFor(const DepthJob& job) {
 // A tile's bin in order: each triangle that passes somewhere is appended to buffers.triangles, and its
 // index there is its owner id. The records are read front to back, but each bin is a new stream the
 // hardware prefetcher has yet to learn: they are fetched a few triangles ahead.
+constexpr std::size_t k_record_distance = 12;
+
+// The run of segment records from n on (a line draw's bin is nearly all segments), in a loop of its
+// own: the segment's set-up inlined, its constants kept across records, no call per record. Returns
+// the first record after the run; `id` is the next owner id, as in ResolveBinFor.
+template <DepthTest D, bool DepthWrite>
+HWY_NOINLINE std::size_t resolve_segment_run(const TriangleSetup* records, std::size_t n, std::size_t count,
+                                             PixelRect tile, TileBuffers& buffers, const TriangleSetup** listed,
+                                             std::uint32_t& id) {
+    std::uint32_t next = id;
+    for (; n < count && records[n].segment; ++n) {
+        if (n + k_record_distance < count) prefetch_record(records + n + k_record_distance);
+        const TriangleSetup& t = records[n];
+        const bool any = resolve_segment<D, DepthWrite>(t, tile, buffers, next);
+        *listed++ = &t;
+        listed -= !any;
+        next += any;
+    }
+    id = next;
+    return n;
+}
+
 template <DepthTest D, bool DepthWrite>
 void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect tile, TileBuffers& buffers) {
-    constexpr std::size_t k_distance = 12;
     const std::size_t first = buffers.triangles.size();
     buffers.triangles.resize(first + count);
     const TriangleSetup** listed = buffers.triangles.data() + first;
     std::uint32_t id = static_cast<std::uint32_t>(first);
     for (std::size_t n = 0; n < count; ++n) {
-        if (n + k_distance < count) prefetch_record(records + n + k_distance);
+        if (records[n].segment) [[unlikely]] {
+            n = resolve_segment_run<D, DepthWrite>(records, n, count, tile, buffers, listed + (id - first), id) - 1;
+            continue;
+        }
+        if (n + k_record_distance < count) prefetch_record(records + n + k_record_distance);
         const TriangleSetup& t = records[n];
         const bool any = resolve_one<D, DepthWrite>(t, tile, buffers, id);
         listed[id - first] = &t;
