@@ -85,7 +85,9 @@ public:
         const int max_x = r.x1 - 1, max_y = r.y1 - 1;
         ++set_up_;
         if (grid.one_tile(r.x0, max_x, r.y0, max_y)) {
-            write_rect(r, c, ref, slot(grid, grid.tile_of_pixel(r.x0, r.y0), primitive));
+            write_rect(r, c, ref, scratch_[0]);
+            stream_copy(scratch_[0], slot<false>(grid, grid.tile_of_pixel(r.x0, r.y0), primitive));
+            streamed_ = true;
             return;
         }
         write_rect(r, c, ref, scratch_[0]);
@@ -180,6 +182,16 @@ private:
             _mm_stream_si128(to + g, _mm_load_si128(reinterpret_cast<const __m128i*>(lanes.unit[g][i].word)));
 #else
         write_record(lanes, i, t);
+#endif
+    }
+    // Record `from` copied to `to` by streaming stores.
+    static void stream_copy(const TriangleSetup& from, TriangleSetup& to) {
+#if defined(__SSE2__)
+        auto* out = reinterpret_cast<__m128i*>(&to);
+        const auto* in = reinterpret_cast<const __m128i*>(&from);
+        for (std::size_t g = 0; g < sizeof(TriangleSetup) / 16; ++g) _mm_stream_si128(out + g, _mm_load_si128(in + g));
+#else
+        to = from;
 #endif
     }
 
