@@ -304,15 +304,19 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
 
 // The same for bins of line segments' records (raster/segment.hpp): thin and wide, short and
 // crossing the tile, and long ones whose edges do not fit 32 bits over their bounds (small_edges
-// false); the kernel reads a small segment's four edges from the record in one step per strip.
+// false); the kernel reads a small segment's four edges from the record in one step per strip. Some
+// triangles among them (a line draw's quads left as two triangles), which end the kernel's run of
+// segments (resolve_segment_run) and start another.
 TEST(Isa, SegmentBinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     IsaGuard guard;
     const int width = 200, height = 130;
     const PixelRect scissor{0, 0, width, height};
     const double lengths[] = {0.7, 2, 5, 12, 40, 600, 5000};
     const double half_widths[] = {0.5, 0.5, 0.5, 1, 2.5, 6};
+    const FrontEndParams params = params_for(width, height);
+    const std::uint32_t refs[3] = {0, 1, 2};
     auto simd = std::make_unique<DepthPassState>(), spec = std::make_unique<DepthPassState>();
-    int tiles = 0, listed = 0, small = 0, large = 0;
+    int tiles = 0, listed = 0, small = 0, large = 0, triangles = 0;
     for (const std::string& isa : available_isas()) {
         std::mt19937 rng(20261127);
         for (int n = 0; n < 60; ++n) {
@@ -338,6 +342,15 @@ TEST(Isa, SegmentBinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
                 (t.small_edges ? small : large) += isa == available_isas().front();
                 bin.push_back(t);
                 if (coin(rng) == 0) bin.push_back(t);  // equal depths meet
+                if (rng() % 8 == 0) {  // a quad left as two triangles: the kernel's run of segments ends
+                    ScreenVertex tv[3];
+                    random_triangle(rng, c.near_x(rng), c.near_y(rng), 3, tv);
+                    for (ScreenVertex& s : tv) s.z = unit(rng);
+                    TriangleSetup tri{};
+                    if (setup_triangle(tv, refs, params, tri) != SetupResult::ok) continue;
+                    bin.push_back(tri);
+                    triangles += isa == available_isas().front();
+                }
             }
             ASSERT_NO_FATAL_FAILURE(expect_bin_as_specified(isa, bin, 60, c.tile, width, height, c.test, c.write, *simd, *spec, listed))
                 << "tile " << n;
@@ -347,6 +360,7 @@ TEST(Isa, SegmentBinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     EXPECT_GT(listed, 1000);
     EXPECT_GT(small, 1000);
     EXPECT_GT(large, 100);
+    EXPECT_GT(triangles, 200);
     EXPECT_EQ(tiles, 60 * static_cast<int>(available_isas().size()));
 }
 
