@@ -299,17 +299,31 @@ private:
 
     // Out of line: few triangles span tiles, and the batch loop stays small without this one.
     [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, TileSpan span, std::uint32_t primitive) {
+        if (t.segment) return bin_segment_across_tiles(t, span, primitive);
         const int s = p_.tile_size;
         const BinGrid grid = grid_of();
         for (int ty = span.y0; ty <= span.y1; ++ty)
             for (int tx = span.x0; tx <= span.x1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
-                if (t.segment ? segment_rejects(t, r)
-                              : edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r))
-                    continue;
+                if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
                 grid.bin(grid.tile(tx, ty)).push_back(t);
                 if constexpr (Primitives) grid.primitives[grid.tile(tx, ty)].push_back(primitive);
             }
+    }
+    // A segment's record likewise, stored by streaming stores as add_segments's are. Bounds that
+    // reach two tiles (most of the segments that cross tiles) are not tested: they are the pixel
+    // centres within the quad's extent, so the quad reaches a column (or row) of centres of each
+    // tile, and a tile it missed would cost only its depth pass a record that covers nothing there.
+    void bin_segment_across_tiles(const TriangleSetup& t, TileSpan span, std::uint32_t primitive) {
+        const int s = p_.tile_size;
+        const BinGrid grid = grid_of();
+        const bool test = (span.x1 - span.x0) + (span.y1 - span.y0) > 1;
+        for (int ty = span.y0; ty <= span.y1; ++ty)
+            for (int tx = span.x0; tx <= span.x1; ++tx) {
+                if (test && segment_rejects(t, PixelRect{tx * s, ty * s, tx * s + s, ty * s + s})) continue;
+                stream_copy(t, slot<false>(grid, grid.tile(tx, ty), primitive));
+            }
+        streamed_ = true;
     }
 
     const FrontEndParams& p_;
