@@ -187,22 +187,39 @@ private:
 // line list's, mostly): both ends valid and inside every plane, apart, and joined to neither
 // neighbour, which cannot join them unless the one before ends where s starts or the one after starts
 // where s ends. Returns the first segment that is not one, for assemble_lines's general path. Its own
-// loop: in the general one, its state spilled to the stack cost more than the work.
-template <bool Primitives>
-[[gnu::noinline]] std::size_t queue_lone_segments(const ClipVertices& vertices, const IndexOf& index_of, std::size_t s,
-                                std::size_t end, std::size_t segment_count, SegmentQueue<Primitives>& queue) {
+// loop: in the general one, its state spilled to the stack cost more than the work. Each index is
+// read once: the next segment's first is read with this one (whether they join), and a queued
+// segment is joined to neither neighbour, so the next one is not joined before it.
+template <bool Primitives, class Index>
+std::size_t queue_lone_segments_by(const ClipVertices& vertices, const Index& index, std::size_t s, std::size_t end,
+                                   std::size_t segment_count, SegmentQueue<Primitives>& queue) {
     const std::size_t vertex_count = vertices.pos.size();
     const std::uint8_t* outcode = vertices.outcode.data();
     const ScreenVertex* screen = vertices.screen.data();
-    for (; s < end; ++s) {
-        const std::uint32_t i0 = index_of(2 * s), i1 = index_of(2 * s + 1);
+    if (s >= end) return s;
+    std::uint32_t i0 = index(2 * s), i1 = index(2 * s + 1);
+    if (s > 0 && index(2 * s - 1) == i0) return s;
+    for (;;) {
+        const bool has_next = s + 1 < segment_count;
+        const std::uint32_t next0 = has_next ? index(2 * s + 2) : 0;
         if (i0 >= vertex_count || i1 >= vertex_count || (outcode[i0] | outcode[i1]) != 0) break;
-        if ((s > 0 && index_of(2 * s - 1) == i0) || (s + 1 < segment_count && index_of(2 * s + 2) == i1)) break;
+        if (has_next && next0 == i1) break;
         const ScreenVertex &a = screen[i0], &b = screen[i1];
         if (a.x == b.x && a.y == b.y) break;
         queue.add_square(a, b, i0, i1, static_cast<std::uint32_t>(s));
+        if (++s == end) break;
+        i0 = next0, i1 = index(2 * s + 1);
     }
     return s;
+}
+// With the draw's indices or without (IndexOf's two cases): the index array's pointer a local that the
+// queue's stores cannot change, and no test for its absence per index.
+template <bool Primitives>
+[[gnu::noinline]] std::size_t queue_lone_segments(const ClipVertices& vertices, const IndexOf& index_of, std::size_t s,
+                                std::size_t end, std::size_t segment_count, SegmentQueue<Primitives>& queue) {
+    if (index_of.indices.empty()) return queue_lone_segments_by(vertices, IndexOf{}, s, end, segment_count, queue);
+    const std::uint32_t* indices = index_of.indices.data();
+    return queue_lone_segments_by(vertices, [indices](std::size_t k) { return indices[k]; }, s, end, segment_count, queue);
 }
 
 // Pixels [x0, x1) x [y0, y1) (inside the scissor) with point c's depth and varyings.
