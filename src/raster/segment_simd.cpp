@@ -71,21 +71,27 @@ bool SetUpSegmentGroup(const SegmentBatch& batch, const PixelRect& scissor, Setu
     const V scale_256 = hn::Set(d, k_subpixel_one);
     const V square_x = round_half_away(hn::Mul(hn::Mul(hn::Div(hn::Neg(dy), length), h), scale_256));
     const V square_y = round_half_away(hn::Mul(hn::Mul(hn::Div(dx, length), h), scale_256));
-    const V ox0 = hn::IfThenElse(square, square_x, load_offset(batch.ox0 + i0));
-    const V oy0 = hn::IfThenElse(square, square_y, load_offset(batch.oy0 + i0));
-    const V ox1 = hn::IfThenElse(square, square_x, load_offset(batch.ox1 + i0));
-    const V oy1 = hn::IfThenElse(square, square_y, load_offset(batch.oy1 + i0));
+    const M valid = hn::FirstN(d, static_cast<std::size_t>(batch.count - i0));
+    // Every segment with square ends (a line list's): parallelograms, whose offsets are the square
+    // ones and whose four turns are one number (the first decides, as in segment_record).
+    const bool parallelograms = hn::AllTrue(d, hn::Or(square, hn::Not(valid)));
+    V ox0 = square_x, oy0 = square_y, ox1 = square_x, oy1 = square_y;
+    if (!parallelograms) {
+        ox0 = hn::IfThenElse(square, square_x, load_offset(batch.ox0 + i0));
+        oy0 = hn::IfThenElse(square, square_y, load_offset(batch.oy0 + i0));
+        ox1 = hn::IfThenElse(square, square_x, load_offset(batch.ox1 + i0));
+        oy1 = hn::IfThenElse(square, square_y, load_offset(batch.oy1 + i0));
+    }
     const V ends = hn::Max(hn::Max(hn::Abs(a.x), hn::Abs(a.y)), hn::Max(hn::Abs(b.x), hn::Abs(b.y)));
     const V offsets = hn::Max(hn::Max(hn::Abs(ox0), hn::Abs(oy0)), hn::Max(hn::Abs(ox1), hn::Abs(oy1)));
     if (!hn::AllTrue(d, hn::And(hn::Lt(ends, hn::Set(d, 8388608.0)), hn::Lt(offsets, hn::Set(d, 4194304.0)))))
         return false;
-    const M valid = hn::FirstN(d, static_cast<std::size_t>(batch.count - i0));
 
     const V cx[4] = {hn::Add(a.x, ox0), hn::Sub(a.x, ox0), hn::Sub(b.x, ox1), hn::Add(b.x, ox1)};
     const V cy[4] = {hn::Add(a.y, oy0), hn::Sub(a.y, oy0), hn::Sub(b.y, oy1), hn::Add(b.y, oy1)};
     const V zero = hn::Zero(d);
     M positive = valid, negative = valid;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < (parallelograms ? 1 : 4); ++k) {
         const int q = (k + 1) % 4, r = (k + 2) % 4;
         const V turn = hn::Sub(hn::Mul(hn::Sub(cx[q], cx[k]), hn::Sub(cy[r], cy[q])),
                                hn::Mul(hn::Sub(cy[q], cy[k]), hn::Sub(cx[r], cx[q])));
