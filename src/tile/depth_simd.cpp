@@ -15,6 +15,7 @@
 #include <hwy/highway.h>
 
 #include <algorithm>
+#include <bit>
 #include <cstddef>
 #include <cstring>
 #include <utility>
@@ -441,6 +442,224 @@ bool ResolveTriangleFor(const DepthJob& job) {
     return resolve_one<D, DepthWrite>(*job.setup, job.tile, *job.buffers, job.id);
 }
 
+// Tiny triangles: records whose rectangles in the tile are at most k_tiny x k_tiny pixels (triangles
+// with small_edges, most of a dense mesh's), a group of 8 at a time (one per lane), read as two 8x8
+// transposes of their first cache lines. Each lane evaluates its triangle's three edges at the
+// k_tiny^2 pixels from its rectangle's corner (the same 32-bit edge integers as a strip's) and keeps
+// the pixels covered as bits; what stays per triangle is its depth test at those pixels, in
+// submission order, one aligned 8-lane vector per row as a strip does it (resolve_tiny), with depth as
+// depth_at. That takes the set-up of a strip and its edges off each triangle of a few pixels (about
+// 270 of the ~290 instructions of a 1M-sphere record were set-up and rows). The group is prepared
+// before any of its triangles is tested (it reads only the records), so the depth tests keep the
+// bin's order. The others (larger, segments, edges past 32 bits, a rectangle across two runs of 8
+// columns) take the general path.
+constexpr int k_tiny = 4;
+constexpr int k_tiny_pixels = k_tiny * k_tiny;
+constexpr std::uint32_t k_tiny_lane = 1u << k_tiny_pixels;  // the lane's record takes the tiny path
+using TinyTag = hn::CappedTag<std::int32_t, 8>;
+struct TinyGroup {
+    static constexpr int k_lanes = static_cast<int>(hn::MaxLanes(TinyTag()));
+    // Per lane: bit p set when pixel p = 4 row + column of its rectangle is covered, and k_tiny_lane
+    // when the lane is tiny (0 otherwise); the rectangle's first pixel as an index into the tile's
+    // arrays and as (x, y); on 4-lane targets, depth at pixel p.
+    alignas(64) std::uint32_t covered[k_lanes];
+    alignas(64) std::int32_t corner[k_lanes];
+    alignas(64) std::int32_t x[k_lanes], y[k_lanes];
+    alignas(64) float z[k_tiny_pixels][k_lanes];
+};
+
+// Whether this target tests a tiny triangle's rows in 8-lane vectors (AVX2 and AVX-512), as the strips
+// do, or one pixel at a time from depths the group computed (4-lane targets: SSE4, scalar).
+constexpr bool k_tiny_rows = hn::MaxLanes(hn::CappedTag<float, 8>()) == 8;
+
+#if HWY_TARGET != HWY_SCALAR
+// r[i] lane j into out[j] lane i: eight 8-lane vectors of 32-bit words transposed (interleaving words,
+// then pairs, then the 128-bit halves).
+template <class DI>
+HWY_INLINE void transpose_8x8(DI di, const hn::Vec<DI> (&r)[8], hn::Vec<DI>* out) {
+    const hn::Repartition<std::int64_t, DI> dw;
+    hn::Vec<decltype(dw)> t[8];
+    for (int i = 0; i < 8; i += 2) {
+        t[i] = hn::BitCast(dw, hn::InterleaveLower(di, r[i], r[i + 1]));
+        t[i + 1] = hn::BitCast(dw, hn::InterleaveUpper(di, r[i], r[i + 1]));
+    }
+    hn::Vec<DI> u[8];  // u[4 q + k]: word k (and k + 4, upper half) of records 4q .. 4q + 3
+    for (int q = 0; q < 2; ++q) {
+        u[4 * q + 0] = hn::BitCast(di, hn::InterleaveLower(dw, t[4 * q], t[4 * q + 2]));
+        u[4 * q + 1] = hn::BitCast(di, hn::InterleaveUpper(dw, t[4 * q], t[4 * q + 2]));
+        u[4 * q + 2] = hn::BitCast(di, hn::InterleaveLower(dw, t[4 * q + 1], t[4 * q + 3]));
+        u[4 * q + 3] = hn::BitCast(di, hn::InterleaveUpper(dw, t[4 * q + 1], t[4 * q + 3]));
+    }
+    for (int k = 0; k < 4; ++k) {
+        out[k] = hn::ConcatLowerLower(di, u[4 + k], u[k]);
+        out[k + 4] = hn::ConcatUpperUpper(di, u[4 + k], u[k]);
+    }
+}
+#endif
+
+// Records [n, n + lanes) of the bin, of which `valid` are there (lanes past them repeat the last).
+HWY_INLINE void prepare_tiny_group(const TriangleSetup* records, std::size_t valid, PixelRect tile, TinyGroup& g) {
+    const TinyTag di;
+    const hn::RebindToUnsigned<TinyTag> du;
+    const hn::Rebind<float, TinyTag> df;
+    using VI = hn::Vec<TinyTag>;
+    static_assert(sizeof(TriangleSetup) % sizeof(std::int32_t) == 0 && offsetof(TriangleSetup, e0) % 8 == 0);
+    constexpr int k_words = sizeof(TriangleSetup) / sizeof(std::int32_t);
+    const auto* words = reinterpret_cast<const std::int32_t*>(records);
+    const VI index = hn::Mul(hn::Min(hn::Iota(di, 0), hn::Set(di, static_cast<std::int32_t>(valid) - 1)),
+                             hn::Set(di, k_words));
+    // The record's first 16 words (edges and bounds) in lanes: with 8 lanes, two 8x8 transposes of
+    // whole rows (the records' first cache lines read as ordinary loads); else gathered.
+    static_assert(offsetof(TriangleSetup, max_y) < 16 * sizeof(std::int32_t));
+    VI first_words[16];
+#if HWY_TARGET != HWY_SCALAR
+    if constexpr (k_tiny_rows) {
+        for (int half = 0; half < 2; ++half) {
+            VI r[8];
+            for (int i = 0; i < 8; ++i)
+                r[i] = hn::Load(di, words + std::min<std::size_t>(i, valid - 1) * k_words + 8 * half);
+            transpose_8x8(di, r, first_words + 8 * half);
+        }
+    } else
+#endif
+    {
+        for (int w = 0; w < 16; ++w) first_words[w] = hn::GatherIndex(di, words + w, index);
+    }
+    const auto field = [&](std::size_t offset) {
+        return offset < 16 * sizeof(std::int32_t) ? first_words[offset / 4] : hn::GatherIndex(di, words + offset / 4, index);
+    };
+    const auto float_field = [&](std::size_t offset) { return hn::BitCast(df, field(offset)); };
+    const VI min_x = field(offsetof(TriangleSetup, min_x)), min_y = field(offsetof(TriangleSetup, min_y));
+    const VI x0 = hn::Max(min_x, hn::Set(di, tile.x0)), y0 = hn::Max(min_y, hn::Set(di, tile.y0));
+    const VI w = hn::Sub(hn::Min(field(offsetof(TriangleSetup, max_x)), hn::Set(di, tile.x1 - 1)), x0);
+    const VI h = hn::Sub(hn::Min(field(offsetof(TriangleSetup, max_y)), hn::Set(di, tile.y1 - 1)), y0);
+    // Rectangles within k_tiny on both sides (an empty one, w or h < 0, is not: its record takes the
+    // general path, which finds it empty). Whether the record is a triangle's with small_edges is
+    // asked per record (tiny_record), from its second cache line, which the depth test reads anyway.
+    const auto small = hn::BitCast(du, hn::Or(w, h));
+    auto tiny = hn::RebindMask(di, hn::Lt(small, hn::Set(du, k_tiny)));
+    // With rows in vectors, within one aligned run of 8 columns (the tile's arrays' aligned vectors,
+    // which a later load is forwarded whole from); the others take the general path.
+    if constexpr (k_tiny_rows)
+        tiny = hn::And(tiny, hn::Lt(hn::Add(hn::And(hn::Sub(x0, hn::Set(di, tile.x0)), hn::Set(di, 7)), w), hn::Set(di, 8)));
+    if (hn::AllFalse(di, tiny)) {  // a group of larger triangles (small meshes): nothing more to do
+        hn::Store(hn::Zero(du), du, g.covered);
+        return;
+    }
+    // The rectangle's pixels: w + 1 columns in each of h + 1 rows of four bits.
+    const auto one = hn::Set(du, 1);
+    const auto columns = hn::Sub((one << hn::BitCast(du, hn::Add(w, hn::Set(di, 1)))), one);
+    const auto rows = hn::And(hn::Sub((one << hn::BitCast(du, hn::ShiftLeft<2>(hn::Add(h, hn::Set(di, 1))))), one),
+                              hn::Set(du, 0x1111u));
+    const auto in_rect = hn::Mul(columns, rows);
+    // Each edge at the rectangle's corner, from the record's first column and row (exact in 32 bits
+    // over the bounds, by small_edges; lanes that are not tiny compute what they may, and are not used).
+    const VI dx = hn::Sub(x0, min_x), dy = hn::Sub(y0, min_y);
+    hn::Vec<decltype(du)> e[3], a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+        a[k] = hn::BitCast(du, field(offsetof(TriangleSetup, a) + 4 * k));
+        b[k] = hn::BitCast(du, field(offsetof(TriangleSetup, b) + 4 * k));
+        e[k] = hn::Add(hn::BitCast(du, field(offsetof(TriangleSetup, e0) + 8 * k)),
+                       hn::Add(hn::Mul(a[k], hn::BitCast(du, dx)), hn::Mul(b[k], hn::BitCast(du, dy))));
+    }
+    // Pixel p is inside where no edge is negative: bit p.
+    auto inside = hn::Zero(du);
+    hn::Vec<decltype(du)> row[3] = {e[0], e[1], e[2]};
+    for (int r = 0; r < k_tiny; ++r) {
+        hn::Vec<decltype(du)> at[3] = {row[0], row[1], row[2]};
+        for (int c = 0; c < k_tiny; ++c) {
+            const VI outside = hn::BitCast(di, hn::Or(hn::Or(at[0], at[1]), at[2]));
+            inside = hn::Or(inside, hn::IfThenZeroElse(hn::RebindMask(du, hn::Lt(outside, hn::Zero(di))),
+                                                       hn::Set(du, 1u << (k_tiny * r + c))));
+            for (int k = 0; k < 3; ++k) at[k] = hn::Add(at[k], a[k]);
+        }
+        for (int k = 0; k < 3; ++k) row[k] = hn::Add(row[k], b[k]);
+    }
+    const auto covered = hn::IfThenElseZero(hn::RebindMask(du, tiny), hn::Or(hn::And(inside, in_rect), hn::Set(du, k_tiny_lane)));
+    hn::Store(covered, du, g.covered);
+    hn::Store(hn::Add(hn::Mul(hn::Sub(y0, hn::Set(di, tile.y0)), hn::Set(di, k_max_tile_size)), hn::Sub(x0, hn::Set(di, tile.x0))),
+              di, g.corner);
+    hn::Store(x0, di, g.x);
+    hn::Store(y0, di, g.y);
+    if constexpr (!k_tiny_rows) {
+        // Depth as depth_at: z0 + dzdx dx + dzdy dy, dx = (x + 0.5) - x0 and dy likewise, clamped.
+        const auto half = hn::Set(df, 0.5f);
+        const auto vx0 = float_field(offsetof(TriangleSetup, x0)), vy0 = float_field(offsetof(TriangleSetup, y0));
+        const auto z0 = float_field(offsetof(TriangleSetup, z0)), dzdx = float_field(offsetof(TriangleSetup, dzdx));
+        const auto dzdy = float_field(offsetof(TriangleSetup, dzdy));
+        hn::Vec<decltype(df)> z_x[k_tiny];
+        for (int c = 0; c < k_tiny; ++c)
+            z_x[c] = hn::Add(z0, hn::Mul(dzdx, hn::Sub(hn::Add(hn::ConvertTo(df, hn::Add(x0, hn::Set(di, c))), half), vx0)));
+        for (int r = 0; r < k_tiny; ++r) {
+            const auto z_y = hn::Mul(dzdy, hn::Sub(hn::Add(hn::ConvertTo(df, hn::Add(y0, hn::Set(di, r))), half), vy0));
+            for (int c = 0; c < k_tiny; ++c) hn::Store(clamp_depth(df, hn::Add(z_x[c], z_y)), df, g.z[r * k_tiny + c]);
+        }
+    }
+}
+
+// A triangle's record whose edges fit 32 bits over its bounds: small_edges and not segment, read as
+// one 16-bit word (bool is one byte, 0 or 1).
+HWY_INLINE bool tiny_record(const TriangleSetup& t) {
+    static_assert(offsetof(TriangleSetup, segment) == offsetof(TriangleSetup, small_edges) + 1 && sizeof(bool) == 1);
+    std::uint16_t flags;
+    std::memcpy(&flags, &t.small_edges, sizeof(flags));
+    return flags == (std::endian::native == std::endian::little ? 1 : 0x100);
+}
+
+// The depth test of tiny triangle `lane` of a group at the pixels it covers, as resolve_depth_reference.
+template <DepthTest D, bool DepthWrite>
+HWY_INLINE bool resolve_tiny(const TriangleSetup& t, const TinyGroup& g, int lane, TileBuffers& buffers,
+                             std::uint32_t id) {
+    const std::uint32_t covered = g.covered[lane];
+    if constexpr (k_tiny_rows) {
+        // Each row of the rectangle as the strips draw it: the aligned 8-lane vector of the tile's arrays
+        // that holds it, depth as depth_at, and the rows past the rectangle (up to four) loaded and stored
+        // back unchanged (past the tile, in the arrays' spare rows).
+        static_assert(k_tiny - 1 <= TileBuffers::k_rows - k_max_tile_size, "a tiny rectangle's rows are in the arrays");
+        const hn::CappedTag<float, 8> df;
+        const hn::RebindToUnsigned<decltype(df)> du;
+        const int shift = g.corner[lane] & 7;
+        float* depth = buffers.depth + (g.corner[lane] - shift);
+        std::uint32_t* owner = buffers.owner + (g.corner[lane] - shift);
+        const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(g.x[lane] - shift)), hn::Set(df, 0.5f)),
+                                hn::Set(df, t.x0));
+        const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
+        const auto dzdy = hn::Set(df, t.dzdy);
+        const auto owner_id = hn::Set(du, id);
+        const auto row = [&](int r) {
+            const float dy = (static_cast<float>(g.y[lane] + r) + 0.5f) - t.y0;
+            const auto z = clamp_depth(df, hn::Add(z_x, hn::Mul(dzdy, hn::Set(df, dy))));
+            const std::uint8_t bits[8] = {static_cast<std::uint8_t>(((covered >> (k_tiny * r)) & 0xf) << shift)};
+            const auto stored = hn::Load(df, depth + r * k_max_tile_size);
+            const auto pass = depth_test<D>(df, z, stored, hn::LoadMaskBits(df, bits));
+            if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth + r * k_max_tile_size);
+            hn::BlendedStore(owner_id, hn::RebindMask(du, pass), du, owner + r * k_max_tile_size);
+            return pass;
+        };
+        auto passed = hn::Or(row(0), row(1));
+        if (covered & 0xff00u) passed = hn::Or(passed, hn::Or(row(2), row(3)));
+        return !hn::AllFalse(df, passed);
+    } else {
+        (void)t;
+        float* depth = buffers.depth + g.corner[lane];
+        std::uint32_t* owner = buffers.owner + g.corner[lane];
+        std::uint32_t any = 0;
+        for (std::uint32_t m = covered & (k_tiny_lane - 1); m != 0; m &= m - 1) {
+            const int p = std::countr_zero(m);
+            const int at = (p / k_tiny) * k_max_tile_size + p % k_tiny;
+            const float z = g.z[p][lane], stored = depth[at];
+            // Chosen by masks, not branches: whether a pixel passes is as good as random.
+            const std::uint32_t keep = 0u - static_cast<std::uint32_t>(depth_passes<D>(z, stored));
+            if constexpr (DepthWrite)
+                depth[at] = std::bit_cast<float>((std::bit_cast<std::uint32_t>(z) & keep) |
+                                                 (std::bit_cast<std::uint32_t>(stored) & ~keep));
+            owner[at] = (id & keep) | (owner[at] & ~keep);
+            any |= keep;
+        }
+        return any != 0;
+    }
+}
+
 // A tile's bin in order: each triangle that passes somewhere is appended to buffers.triangles, and its
 // index there is its owner id. The records are read front to back, but each bin is a new stream the
 // hardware prefetcher has yet to learn: they are fetched a few triangles ahead.
@@ -466,22 +685,34 @@ HWY_NOINLINE std::size_t resolve_segment_run(const TriangleSetup* records, std::
     return n;
 }
 
+// Triangles' records are read a group of TinyGroup::k_lanes at a time (prepare_tiny_group), fetched
+// further ahead; a run of segments goes to resolve_segment_run.
 template <DepthTest D, bool DepthWrite>
 void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect tile, TileBuffers& buffers) {
+    constexpr std::size_t k_group_distance = 32;
+    constexpr std::size_t k_lanes = TinyGroup::k_lanes;
     const std::size_t first = buffers.triangles.size();
     buffers.triangles.resize(first + count);
     const TriangleSetup** listed = buffers.triangles.data() + first;
     std::uint32_t id = static_cast<std::uint32_t>(first);
-    for (std::size_t n = 0; n < count; ++n) {
-        if (records[n].segment) [[unlikely]] {
-            n = resolve_segment_run<D, DepthWrite>(records, n, count, tile, buffers, listed + (id - first), id) - 1;
+    TinyGroup group;
+    for (std::size_t n0 = 0; n0 < count;) {
+        if (records[n0].segment) [[unlikely]] {
+            n0 = resolve_segment_run<D, DepthWrite>(records, n0, count, tile, buffers, listed + (id - first), id);
             continue;
         }
-        if (n + k_record_distance < count) prefetch_record(records + n + k_record_distance);
-        const TriangleSetup& t = records[n];
-        const bool any = resolve_one<D, DepthWrite>(t, tile, buffers, id);
-        listed[id - first] = &t;
-        id += any;
+        const std::size_t valid = std::min(k_lanes, count - n0);
+        prepare_tiny_group(records + n0, valid, tile, group);
+        for (int lane = 0; lane < static_cast<int>(valid); ++lane) {
+            const std::size_t n = n0 + static_cast<std::size_t>(lane);
+            if (n + k_group_distance < count) prefetch_record(records + n + k_group_distance);
+            const TriangleSetup& t = records[n];
+            const bool any = group.covered[lane] && tiny_record(t) ? resolve_tiny<D, DepthWrite>(t, group, lane, buffers, id)
+                                                                   : resolve_one<D, DepthWrite>(t, tile, buffers, id);
+            listed[id - first] = &t;
+            id += any;
+        }
+        n0 += valid;
     }
     buffers.triangles.resize(id);
 }
