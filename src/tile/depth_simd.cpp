@@ -447,15 +447,15 @@ bool ResolveTriangleFor(const DepthJob& job) {
 // transposes of their first cache lines. Each lane evaluates its triangle's three edges at the
 // k_tiny^2 pixels from its rectangle's corner (the same 32-bit edge integers as a strip's) and keeps
 // the pixels covered as bits; what stays per triangle is its depth test at those pixels, in
-// submission order, one aligned 8-lane vector per row as a strip does it (resolve_tiny), with depth as
+// submission order, one 8-lane vector per row as a strip does it (resolve_tiny), with depth as
 // depth_at. That takes the set-up of a strip and its edges off each triangle of a few pixels (about
 // 270 of the ~290 instructions of a 1M-sphere record were set-up and rows). The group is prepared
 // before any of its triangles is tested (it reads only the records), so the depth tests keep the
-// bin's order. The others (larger, segments, edges past 32 bits, a rectangle across two runs of 8
-// columns) take the general path.
+// bin's order. The others (larger, segments, edges past 32 bits) take the general path.
 constexpr int k_tiny = 4;
 constexpr int k_tiny_pixels = k_tiny * k_tiny;
-constexpr std::uint32_t k_tiny_lane = 1u << k_tiny_pixels;  // the lane's record takes the tiny path
+constexpr std::uint32_t k_tiny_lane = 1u << k_tiny_pixels;         // the lane's record takes the tiny path
+constexpr std::uint32_t k_tiny_across = 1u << (k_tiny_pixels + 1);  // across two aligned runs of 8 columns
 using TinyTag = hn::CappedTag<std::int32_t, 8>;
 struct TinyGroup {
     static constexpr int k_lanes = static_cast<int>(hn::MaxLanes(TinyTag()));
@@ -538,10 +538,10 @@ HWY_INLINE void prepare_tiny_group(const TriangleSetup* records, std::size_t val
     // asked per record (tiny_record), from its second cache line, which the depth test reads anyway.
     const auto small = hn::BitCast(du, hn::Or(w, h));
     auto tiny = hn::RebindMask(di, hn::Lt(small, hn::Set(du, k_tiny)));
-    // With rows in vectors, within one aligned run of 8 columns (the tile's arrays' aligned vectors,
-    // which a later load is forwarded whole from); the others take the general path.
-    if constexpr (k_tiny_rows)
-        tiny = hn::And(tiny, hn::Lt(hn::Add(hn::And(hn::Sub(x0, hn::Set(di, tile.x0)), hn::Set(di, 7)), w), hn::Set(di, 8)));
+    // With rows in vectors: whether the rectangle is across two aligned runs of 8 columns (its rows are
+    // then unaligned vectors from its first column).
+    const auto across = hn::RebindMask(du, hn::Gt(hn::Add(hn::And(hn::Sub(x0, hn::Set(di, tile.x0)), hn::Set(di, 7)), w),
+                                                  hn::Set(di, 7)));
     if (hn::AllFalse(di, tiny)) {  // a group of larger triangles (small meshes): nothing more to do
         hn::Store(hn::Zero(du), du, g.covered);
         return;
@@ -575,7 +575,8 @@ HWY_INLINE void prepare_tiny_group(const TriangleSetup* records, std::size_t val
         }
         for (int k = 0; k < 3; ++k) row[k] = hn::Add(row[k], b[k]);
     }
-    const auto covered = hn::IfThenElseZero(hn::RebindMask(du, tiny), hn::Or(hn::And(inside, in_rect), hn::Set(du, k_tiny_lane)));
+    const auto flags = hn::IfThenElse(across, hn::Set(du, k_tiny_lane | k_tiny_across), hn::Set(du, k_tiny_lane));
+    const auto covered = hn::IfThenElseZero(hn::RebindMask(du, tiny), hn::Or(hn::And(inside, in_rect), flags));
     hn::Store(covered, du, g.covered);
     hn::Store(hn::Add(hn::Mul(hn::Sub(y0, hn::Set(di, tile.y0)), hn::Set(di, k_max_tile_size)), hn::Sub(x0, hn::Set(di, tile.x0))),
               di, g.corner);
@@ -606,39 +607,51 @@ HWY_INLINE bool tiny_record(const TriangleSetup& t) {
     return flags == (std::endian::native == std::endian::little ? 1 : 0x100);
 }
 
+// A tiny triangle's rows as the strips draw them: the 8-lane vector of the tile's arrays that holds
+// each (aligned, or from its first column when it is across two aligned runs, the vector then kept
+// inside the arrays' row), its pixels `shift` lanes in, depth as depth_at, and the rows past the
+// rectangle (up to four) loaded and stored back unchanged (past the tile, in the arrays' spare rows).
+template <DepthTest D, bool DepthWrite, bool Aligned>
+HWY_INLINE bool resolve_tiny_rows(const TriangleSetup& t, const TinyGroup& g, int lane, TileBuffers& buffers,
+                                  std::uint32_t id, int shift) {
+    static_assert(k_tiny - 1 <= TileBuffers::k_rows - k_max_tile_size, "a tiny rectangle's rows are in the arrays");
+    const hn::CappedTag<float, 8> df;
+    const hn::RebindToUnsigned<decltype(df)> du;
+    const std::uint32_t covered = g.covered[lane];
+    float* depth = buffers.depth + (g.corner[lane] - shift);
+    std::uint32_t* owner = buffers.owner + (g.corner[lane] - shift);
+    const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(g.x[lane] - shift)), hn::Set(df, 0.5f)),
+                            hn::Set(df, t.x0));
+    const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
+    const auto dzdy = hn::Set(df, t.dzdy);
+    const auto owner_id = hn::Set(du, id);
+    const auto row = [&](int r) {
+        const float dy = (static_cast<float>(g.y[lane] + r) + 0.5f) - t.y0;
+        const auto z = clamp_depth(df, hn::Add(z_x, hn::Mul(dzdy, hn::Set(df, dy))));
+        const std::uint8_t bits[8] = {static_cast<std::uint8_t>(((covered >> (k_tiny * r)) & 0xf) << shift)};
+        const auto stored = load_row<Aligned>(df, depth + r * k_max_tile_size);
+        const auto pass = depth_test<D>(df, z, stored, hn::LoadMaskBits(df, bits));
+        if constexpr (DepthWrite) store_row<Aligned>(hn::IfThenElse(pass, z, stored), df, depth + r * k_max_tile_size);
+        hn::BlendedStore(owner_id, hn::RebindMask(du, pass), du, owner + r * k_max_tile_size);
+        return pass;
+    };
+    auto passed = hn::Or(row(0), row(1));
+    if (covered & 0xff00u) passed = hn::Or(passed, hn::Or(row(2), row(3)));
+    return !hn::AllFalse(df, passed);
+}
+
 // The depth test of tiny triangle `lane` of a group at the pixels it covers, as resolve_depth_reference.
 template <DepthTest D, bool DepthWrite>
 HWY_INLINE bool resolve_tiny(const TriangleSetup& t, const TinyGroup& g, int lane, TileBuffers& buffers,
                              std::uint32_t id) {
     const std::uint32_t covered = g.covered[lane];
     if constexpr (k_tiny_rows) {
-        // Each row of the rectangle as the strips draw it: the aligned 8-lane vector of the tile's arrays
-        // that holds it, depth as depth_at, and the rows past the rectangle (up to four) loaded and stored
-        // back unchanged (past the tile, in the arrays' spare rows).
-        static_assert(k_tiny - 1 <= TileBuffers::k_rows - k_max_tile_size, "a tiny rectangle's rows are in the arrays");
-        const hn::CappedTag<float, 8> df;
-        const hn::RebindToUnsigned<decltype(df)> du;
-        const int shift = g.corner[lane] & 7;
-        float* depth = buffers.depth + (g.corner[lane] - shift);
-        std::uint32_t* owner = buffers.owner + (g.corner[lane] - shift);
-        const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(g.x[lane] - shift)), hn::Set(df, 0.5f)),
-                                hn::Set(df, t.x0));
-        const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
-        const auto dzdy = hn::Set(df, t.dzdy);
-        const auto owner_id = hn::Set(du, id);
-        const auto row = [&](int r) {
-            const float dy = (static_cast<float>(g.y[lane] + r) + 0.5f) - t.y0;
-            const auto z = clamp_depth(df, hn::Add(z_x, hn::Mul(dzdy, hn::Set(df, dy))));
-            const std::uint8_t bits[8] = {static_cast<std::uint8_t>(((covered >> (k_tiny * r)) & 0xf) << shift)};
-            const auto stored = hn::Load(df, depth + r * k_max_tile_size);
-            const auto pass = depth_test<D>(df, z, stored, hn::LoadMaskBits(df, bits));
-            if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth + r * k_max_tile_size);
-            hn::BlendedStore(owner_id, hn::RebindMask(du, pass), du, owner + r * k_max_tile_size);
-            return pass;
-        };
-        auto passed = hn::Or(row(0), row(1));
-        if (covered & 0xff00u) passed = hn::Or(passed, hn::Or(row(2), row(3)));
-        return !hn::AllFalse(df, passed);
+        const int column = g.corner[lane] & (k_max_tile_size - 1);
+        if (covered & k_tiny_across) [[unlikely]] {
+            const int start = std::min(column, k_max_tile_size - 8);
+            return resolve_tiny_rows<D, DepthWrite, false>(t, g, lane, buffers, id, column - start);
+        }
+        return resolve_tiny_rows<D, DepthWrite, true>(t, g, lane, buffers, id, column & 7);
     } else {
         (void)t;
         float* depth = buffers.depth + g.corner[lane];
