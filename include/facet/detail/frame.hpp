@@ -8,6 +8,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "facet/api.hpp"
@@ -36,16 +40,43 @@ struct ScreenVertex {
 // Outcode bit for a vertex with a NaN or infinite coordinate (the clip planes use bits 0-6).
 constexpr std::uint8_t k_outcode_invalid = 0x80;
 
+// An allocator whose resize() leaves new elements as the memory holds them, so that an array can be
+// sized ahead and each element written once, in place, by the stage that fills it. For trivial types
+// that is not even a member's default initialiser (Vec4's zeros): the storage is the object.
+template <class T>
+struct UninitialisedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitialisedAllocator<U>;
+    };
+    UninitialisedAllocator() = default;
+    template <class U>
+    UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+        if constexpr (!(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>)) ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+// A vector of the above: resize() writes nothing.
+template <class T>
+using UninitialisedVector = std::vector<T, UninitialisedAllocator<T>>;
+
 // Vertex stage output, structure of arrays: pos[i] and varyings[i * stride .. + stride).
 // The projection pass adds outcode[i] and, for vertices inside every clip plane, screen[i]:
 // each vertex is projected once, not once per triangle that uses it.
 struct ClipVertices {
-    std::vector<Vec4> pos;
-    std::vector<float> varyings;
-    std::vector<std::uint8_t> outcode;
-    std::vector<ScreenVertex> screen;
+    UninitialisedVector<Vec4> pos;  // written by the stages, never cleared first
+    UninitialisedVector<float> varyings;
+    UninitialisedVector<std::uint8_t> outcode;
+    UninitialisedVector<ScreenVertex> screen;
     int stride = 0;
-    // n vertices of stride_ varyings. Arrays that grow are reserved first in 2 MiB pages where the
+    // n vertices of stride_ varyings, not written here (the vertex stage and the projection write
+    // every one). Arrays that grow are reserved first in 2 MiB pages where the
     // system grants them (src/exec/fresh_pages.hpp): the tiles read a line's or a point's varyings
     // from anywhere in the draw, one translation each in 4 KiB pages.
     void resize(std::size_t n, int stride_);

@@ -25,27 +25,6 @@ struct FrontEndParams {
     int tiles_x, tiles_y;
 };
 
-// An allocator whose resize() leaves new elements uninitialised (default-initialised), so a vector of
-// set-up records can be sized ahead and each record written once, in place, by setup.
-template <class T>
-struct UninitialisedAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = UninitialisedAllocator<U>;
-    };
-    UninitialisedAllocator() = default;
-    template <class U>
-    UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
-    template <class U>
-    void construct(U* p) noexcept {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
-
 // A tile's set-up records in submission order. A record is stored in the bin of every tile it
 // reaches (most triangles reach one), so a tile reads its triangles from one array, front to back,
 // where the hardware prefetcher follows, rather than by index from anywhere in the chunk.
