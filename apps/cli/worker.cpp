@@ -7,6 +7,7 @@
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #if defined(__linux__)
@@ -186,7 +187,8 @@ WorkerOutcome reap(Worker& w) {
     int status = 0;
     while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {}
     close_quietly(w.fd);
-    w.fd = -1;
+    close_quietly(w.pid_fd);
+    w.fd = w.pid_fd = -1;
     parse_report(w.report, o);
     if (WIFSIGNALED(status)) {
         o.end = WorkerOutcome::End::signalled;
@@ -202,7 +204,8 @@ WorkerOutcome kill_timed_out(Worker& w) {
     kill(w.pid, SIGKILL);
     while (waitpid(w.pid, nullptr, 0) < 0 && errno == EINTR) {}
     close_quietly(w.fd);
-    w.fd = -1;
+    close_quietly(w.pid_fd);
+    w.fd = w.pid_fd = -1;
     WorkerOutcome o;
     parse_report(w.report, o);
     o.end = WorkerOutcome::End::timed_out;
@@ -219,10 +222,12 @@ int poll_timeout_ms(const std::vector<Worker>& running) {
     return static_cast<int>(std::clamp<long long>(left + 1, 0, 60'000));
 }
 
-// Waits for `events` (or the end) on the workers' report pipes, until the nearest deadline.
-std::vector<pollfd> poll_workers(const std::vector<Worker>& running, short events) {
+// Waits for `events` (or the end) on the workers' report pipes, until the nearest deadline; with
+// `exits`, for a worker's exit on its pidfd where it has one.
+std::vector<pollfd> poll_workers(const std::vector<Worker>& running, short events, bool exits = false) {
     std::vector<pollfd> polled;
-    for (const Worker& w : running) polled.push_back({w.fd, events, 0});
+    for (const Worker& w : running)
+        polled.push_back(exits && w.pid_fd >= 0 ? pollfd{w.pid_fd, POLLIN, 0} : pollfd{w.fd, events, 0});
     if (poll(polled.data(), polled.size(), poll_timeout_ms(running)) < 0 && errno != EINTR) {
         std::fprintf(stderr, "facet: poll failed: %s\n", std::strerror(errno));
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -286,7 +291,7 @@ std::optional<Worker> fork_worker(const Child& child, bool serving, const std::v
     if (pid == 0) {
         close(fds[0]);
         close_quietly(jobs[0]);
-        for (const Worker& other : others) close_quietly(other.fd), close_quietly(other.job_fd);
+        for (const Worker& other : others) close_quietly(other.fd), close_quietly(other.job_fd), close_quietly(other.pid_fd);
         child(fds[1], jobs[1]);
     }
     close(fds[1]);
@@ -308,7 +313,12 @@ std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& lim
                                    WorkerOutcome& outcome) {
     const pid_t parent = getpid();
     std::optional<Worker> w = fork_worker([&](int fd, int) { run_worker(job, limits, parent, fd); }, false, others, outcome);
-    if (w) w->deadline = deadline_of(limits);
+    if (w) {
+        w->deadline = deadline_of(limits);
+#if defined(SYS_pidfd_open)
+        w->pid_fd = static_cast<int>(syscall(SYS_pidfd_open, w->pid, 0));  // -1 before Linux 5.3: the pipe then
+#endif
+    }
     return w;
 }
 
@@ -382,8 +392,9 @@ std::vector<JobEnd> wait_for_jobs(std::vector<Worker>& running) {
 std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worker>& running) {
     std::vector<std::pair<Worker, WorkerOutcome>> ended;
     while (ended.empty() && !running.empty()) {
-        // No POLLIN: the end of the pipe (POLLHUP, always reported) is what matters.
-        const std::vector<pollfd> polled = poll_workers(running, 0);
+        // The worker's exit (its pidfd), or else the end of its pipe (POLLHUP, always reported; no
+        // POLLIN): the report is read whole once the worker has closed it.
+        const std::vector<pollfd> polled = poll_workers(running, 0, true);
         const WorkerClock::time_point now = WorkerClock::now();
         std::vector<Worker> still;
         for (std::size_t i = 0; i < running.size(); ++i) {

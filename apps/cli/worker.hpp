@@ -82,6 +82,9 @@ using WorkerClock = std::chrono::steady_clock;
 struct Worker {
     pid_t pid = -1;
     int fd = -1;  // read end of the report pipe
+    // A one-job worker's pidfd (-1 where the system has none): readable once the worker has exited,
+    // so that its end is one wake-up (the pipe's close and then waitpid would be two).
+    int pid_fd = -1;
     std::optional<WorkerClock::time_point> deadline;
     std::string report;  // what it has written so far
     std::size_t tag = 0;  // the caller's: which job this is
