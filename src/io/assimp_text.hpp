@@ -45,12 +45,13 @@ namespace text_detail {
 
 inline bool digit(char d) { return static_cast<unsigned>(static_cast<unsigned char>(d) - '0') <= 9u; }
 
-// Of 8 bytes (a little-endian word), how many before the first that is not a decimal digit. A byte
-// is flagged unless its high nibble is 3 and that of the byte plus 6 too ('0'..'9'); a carry out
-// of a byte of 0xFA or more reaches only bytes after a flagged one.
+// Of 8 bytes (a little-endian word), how many before the first that is not a decimal digit. Less
+// '0', a digit is 0..9: its top bit clear, and clear too with 0x76 added; any other byte sets one
+// of them. A borrow or carry out of a byte reaches only the bytes after it, which come after a
+// flagged one.
 inline unsigned leading_digits(std::uint64_t word) {
-    constexpr std::uint64_t high = 0xF0F0F0F0F0F0F0F0ull, threes = 0x3030303030303030ull;
-    const std::uint64_t flagged = ((word & high) ^ threes) | (((word + 0x0606060606060606ull) & high) ^ threes);
+    const std::uint64_t less = word - 0x3030303030303030ull;
+    const std::uint64_t flagged = (less | (less + 0x7676767676767676ull)) & 0x8080808080808080ull;
     return flagged ? static_cast<unsigned>(std::countr_zero(flagged)) / 8 : 8;
 }
 
