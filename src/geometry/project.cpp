@@ -25,6 +25,7 @@ void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, cons
     const Vec4 pos = vertices.pos[i];
     if (!is_finite(pos)) {
         vertices.outcode[i] = k_outcode_invalid;
+        vertices.screen[i] = ScreenVertex{0, 0, 0.0f, 0.0f};  // as every vertex outside a plane: the array is not cleared
         return;
     }
     const auto code = static_cast<std::uint8_t>(outcode(pos, guard));

@@ -101,8 +101,9 @@ inline std::uint64_t digits_value(std::uint64_t word, unsigned n) {
     if (n - 1 >= 7 || ((whole >> (8 * n)) & 0xFF) != '.') return nullptr;
     std::memcpy(&fraction, p + n + 1, sizeof fraction);
     const unsigned m = text_detail::leading_digits(fraction);
-    const unsigned after = static_cast<unsigned>(fraction >> (8 * m)) & 0xFF;  // m < 8
-    if (m - 1 >= 7 || after == 'e' || after == 'E' || after == ',' || after == '.') return nullptr;
+    if (m - 1 >= 7) return nullptr;  // before the shift below: 8 digits would shift by 64
+    const unsigned after = static_cast<unsigned>(fraction >> (8 * m)) & 0xFF;
+    if (after == 'e' || after == 'E' || after == ',' || after == '.') return nullptr;
     // Below 2^63: as signed integers, the same values without the unsigned conversion's branch.
     float f = static_cast<float>(static_cast<std::int64_t>(text_detail::digits_value(whole, n)));
     f += static_cast<float>(static_cast<double>(static_cast<std::int64_t>(text_detail::digits_value(fraction, m))) *
