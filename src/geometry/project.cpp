@@ -23,13 +23,9 @@ ScreenVertex project(Vec4 p, const FrontEndParams& v) {
 
 void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p) {
     const Vec4 pos = vertices.pos[i];
-    if (!is_finite(pos)) {
-        vertices.outcode[i] = k_outcode_invalid;
-        vertices.screen[i] = ScreenVertex{0, 0, 0.0f, 0.0f};  // as every vertex outside a plane: the array is not cleared
-        return;
-    }
-    const auto code = static_cast<std::uint8_t>(outcode(pos, guard));
+    const auto code = is_finite(pos) ? static_cast<std::uint8_t>(outcode(pos, guard)) : k_outcode_invalid;
     vertices.outcode[i] = code;
+    // Zeros outside any plane or invalid, as the SIMD path stores: the array is not cleared first.
     vertices.screen[i] = code == 0 ? project(pos, p) : ScreenVertex{0, 0, 0.0f, 0.0f};
 }
 
