@@ -82,6 +82,11 @@ int main(int argc, char** argv) {
                            "(facet.distributed's tasks; temporaries of killed runs are then left to the caller)");
         thumbs->add_flag("--resume", collection.resume,
                          "Skip the objects the --log has done with the same options whose outputs exist; redo the rest");
+        thumbs->add_option("--worker-sharing", collection.worker_sharing,
+                           "folder: a worker process serves files of one folder only; batch: the next objects of the run "
+                           "whatever their folders, its sandbox opened to those folders (default: batch with --manifest, "
+                           "folder otherwise)")
+            ->check(CLI::IsMember({"folder", "batch"}));
         add_render_options(*thumbs, thumbs_options);
         thumbs->get_option("--size")->description("Thumbnail size N (square) or WxH");
         add_worker_options(*thumbs, thumbs_options, /*in_process_option=*/false);

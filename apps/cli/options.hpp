@@ -260,6 +260,9 @@ struct CollectionOptions {
     std::string log;       // the results log to append to
     bool resume = false;   // skip what the log says is done with the same options
     std::string manifest_lines;  // "OFFSET:LINE,...": only these manifest lines (facet.distributed's tasks)
+    // "folder": a worker serves objects of one folder; "batch": the next objects of the run, whatever
+    // their folders; empty: batch with --manifest, folder otherwise (docs/RELIABILITY.md).
+    std::string worker_sharing;
 };
 int run_thumbs(const std::vector<std::string>& inputs, const std::string& output_dir, const RenderOptions& options,
                const CollectionOptions& collection);

@@ -68,7 +68,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
     }
     load_writers_for(plan);
     if (job.confine) {
-        confine_worker(job.model, outputs, plan.load.resource_dirs);
+        confine_worker(job.model, outputs, plan.load.resource_dirs, job.other_model_dirs);
         sandbox_test_probe();
     }
     ThumbnailFigures f;

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "collection.hpp"
 #include "options.hpp"
@@ -51,6 +52,9 @@ struct ThumbnailJob {
     // to a fresh worker).
     bool confine = true;
     bool fresh_process = true;
+    // With confine: the folders of the other objects the worker may serve (--worker-sharing batch),
+    // which its sandbox lets it read too. Each model's own resources stay confined to its folder.
+    std::vector<std::string> other_model_dirs{};
 };
 
 // The status of a job given back to be run in a fresh worker process (ThumbnailJob::fresh_process).

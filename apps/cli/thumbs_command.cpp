@@ -6,7 +6,7 @@
 //
 // Each file is loaded, rendered and written in a worker process (worker.hpp), up to --threads at a
 // time, while this process only schedules them, shows progress, logs and collects results; a worker
-// serves the following files of its folder (run_jobs). A file that makes a reader hang, crash or
+// serves the following files of its folder, or of the run (--worker-sharing batch: run_jobs). A file that makes a reader hang, crash or
 // allocate without bound (assimp cannot be interrupted, and a crash in it would take every other
 // file with it) then costs only its own worker: past --timeout seconds the worker is killed and the
 // file reported as "gave up after N s"; a crash is reported with its signal. The worker writes its thumbnail atomically (a temporary file
@@ -233,15 +233,32 @@ private:
 // behind (the heap's growth, its fragments) cannot build up for long.
 constexpr std::size_t k_objects_per_worker = 16;
 
-// The objects that one worker may serve in a row share a key: the same sandbox (its rules name the
-// folder a model is read from; the output folder is the same for all), so thumbnails (not views,
-// whose staging folders are each object's own) of regular files (not links, whose target may lie
-// elsewhere) in one folder. An empty key: a worker of its own.
-std::string sharing_key(const Job& job) {
-    std::error_code ec;
-    if (job.views || fs::symlink_status(job.entry.path, ec).type() != fs::file_type::regular) return {};
-    const std::string folder = fs::path(job.entry.path).parent_path().string();
-    return folder.empty() ? "." : folder;
+// The objects that one worker may serve in a row share a key, and with it one sandbox (the output
+// folder is the same for all; the rules name the folders models are read from): thumbnails (not
+// views, whose staging folders are each object's own) of regular files (not links, whose target may
+// lie elsewhere). By folder, the key is the model's folder. Across folders (--worker-sharing
+// batch), it is a batch of the next `batch` such objects of `order`, and `batch_folders` gets each
+// batch's folders, all of which its workers may read. An empty key: a worker of its own.
+std::vector<std::string> sharing_keys(const std::vector<Job>& jobs, const std::vector<std::size_t>& order,
+                                      bool across_folders, std::size_t batch,
+                                      std::map<std::string, std::vector<std::string>>& batch_folders) {
+    std::vector<std::string> keys(jobs.size());
+    std::size_t shared = 0;
+    for (const std::size_t i : order) {
+        std::error_code ec;
+        const Job& job = jobs[i];
+        if (job.views || fs::symlink_status(job.entry.path, ec).type() != fs::file_type::regular) continue;
+        std::string folder = fs::path(job.entry.path).parent_path().string();
+        if (folder.empty()) folder = ".";
+        if (!across_folders) {
+            keys[i] = std::move(folder);
+            continue;
+        }
+        keys[i] = "batch " + std::to_string(shared++ / batch);
+        std::vector<std::string>& folders = batch_folders[keys[i]];
+        if (std::find(folders.begin(), folders.end(), folder) == folders.end()) folders.push_back(std::move(folder));
+    }
+    return keys;
 }
 
 // Runs the jobs in `order` in worker processes, at most `workers` at a time, each within `limits`,
@@ -251,13 +268,15 @@ std::string sharing_key(const Job& job) {
 // fresh one, so that each object's result is what a process of its own gives. Returns false when a
 // worker ended abnormally after its jobs (a sanitizer's report at exit).
 bool run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, const RenderPlan& plan,
-              const fs::path& out_dir, unsigned workers, const WorkerLimits& limits, Progress& progress,
-              ResultsLog& log) {
+              const fs::path& out_dir, unsigned workers, bool across_folders, const WorkerLimits& limits,
+              Progress& progress, ResultsLog& log) {
     std::vector<Worker> running;
     std::vector<Clock::time_point> started(jobs.size());
     std::vector<std::optional<ViewsStaging>> staged(jobs.size());  // of the jobs with views
-    std::vector<std::string> keys(jobs.size());
-    for (const std::size_t i : order) keys[i] = sharing_key(jobs[i]);
+    // A batch is as many objects as the workers serve before fresh ones take over.
+    std::map<std::string, std::vector<std::string>> batch_folders;
+    const std::vector<std::string> keys =
+        sharing_keys(jobs, order, across_folders, k_objects_per_worker * workers, batch_folders);
     std::vector<std::size_t> again;  // jobs to run again, each first in a fresh worker
     std::size_t next = 0;
     bool workers_ok = true;
@@ -307,6 +326,7 @@ bool run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
         ThumbnailJob job{jobs[i].entry.path, object_plan(plan, jobs[i]), output_of(i), staged[i] ? &*staged[i] : nullptr};
         job.confine = !confined;
         job.fresh_process = !confined;
+        if (const auto b = batch_folders.find(keys[i]); b != batch_folders.end()) job.other_model_dirs = b->second;
         confined = true;
         const std::size_t assimp_imports = assimp_import_count();
         const int status = run_thumbnail_job(job, report);
@@ -502,6 +522,8 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         return k_exit_usage;
     }
     const Renderer renderer({.threads = k_thumbnail_threads});  // as each worker's (starts no thread)
+    const bool across_folders = collection.worker_sharing.empty() ? !collection.manifest.empty()
+                                                                  : collection.worker_sharing == "batch";
 
     std::vector<Job> jobs;
     jobs.reserve(entries.size());
@@ -529,6 +551,7 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
         out.add("log", collection.log.empty() ? "none" : collection.log);
         out.add("resume", collection.resume ? "yes" : "no");
         out.add("workers", std::to_string(workers));
+        out.add("worker-sharing", across_folders ? "batch" : "folder");
         describe_run(out, *plan, nullptr, renderer, *limits, true);
         std::fputs(out.str().c_str(), stdout);
         return k_exit_ok;
@@ -586,7 +609,7 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
 
     const Clock::time_point start = Clock::now();
     Progress progress(order.size());
-    const bool workers_ok = run_jobs(jobs, order, *plan, output_dir, workers, *limits, progress, log);
+    const bool workers_ok = run_jobs(jobs, order, *plan, output_dir, workers, across_folders, *limits, progress, log);
     const double seconds = ms_since(start) / 1000;
 
     const std::size_t rendered = static_cast<std::size_t>(std::count_if(

@@ -459,9 +459,10 @@ void test_hooks(const std::string& input) {
 }
 
 void confine_worker(const std::string& model, const std::vector<std::string>& outputs,
-                    const std::vector<std::string>& resource_dirs) {
+                    const std::vector<std::string>& resource_dirs, const std::vector<std::string>& other_model_dirs) {
     namespace fs = std::filesystem;
     SandboxRules rules = sandbox_rules_for_model(model, resource_dirs);
+    rules.read_dirs.insert(rules.read_dirs.end(), other_model_dirs.begin(), other_model_dirs.end());
     for (const std::string& out : outputs) {
         if (out.empty()) continue;
         const fs::path folder = fs::path(out).parent_path();

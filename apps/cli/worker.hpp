@@ -162,8 +162,10 @@ void test_hooks(const std::string& input);
 // /dev/null); no sockets, no exec, no new processes. What the kernel lacks is left out, never
 // failing the job. No model (the built-in scene): nothing is read. TEST HOOK: FACET_TEST_SANDBOX_WITHOUT
 // set to "landlock" or "seccomp" leaves that part out, as a kernel without it would.
+// `other_model_dirs`: the folders of the other models a serving worker may read after this one
+// (thumbs' --worker-sharing batch), readable too.
 void confine_worker(const std::string& model, const std::vector<std::string>& outputs,
-                    const std::vector<std::string>& resource_dirs);
+                    const std::vector<std::string>& resource_dirs, const std::vector<std::string>& other_model_dirs = {});
 
 // What confine_worker applies on this machine, for --print-config: "seccomp, landlock (ABI 7)",
 // "seccomp (this kernel has no Landlock)"; "none" when the job runs in facet's own process.

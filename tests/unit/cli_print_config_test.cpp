@@ -221,6 +221,7 @@ TEST(PrintConfig, ThumbsDefaultsAreTheOnesItRendersWith) {
     EXPECT_EQ(c.at("near"), "per model");
     EXPECT_EQ(c.at("threads"), "1");  // each worker draws with one thread
     EXPECT_EQ(c.at("workers"), "1");  // one file
+    EXPECT_EQ(c.at("worker-sharing"), "folder");  // files on the command line (a manifest's: batch)
     EXPECT_EQ(c.at("load-threads"), "1");
     EXPECT_EQ(c.at("aa"), "2");  // anti-aliased by two jittered frames
     EXPECT_EQ(c.at("contact-shadow"), "0.6");

@@ -136,6 +136,35 @@ TEST(ThumbsIsolation, AWorkerServingAFolderLosesOnlyTheObjectThatCrashes) {
     }
 }
 
+// The same across folders (a manifest's default, --worker-sharing batch): one object per folder, a
+// crash in the middle costs only that object, and every image is the same bytes as with a worker
+// per folder.
+TEST(ThumbsIsolation, AWorkerServingABatchOfFoldersLosesOnlyTheObjectThatCrashes) {
+    const fs::path dir = facet_test::test_temp_dir("facet_reliability");
+    std::string manifest;
+    for (const std::string name : {"a", "b_crash", "c", "d"}) {
+        const std::size_t n = manifest.size();
+        write_text(dir / name / "model.obj", "v 0 0 0\nv " + std::to_string(0.5 + 0.01 * static_cast<double>(n)) +
+                                                 " 0 0\nv 0 0.4 0\nv 0.1 0.2 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+        manifest += "{\"id\": \"" + name + "\", \"path\": \"" + name + "/model.obj\"}\n";
+    }
+    write_text(dir / "objects.jsonl", manifest);
+    const ScopedEnv crash("FACET_TEST_CRASH_ON", "b_crash");
+    auto run = [&](const std::string& out, const std::string& sharing) {
+        return run_facet({"thumbs", "--manifest", (dir / "objects.jsonl").string(), "-o", (dir / out).string(), "--size",
+                          "24", "--threads", "1", "--worker-sharing", sharing});
+    };
+    const CliRun batch = run("batch", "batch");
+    EXPECT_EQ(batch.exit_code, 1) << batch.all();
+    EXPECT_TRUE(contains(batch.err, "3 rendered, 1 failed")) << batch.err;
+    EXPECT_TRUE(contains(batch.err, "b_crash/model.obj: the importer crashed (SIGABRT")) << batch.err;
+    EXPECT_EQ(files_in(dir / "batch"), (std::vector<std::string>{"a.png", "c.png", "d.png"}));
+    const CliRun folder = run("folder", "folder");
+    EXPECT_EQ(folder.exit_code, 1) << folder.all();
+    for (const std::string name : {"a.png", "c.png", "d.png"})
+        EXPECT_EQ(facet_test::read_file(dir / "batch" / name), facet_test::read_file(dir / "folder" / name)) << name;
+}
+
 // Without the variable the hook does nothing (the same names render).
 TEST(ThumbsTimeout, TheTestHookIsInertWithoutItsVariable) {
     const fs::path dir = facet_test::test_temp_dir("facet_reliability");

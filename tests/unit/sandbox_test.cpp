@@ -136,6 +136,49 @@ TEST(Sandbox, ThumbsWorkersAreConfinedToo) {
     expect_confined(s, r.err, listener, facet::landlock_abi() > 0);
 }
 
+// How many times the probe printed `action`'s result: one per worker confined.
+std::size_t probe_count(const std::string& err, const std::string& action) {
+    std::size_t n = 0;
+    const std::string mark = "facet: sandbox probe " + action + ": ";
+    for (std::size_t at = err.find(mark); at != std::string::npos; at = err.find(mark, at + 1)) ++n;
+    return n;
+}
+
+// A manifest's objects in two folders: by default one worker serves both (one confinement), and its
+// sandbox reads both folders and still nothing else; --worker-sharing folder gives each folder a
+// worker that cannot read the other's.
+TEST(Sandbox, ThumbsWorkersServingABatchReadOnlyItsObjectsFolders) {
+    const Folders s = make_folders("batch");
+    fs::create_directories(s.model_dir.parent_path() / "second");
+    const fs::path second = write_file(s.model_dir.parent_path() / "second" / "box.obj", k_box_obj);
+    const fs::path manifest = write_file(s.model_dir.parent_path() / "objects.txt", s.model.string() + "\n" + second.string() + "\n");
+    const std::string read_second = "read:" + second.string(), read_outside = "read:" + s.outside_file.string();
+    const ScopedEnv hook("FACET_TEST_SANDBOX_PROBE", read_second + ";" + read_outside);
+    const bool landlock = facet::landlock_abi() > 0;
+
+    const CliRun batch = run_facet({"thumbs", "--manifest", manifest.string(), "-o", s.out_dir.string(), "--size", "16",
+                                    "--threads", "1"});
+    EXPECT_EQ(batch.exit_code, 0) << batch.err;
+    EXPECT_EQ(probe_count(batch.err, read_second), 1u) << "one worker for both objects: " << batch.err;
+    EXPECT_EQ(probe_result(batch.err, read_second), "allowed") << batch.err;
+    EXPECT_EQ(refused(probe_result(batch.err, read_outside)), landlock) << batch.err;
+
+    const CliRun folder = run_facet({"thumbs", "--manifest", manifest.string(), "-o", (s.out_dir / "f").string(),
+                                     "--size", "16", "--threads", "1", "--worker-sharing", "folder"});
+    EXPECT_EQ(folder.exit_code, 0) << folder.err;
+    EXPECT_EQ(probe_count(folder.err, read_second), 2u) << "a worker per folder: " << folder.err;
+    // The first object's worker runs first (one at a time).
+    EXPECT_EQ(refused(probe_result(folder.err, read_second)), landlock) << folder.err;
+    std::size_t images = 0;  // the same images either way
+    for (const auto& e : fs::directory_iterator(s.out_dir)) {
+        if (!e.is_regular_file()) continue;
+        ++images;
+        EXPECT_EQ(facet_test::read_file(e.path()), facet_test::read_file(s.out_dir / "f" / e.path().filename()))
+            << e.path();
+    }
+    EXPECT_EQ(images, 2u);
+}
+
 // The control: without a worker there is no sandbox, and the same probes get through (exec is left
 // out, as it would replace facet itself).
 TEST(Sandbox, ProbesSeeEverythingWithoutTheSandbox) {
