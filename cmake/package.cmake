@@ -34,7 +34,7 @@ tests (facet diff, facet render --reference) and shows models in a window
 
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME libfacet-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
-set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libassimp-dev, libhwy-dev, libseccomp-dev, libspng-dev, zlib1g-dev, libstb-dev, pkg-config")
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libassimp-dev, libseccomp-dev, libspng-dev, zlib1g-dev, libstb-dev, pkg-config")
 if(NOT FACET_STATIC)
   set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "facet (= ${PROJECT_VERSION}), ${CPACK_DEBIAN_DEV_PACKAGE_DEPENDS}")
 endif()

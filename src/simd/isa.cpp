@@ -4,7 +4,6 @@
 #include "facet/isa.hpp"
 
 #include <hwy/targets.h>
-#include <hwy/nanobenchmark.h>
 
 #include <algorithm>
 #include <array>
@@ -12,16 +11,6 @@
 #include <cstdint>
 
 #include "simd/isa.hpp"
-
-// libhwy.so's nanobenchmark measures the timer's resolution in a static initializer, in every
-// process that loads the library: thousands of timer reads, 2 to 4 ms of every `facet render`
-// start. Its only user is hwy::Measure (Highway's nanobenchmark), which facet never calls. The
-// initializer calls this function through libhwy's PLT, and the executable's definitions come
-// first in the dynamic linker's search order (as with aiAssertViolation in io/model_loader.cpp),
-// so this one, which measures nothing, is the one it gets.
-namespace hwy::platform {
-std::uint64_t TimerResolution() { return facet::detail::k_unmeasured_timer_resolution; }
-}  // namespace hwy::platform
 
 namespace facet {
 namespace {

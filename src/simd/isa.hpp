@@ -11,8 +11,4 @@ std::int64_t cpu_targets();
 // True when "scalar" is selected: kernels run their plain C++ reference version.
 bool use_scalar_kernels();
 
-// What hwy::platform::TimerResolution returns in facet's programs (see isa.cpp): one tick, without
-// measuring.
-inline constexpr std::uint64_t k_unmeasured_timer_resolution = 1;
-
 }  // namespace facet::detail

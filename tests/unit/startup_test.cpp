@@ -1,39 +1,71 @@
-// What `facet` does before it starts working: Highway's timer calibration, which libhwy.so runs in
-// a static initializer of every process that loads it, must be bound to facet's definition that
-// skips it (src/simd/isa.cpp). The dynamic linker's own report of its bindings says which
-// definition libhwy's call reaches.
+// What `facet` does before it starts working: the libraries the dynamic linker loads and initializes
+// (no C++ library: Highway's run-time part is compiled in, libstdc++ linked in; apps/cli), and that
+// compiled-in part's choice of SIMD targets against the compiler's own reading of the CPU.
 #include <gtest/gtest.h>
 
+#include <hwy/targets.h>
+
+#include <cstdint>
 #include <cstdlib>
 #include <sstream>
 #include <string>
-
-#include <hwy/nanobenchmark.h>
+#include <vector>
 
 #include "simd/isa.hpp"
 #include "support/cli.hpp"
 
 namespace {
 
-TEST(Startup, LibhwysTimerCalibrationIsBoundToFacetsDefinition) {
-    ::setenv("LD_DEBUG", "bindings", 1);
+// The shared objects whose initializers ran in `facet --help`, as the dynamic linker reports them.
+std::vector<std::string> initialized_libraries() {
+    ::setenv("LD_DEBUG", "libs", 1);
     const facet_test::CliRun run = facet_test::run_facet({"--help"});
     ::unsetenv("LD_DEBUG");
-    ASSERT_EQ(run.exit_code, 0) << run.err;
+    EXPECT_EQ(run.exit_code, 0) << run.err;
+    std::vector<std::string> out;
     std::istringstream lines(run.err);
-    std::string binding;
     for (std::string line; std::getline(lines, line);)
-        if (line.find("libhwy") != std::string::npos && line.find("_ZN3hwy8platform15TimerResolutionEv") != std::string::npos)
-            binding = line;
-    ASSERT_FALSE(binding.empty()) << "no binding of hwy::platform::TimerResolution reported";
-    // "binding file <libhwy> [0] to <definer> [0]: normal symbol `...'"
-    const std::size_t to = binding.find(" to ");
-    ASSERT_NE(to, std::string::npos) << binding;
-    EXPECT_NE(binding.find(facet_test::facet_binary().filename().string() + " [0]", to), std::string::npos) << binding;
+        if (const std::size_t at = line.find("calling init: "); at != std::string::npos) out.push_back(line.substr(at + 14));
+    return out;
 }
 
-TEST(Startup, TheSkippedCalibrationReturnsItsFixedValue) {
-    EXPECT_EQ(hwy::platform::TimerResolution(), facet::detail::k_unmeasured_timer_resolution);
+TEST(Startup, FacetLoadsNoCxxLibrary) {
+    const std::vector<std::string> libraries = initialized_libraries();
+    ASSERT_FALSE(libraries.empty()) << "the dynamic linker reported no initializers (LD_DEBUG=libs)";
+    bool libc = false;
+    for (const std::string& library : libraries) {
+        libc = libc || library.find("libc.so") != std::string::npos;
+        EXPECT_EQ(library.find("libhwy"), std::string::npos) << library;
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)  // sanitizer builds link the shared ones
+        EXPECT_EQ(library.find("libstdc++"), std::string::npos) << library;
+        EXPECT_EQ(library.find("libgcc_s"), std::string::npos) << library;
+#endif
+    }
+    EXPECT_TRUE(libc) << "libc.so's initializer not among those reported";
+}
+
+TEST(Startup, SimdTargetsAreTheOnesTheCompilerFindsOnThisCpu) {
+    __builtin_cpu_init();
+    const bool ssse3 = __builtin_cpu_supports("sse") && __builtin_cpu_supports("sse2") && __builtin_cpu_supports("sse3") &&
+                       __builtin_cpu_supports("ssse3");
+    const bool sse4 = ssse3 && __builtin_cpu_supports("sse4.1") && __builtin_cpu_supports("sse4.2") &&
+                      __builtin_cpu_supports("pclmul") && __builtin_cpu_supports("aes");
+    const bool avx2 = sse4 && __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx2") &&
+                      __builtin_cpu_supports("fma") && __builtin_cpu_supports("f16c") && __builtin_cpu_supports("lzcnt") &&
+                      __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2");
+    const bool avx3 = avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+                      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw");
+    const bool avx3_dl = avx3 && __builtin_cpu_supports("avx512vnni") && __builtin_cpu_supports("vpclmulqdq") &&
+                         __builtin_cpu_supports("avx512vbmi") && __builtin_cpu_supports("avx512vbmi2") &&
+                         __builtin_cpu_supports("vaes") && __builtin_cpu_supports("avx512vpopcntdq") &&
+                         __builtin_cpu_supports("avx512bitalg");
+    const std::int64_t targets = facet::detail::cpu_targets();
+    EXPECT_EQ((targets & HWY_SSSE3) != 0, ssse3);
+    EXPECT_EQ((targets & HWY_SSE4) != 0, sse4);
+    EXPECT_EQ((targets & HWY_AVX2) != 0, avx2);
+    EXPECT_EQ((targets & HWY_AVX3) != 0, avx3);
+    EXPECT_EQ((targets & HWY_AVX3_DL) != 0, avx3_dl);
+    EXPECT_NE(targets & (HWY_EMU128 | HWY_SCALAR), 0) << "the portable target is always there";
 }
 
 }  // namespace
