@@ -1,12 +1,16 @@
-// facet simd: Highway's run-time part (hwy/targets.h: which targets the CPU runs, the chosen one),
-// compiled in. In: CPUID and the registers the OS saves; out: Highway target bits. Not the kernels,
-// nor facet's ISA selection (isa.cpp). Why not libhwy.so: it is a C++ library, so loading it loads
-// libstdc++.so, whose ~1,700 symbol bindings cost every facet process 0.7 ms before `main`
+// facet simd: Highway's run-time part (which targets the CPU runs, the chosen one, where assertions
+// end), compiled in. In: CPUID and the registers the OS saves; out: Highway target bits. Not the
+// kernels, nor facet's ISA selection (isa.cpp). Why not libhwy.so: it is a C++ library, so loading it
+// loads libstdc++.so, whose ~1,700 symbol bindings cost every facet process 0.7 ms before `main`
 // (docs/BENCHMARKS.md); without it the `facet` executable links libstdc++ statically.
+#include <hwy/base.h>
 #include <hwy/targets.h>
 
 #include <atomic>
+#include <cstdarg>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 
 #if HWY_ARCH_X86
 #include <cpuid.h>
@@ -89,6 +93,17 @@ void DisableTargets(std::int64_t disabled_targets) {
 void SetSupportedTargetsForTest(std::int64_t targets) {
     g_for_test.store(targets, std::memory_order_relaxed);
     GetChosenTarget().DeInit();
+}
+
+// Where Highway's assertions end (HWY_ASSERT; HWY_DASSERT in debug builds).
+void Abort(const char* file, int line, const char* format, ...) {
+    std::fprintf(stderr, "Abort at %s:%d: ", file, line);
+    std::va_list args;
+    va_start(args, format);
+    std::vfprintf(stderr, format, args);
+    va_end(args);
+    std::fputc('\n', stderr);
+    std::abort();
 }
 
 ChosenTarget& GetChosenTarget() {

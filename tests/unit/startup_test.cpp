@@ -1,8 +1,9 @@
 // What `facet` does before it starts working: the libraries the dynamic linker loads and initializes
 // (no C++ library: Highway's run-time part is compiled in, libstdc++ linked in; apps/cli), and that
-// compiled-in part's choice of SIMD targets against the compiler's own reading of the CPU.
+// compiled-in part: its choice of SIMD targets against the compiler's own reading of the CPU, its Abort.
 #include <gtest/gtest.h>
 
+#include <hwy/base.h>
 #include <hwy/targets.h>
 
 #include <cstdint>
@@ -66,6 +67,13 @@ TEST(Startup, SimdTargetsAreTheOnesTheCompilerFindsOnThisCpu) {
     EXPECT_EQ((targets & HWY_AVX3) != 0, avx3);
     EXPECT_EQ((targets & HWY_AVX3_DL) != 0, avx3_dl);
     EXPECT_NE(targets & (HWY_EMU128 | HWY_SCALAR), 0) << "the portable target is always there";
+}
+
+// Highway's assertions (HWY_ASSERT; HWY_DASSERT in debug builds) end in the compiled-in Abort, which
+// names the place and the condition.
+TEST(StartupDeathTest, HighwaysAssertionsAbortNamingTheCondition) {
+    const int two = 2;
+    EXPECT_DEATH(HWY_ASSERT(two == 3), "Abort at .*startup_test.cpp:[0-9]+: Assert two == 3");
 }
 
 }  // namespace
