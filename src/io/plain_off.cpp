@@ -91,6 +91,7 @@ struct OffTarget {
     Vec3* positions;
     std::array<float, 4>* colours;  // COFF: each vertex's colour as the file gives it, else null
     std::uint32_t* indices;         // three per face; a polygon's are in its OffPolygon instead
+    const char* readable_end;       // the text's end: numbers are read 8 digits at a time before it
 };
 
 // A face of 4 to 9 corners, triangulated once every face is read.
@@ -117,18 +118,18 @@ std::optional<std::size_t> read_piece(const char* begin, const char* end, std::s
             Vec3& p = to.positions[line];
             for (std::size_t dim = 0; dim < 3; ++dim) {
                 c = skip_spaces(c);
-                c = read_float(c, p[dim]);  // throws where assimp's reader fails
+                c = read_float(c, p[dim], to.readable_end);  // throws where assimp's reader fails
                 if (!std::isfinite(p[dim])) return std::nullopt;
             }
             if (to.colours) {
                 std::array<float, 4>& rgba = to.colours[line];
                 constexpr float cut_off[4] = {0, 0, 0, 1};  // what assimp gives the channels after a '#'
-                c = read_float(skip_spaces(c), rgba[0]);
+                c = read_float(skip_spaces(c), rgba[0], to.readable_end);
                 for (std::size_t k = 1; k < 4; ++k) {
                     if (*c == '#')
                         rgba[k] = cut_off[k];
                     else
-                        c = read_float(skip_spaces(c), rgba[k]);
+                        c = read_float(skip_spaces(c), rgba[k], to.readable_end);
                 }
             }
         } else {
@@ -305,7 +306,7 @@ std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, co
     std::vector<std::array<float, 4>> colours(plain->colours ? plain->vertices : 0);
     std::vector<std::uint32_t> indices(std::size_t{3} * plain->faces);
     const OffTarget target{plain->vertices, plain->faces, positions.data(), plain->colours ? colours.data() : nullptr,
-                           indices.data()};
+                           indices.data(), end};
     std::vector<std::size_t> stopped(piece.size() - 1, 0);
     std::vector<char> declined(piece.size() - 1, 0);
     std::vector<std::vector<OffPolygon>> polygons(piece.size() - 1);  // per piece, in face order
