@@ -484,6 +484,8 @@ constexpr std::size_t k_prefetch_corners = 16;
 // Whether a fan is one set by the test that settles positions by their sums at one thread (below).
 struct FirstFaceTest;
 bool one_set_by_first_face(const FirstFaceTest& test, const std::vector<FanCorner>& corners);
+bool settle_one_set(std::span<const std::uint32_t> corners, const TriangleFacts* triangles, const FirstFaceTest& test,
+                    Vec3& around, VertexNormals out);
 
 // The corners around each welded position split into sets, and the sets' normals given to the
 // vertices. Sets never reach beyond one position, and each vertex is at one, so positions are
@@ -506,10 +508,11 @@ std::vector<Vec3> split_fans(const CornersByPosition& by_position, const Triangl
                 __builtin_prefetch(facts);
                 __builtin_prefetch(facts + sizeof(TriangleFacts) - 1);
             }
-            around[w] = gather_fan({corner + begin, corner + end},
-                                   [&](std::uint32_t c) { return corner_from_facts(c, triangles[c / 3]); }, s.corners);
             // Most fans are one set that the test finds in a few comparisons, where splitting them
             // compared every pair (the bunny at 2 threads: 61 of the normals' 90 M instructions).
+            if (settle_one_set({corner + begin, corner + end}, triangles, test, around[w], out)) continue;
+            around[w] = gather_fan({corner + begin, corner + end},
+                                   [&](std::uint32_t c) { return corner_from_facts(c, triangles[c / 3]); }, s.corners);
             assign_set_normals(one_set_by_first_face(test, s.corners) ? 1 : split_into_sets(cos_crease, s), around[w], s,
                                out);
         }
@@ -690,6 +693,36 @@ bool one_set_by_first_face(const FirstFaceTest& test, const std::vector<FanCorne
         next[i] = corners[i].next_position, prev[i] = corners[i].prev_position;
     }
     return joined_by_sides(next, prev, n);
+}
+
+// The fans one_set_by_first_face finds one set, settled in one pass over their records, as
+// gather_fan, that test and assign_set_normals settle them (the same sum in corner order, the same
+// test, the same writes), without a FanCorner each: at two threads most positions are settled here
+// (the bunny's fans with assign_set_normals: 34.1 -> 27.0 M instructions). False, with nothing written, for any other fan.
+bool settle_one_set(std::span<const std::uint32_t> corners, const TriangleFacts* triangles, const FirstFaceTest& test,
+                    Vec3& around, VertexNormals out) {
+    constexpr std::uint32_t k_most = k_max_edge_neighbours + 1;
+    std::uint32_t next[k_most], prev[k_most], vertex[k_most];
+    std::uint32_t n = 0, set = 0;
+    Vec3 sum{}, first{};
+    for (const std::uint32_t c : corners) {
+        const TriangleFacts& t = triangles[c / 3];
+        const std::uint32_t k = c % 3;
+        const Vec3 face{t.face[0], t.face[1], t.face[2]};
+        if (!(dot(face, face) > 0)) continue;  // no area: in no set, nothing in the sum
+        if (n == 0) first = face, set = c;
+        if (n == k_most || !test.near(face, first)) return false;
+        sum += face * t.angle[k];
+        next[n] = t.position[(k + 1) % 3], prev[n] = t.position[(k + 2) % 3], vertex[n] = t.vertex[k];
+        ++n;
+    }
+    if (n < 2 || !joined_by_sides(next, prev, n)) return false;
+    around = sum;
+    const Vec3 normal = normalize(sum);
+    if (!(dot(normal, normal) > 0)) return true;
+    for (std::uint32_t i = 0; i < n; ++i)
+        if (out.vertex_set[vertex[i]] == k_no_set) out.vertex_set[vertex[i]] = set, out.normals[vertex[i]] = normal;
+    return true;
 }
 
 // The corner of triangle t at k as the specification describes it (for the few positions not
