@@ -718,7 +718,9 @@ void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect ti
         prepare_tiny_group(records + n0, valid, tile, group);
         for (int lane = 0; lane < static_cast<int>(valid); ++lane) {
             const std::size_t n = n0 + static_cast<std::size_t>(lane);
-            if (n + k_group_distance < count) prefetch_record(records + n + k_group_distance);
+            // Past the bin's end too: the caller hands a bin over a piece at a time, and the next
+            // piece's records follow (a prefetch past the allocation does nothing).
+            prefetch_record(records + n + k_group_distance);
             const TriangleSetup& t = records[n];
             const bool any = group.covered[lane] && tiny_record(t) ? resolve_tiny<D, DepthWrite>(t, group, lane, buffers, id)
                                                                    : resolve_one<D, DepthWrite>(t, tile, buffers, id);

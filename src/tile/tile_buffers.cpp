@@ -53,21 +53,34 @@ namespace {
 
 // The shading records of the triangles listed from `first` on, with N varyings each (N < 0: b.varyings,
 // counted at run time). A later triangle's varyings are fetched a few triangles ahead, since a tile's
-// triangles share vertices with triangles anywhere in the mesh.
+// triangles share vertices with triangles anywhere in the mesh. The arrays' addresses and strides are
+// read once, into locals: the records' float stores could alias the vectors that hold them.
 template <int N>
 void write_records(TileBuffers& b, std::size_t first, const VaryingsSource& source) {
     constexpr std::size_t k_distance = 16;
     const int n = N >= 0 ? N : b.varyings;
     const std::size_t count = b.triangles.size(), stride = static_cast<std::size_t>(b.stride);
     b.records.resize(count * stride);
+    const TriangleSetup* const* const triangles = b.triangles.data();
+    float* const records = b.records.data();
+    const float* const vertices = source.vertices.varyings.data();
+    const float* const extras = source.extras.varyings.data();
+    const auto vertex_stride = static_cast<std::size_t>(source.vertices.stride);
+    const auto extras_stride = static_cast<std::size_t>(source.extras.stride);
+    const auto find = [&](const TriangleSetup& t, const float* (&var)[3]) {
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t ref = t.vertex[k];
+            var[k] = (ref & k_clipped_bit) ? extras + (ref & ~k_clipped_bit) * extras_stride : vertices + ref * vertex_stride;
+        }
+    };
     for (std::size_t i = first; i < count; ++i) {
         const float* var[3];
         if (i + k_distance < count) {
-            source.find(*b.triangles[i + k_distance], var);
+            find(*triangles[i + k_distance], var);
             for (const float* v : var) prefetch(v);
         }
-        source.find(*b.triangles[i], var);
-        write_shading_record(*b.triangles[i], var, n, b.records.data() + i * stride);
+        find(*triangles[i], var);
+        write_shading_record(*triangles[i], var, n, records + i * stride);
     }
 }
 

@@ -69,6 +69,9 @@ void for_each_bin(const TileBatch& batch, std::size_t tile, const Each& each) {
     }
 }
 
+// Records per piece of a bin in the depth pass (16 KB): see draw_visible_only.
+constexpr std::size_t k_bin_piece = 256;
+
 // The visible-only order: the depth pass of every bin, then the shader's pass over the VisibleTile
 // (and with render passes, theirs).
 void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJob& job, TargetView target,
@@ -77,11 +80,16 @@ void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJ
     const PixelRect tile = job.rect;
     buffers.begin(tile, shading.varyings, target, clear);
     for_each_bin(batch, job.index, [&](const FrontEndChunk& chunk, const TileBin& bin) {
-        // A triangle that passes nowhere now never owns a pixel: it is not listed.
-        const std::size_t first = buffers.triangles.size();
-        resolve_bin(bin.data(), bin.size(), tile, buffers);
-        buffers.write_shading_records(first, {batch.vertices, chunk.extras});
-        if (passes) write_pass_records(buffers, first, *passes, chunk, bin, chunk.primitives[job.index]);
+        // A bin a piece at a time, each piece's shading records written right after its depth pass,
+        // while its records are still in L1: a whole bin (a 1M-triangle mesh's: thousands of records)
+        // had left the caches by then. A triangle that passes nowhere now never owns a pixel: it is
+        // not listed.
+        for (std::size_t at = 0; at < bin.size(); at += k_bin_piece) {
+            const std::size_t first = buffers.triangles.size();
+            resolve_bin(bin.data() + at, std::min(k_bin_piece, bin.size() - at), tile, buffers);
+            buffers.write_shading_records(first, {batch.vertices, chunk.extras});
+            if (passes) write_pass_records(buffers, first, *passes, chunk, bin, chunk.primitives[job.index]);
+        }
     });
     buffers.end(tile, target, shading.depth_write, store_depth);
     const VisibleTile visible = buffers.visible(tile);

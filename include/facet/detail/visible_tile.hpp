@@ -9,6 +9,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "facet/api.hpp"
 #include "facet/detail/frame.hpp"
@@ -38,13 +39,14 @@ constexpr int shading_record_floats(int varyings) { return k_shading_head + 3 * 
 }
 
 // The shading record of triangle t, whose vertices' varyings are var, into out.
-// Field by field: a head assembled on the stack and copied was read back before its pieces were
+// The head's two runs copied straight from the record (a few vector moves, not a load and a store
+// per field); a head assembled on the stack and copied was read back before its pieces were
 // stored, a store-forwarding stall.
 inline void write_shading_record(const TriangleSetup& t, const float* const (&var)[3], int n, float* out) {
-    out[sh_x0] = t.x0, out[sh_y0] = t.y0;
-    out[sh_q0] = t.q0, out[sh_dqdx] = t.dqdx, out[sh_dqdy] = t.dqdy;
-    out[sh_dl1dx] = t.dl1dx, out[sh_dl1dy] = t.dl1dy;
-    out[sh_dl2dx] = t.dl2dx, out[sh_dl2dy] = t.dl2dy;
+    static_assert(offsetof(TriangleSetup, y0) == offsetof(TriangleSetup, x0) + 4 && sh_y0 == sh_x0 + 1);
+    static_assert(offsetof(TriangleSetup, dl2dy) == offsetof(TriangleSetup, q0) + 24 && sh_dl2dy == sh_q0 + 6);
+    std::memcpy(out + sh_x0, &t.x0, 2 * sizeof(float));
+    std::memcpy(out + sh_q0, &t.q0, 7 * sizeof(float));
     out[sh_front] = t.front_facing ? 1.0f : 0.0f;
     write_varying_planes(var, n, out + k_shading_head);
 }
