@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "facet/math/portable_pow.hpp"
 #include "facet/texture.hpp"
 
 namespace facet {
@@ -329,7 +330,8 @@ namespace {
     const float rho_y = length(duv_dy * size);
     if (std::isnan(rho_x) || std::isnan(rho_y)) return 0.0f;
     const float rho = std::max(rho_x, rho_y);
-    return rho > 0.0f ? std::log2(rho) : 0.0f;  // +inf for infinite derivatives: the smallest level
+    // Not std::log2: the C library's may differ between machines, and so would the mip weights.
+    return rho > 0.0f ? portable_log2(rho) : 0.0f;  // +inf for infinite derivatives: the smallest level
 }
 
 [[gnu::always_inline]] inline Vec4 sample_at_lod(const Texture& texture, Vec2 uv, float lod, const Sampler& sampler) {

@@ -4,7 +4,7 @@
 // tone_mapping.hpp) in lanes, operation for operation: the environment's octahedral maps, the
 // split-sum table and the SH irradiance read with gathers and the same bilinear arithmetic, the
 // tone mappers and sRGB's portable_pow in lanes, texture maps with Texture::sample's arithmetic in
-// lanes (bilinear and trilinear, untransformed; std::log2 of the level of detail lane by lane; the
+// lanes (bilinear and trilinear, untransformed; portable_log2 of the level of detail in lanes; the
 // other maps by the scalar sampler, lane by lane); the ...Masked shaders, which discard, take the
 // one-pass order and have no kernel.
 #undef HWY_TARGET_INCLUDE
@@ -386,9 +386,9 @@ HWY_INLINE LevelLanes level_lanes(const Texture& t, int i) {
 }
 
 // Texture::sample with Filter::bilinear or trilinear for the `visible` lanes (the others 0), in
-// sample_at_lod's operations: the level of detail of lod_of (std::log2 lane by lane, the rest in
-// lanes), clamped, its floor's level and the next mixed by its fraction, divided by 255. The lanes
-// are taken one level at a time (a vector's pixels mostly share one).
+// sample_at_lod's operations: the level of detail of lod_of (portable_log2 in lanes), clamped, its
+// floor's level and the next mixed by its fraction, divided by 255. The lanes are taken one level at
+// a time (a vector's pixels mostly share one).
 HWY_INLINE ColourLanes sample_filtered(const Texture& texture, const Sampler& s, VF u, VF v, VF ux, VF vx, VF uy,
                                        VF vy, MF visible) {
     const DF df;
@@ -409,12 +409,11 @@ HWY_INLINE ColourLanes sample_filtered(const Texture& texture, const Sampler& s,
     const VF rho_x = length(ux, vx), rho_y = length(uy, vy);
     const MF nan = hn::Or(hn::IsNaN(rho_x), hn::IsNaN(rho_y));
     const VF rho = hn::IfThenElse(hn::Lt(rho_x, rho_y), rho_y, rho_x);
-    HWY_ALIGN float lod_of[lanes];
-    hn::Store(rho, df, lod_of);
-    const std::uint64_t logged = mask_bits(hn::AndNot(nan, hn::And(visible, hn::Gt(rho, hn::Zero(df)))));
-    for (int l = 0; l < lanes; ++l) lod_of[l] = (logged >> l) & 1 ? std::log2(lod_of[l]) : 0.0f;
+    const MF logged = hn::AndNot(nan, hn::And(visible, hn::Gt(rho, hn::Zero(df))));
+    // facet::portable_log2's normal range in lanes: a subnormal rho's lane value is below 0 and an
+    // infinite one's (128) above every level, as facet::portable_log2 gives them, so both clamp alike.
     const float top = static_cast<float>(texture.level_count() - 1);
-    const VF lod = LevelLanes::clamp_to(hn::Load(df, lod_of), 0.0f, top);
+    const VF lod = LevelLanes::clamp_to(hn::IfThenElseZero(logged, portable_log2(rho)), 0.0f, top);
     const VF l0 = hn::Floor(lod);
     const VF t = hn::Sub(lod, l0);
     const VI level = hn::ConvertTo(di, l0);

@@ -1,8 +1,11 @@
-// portable_pow: close to std::pow over the range shaders use, exact at the special values, and
-// the same value wherever it is computed (the SIMD lanes are tested in CompiledVisiblePass.*).
+// portable_pow and portable_log2: close to std::pow and log2 in double over the range shaders use,
+// exact at the special values and powers of two, and the same value wherever it is computed (the SIMD
+// lanes are tested in CompiledVisiblePass.*).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 
@@ -10,7 +13,11 @@
 
 namespace {
 
+using facet::portable_log2;
 using facet::portable_pow;
+
+// Units in the last place of float at r (the spacing of floats around it).
+double ulp(float r) { return std::nextafter(std::fabs(r), std::numeric_limits<float>::infinity()) - std::fabs(r); }
 
 // The documented accuracy: relative error below 2e-6 for |y log2 x| < 16, below 1e-5 up to 128.
 TEST(PortablePow, IsAsCloseToStdPowAsDocumented) {
@@ -64,6 +71,37 @@ TEST(PortablePow, SpecialValues) {
     EXPECT_EQ(portable_pow(0.5f, 126.5f), 0.0f);  // 2^-126.5: below 2^-126
     EXPECT_GT(portable_pow(0.5f, 125.5f), 0.0f);
     EXPECT_LT(portable_pow(2.0f, 127.9f), std::numeric_limits<float>::max());  // 2^i built in two halves
+}
+
+TEST(PortableLog2, ExactAtEveryPowerOfTwoAndTheSpecialValues) {
+    for (int k = -149; k <= 127; ++k) EXPECT_EQ(portable_log2(std::ldexp(1.0f, k)), static_cast<float>(k)) << k;
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_EQ(portable_log2(0.0f), -inf);
+    EXPECT_EQ(portable_log2(-0.0f), -inf);
+    EXPECT_EQ(portable_log2(inf), inf);
+    EXPECT_TRUE(std::isnan(portable_log2(-1.0f)));
+    EXPECT_TRUE(std::isnan(portable_log2(-inf)));
+    EXPECT_TRUE(std::isnan(portable_log2(nan)));
+}
+
+// The documented accuracy (3.004 units at worst over every float), against log2 in double, over
+// floats spread across every binade (subnormals included) and densely around 1.
+TEST(PortableLog2, IsWithinThreeUnitsInTheLastPlace) {
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<std::uint32_t> bits(1, 0x7f7fffffu);  // every positive finite float
+    std::uniform_real_distribution<float> near_one(0.5f, 2.0f);
+    double worst = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const float x = i % 2 ? std::bit_cast<float>(bits(rng)) : near_one(rng);
+        const float r = portable_log2(x);
+        const double exact = std::log2(static_cast<double>(x));
+        if (exact == 0) {
+            EXPECT_EQ(r, 0.0f);
+            continue;
+        }
+        worst = std::max(worst, std::fabs(r - exact) / ulp(static_cast<float>(exact)));
+    }
+    EXPECT_LE(worst, 3.01);
 }
 
 }  // namespace

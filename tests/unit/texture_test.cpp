@@ -3,7 +3,9 @@
 // Expected values are derived by hand in the comments next to them.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "facet/io.hpp"
+#include "facet/math/portable_pow.hpp"
 #include "facet/texture.hpp"
 
 namespace {
@@ -285,6 +288,23 @@ TEST(TextureSample, LodIsLog2OfTheLargerFootprintInTexels) {
     EXPECT_EQ(t.lod({0, 0}, {0, 0}), 0.0f);
     EXPECT_EQ(t.lod({k_nan, 0}, {0, 1}), 0.0f);
     EXPECT_EQ(t.lod({0, 1}, {0, k_nan}), 0.0f);
+}
+
+// The level of detail has the same bits on every machine: it is portable_log2 of the footprint, not
+// the C library's log2f, which differs between CPUs and library versions. The footprints tried
+// include ones where this machine's log2f gives other bits (counted, so the test keeps telling).
+TEST(TextureSample, LodIsThePortableLog2OfTheFootprint) {
+    const Texture t(make_image(1, 1, [](int, int) { return grey(0); }));  // rho = |duv| in texels
+    int libm_differs = 0;
+    for (int i = 0; i < 4096; ++i) {
+        const float r = std::ldexp(1.0f + static_cast<float>(i) / 4096, i % 24 - 12);
+        const Vec2 dx{r, 0}, dy{0, r / 2};
+        const float rho = length(dx);
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(t.lod(dx, dy)), std::bit_cast<std::uint32_t>(portable_log2(rho))) << r;
+        libm_differs += std::log2(rho) != portable_log2(rho);
+    }
+    EXPECT_GT(libm_differs, 0) << "no footprint here tells portable_log2 from this machine's log2f";
+    EXPECT_EQ(t.lod({k_inf, 0}, {0, 0}), k_inf);
 }
 
 TEST(TextureSample, DerivativesChooseTheLevel) {
