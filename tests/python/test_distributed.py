@@ -72,6 +72,33 @@ def test_output_stem_and_shard_are_facets(facet_exe, tmp_path):
         assert {p.name for p in out.iterdir()} == expected
 
 
+class Gate:
+    def __init__(self, folder: Path):
+        self.executable = folder / "facet"  # what the workers run instead of facet
+        self.holder = folder / "holder"      # written by the held run: its parent's pid (the worker)
+        self.opened = folder / "opened"      # lets the held run go on
+
+
+def gated_facet(folder: Path, facet_exe: Path, hold: int) -> Gate:
+    """A stand-in for facet that runs facet, except that its run number `hold` (0 first; numbered
+    atomically with mkdir) first writes its parent's pid and waits until the gate is opened, for at
+    most TIMEOUT seconds."""
+    folder.mkdir()
+    gate = Gate(folder)
+    gate.executable.write_text(f"""#!/bin/sh
+n=0
+while ! mkdir "{folder}/run$n" 2>/dev/null; do n=$((n + 1)); done
+if [ $n -eq {hold} ]; then
+    echo $PPID > "{gate.holder}.tmp" && mv "{gate.holder}.tmp" "{gate.holder}"
+    i=0
+    while [ ! -e "{gate.opened}" ] && [ $i -lt {TIMEOUT * 10} ]; do sleep 0.1; i=$((i + 1)); done
+fi
+exec "{facet_exe}" "$@"
+""")
+    gate.executable.chmod(0o755)
+    return gate
+
+
 @pytest.fixture
 def cluster(tmp_path):
     """A scheduler and two workers on 127.0.0.1 (ports chosen by the system, found through the
@@ -135,13 +162,17 @@ def test_a_collection_on_two_workers_one_killed_matches_one_machine(cluster, fac
     assert r.returncode == 1, r.stderr  # the missing file and the duplicate id
     reference = read_log(ref_log)
 
-    # The cluster, with one worker killed once a few tasks are done while others still run.
+    # The cluster, with one worker killed while it runs a task, once a few tasks are done. The third
+    # task to start is held (by a gate in front of facet) until then, however fast or slow the
+    # machine: a kill timed by polling the scheduler could come after the last task.
     out, log = tmp_path / "out", tmp_path / "log.jsonl"
+    gate = gated_facet(tmp_path / "gate", facet_exe, hold=2)
     result = {}
 
     def run():
         try:
-            result["summary"] = fd.render_collection(client, manifest, out, log=log, objects_per_task=3, size=24)
+            result["summary"] = fd.render_collection(client, manifest, out, log=log, objects_per_task=3, size=24,
+                                                     executable=str(gate.executable))
         except BaseException as e:  # reported by the test thread
             result["error"] = e
 
@@ -149,28 +180,33 @@ def test_a_collection_on_two_workers_one_killed_matches_one_machine(cluster, fac
     runner.start()
     deadline = time.monotonic() + TIMEOUT
     killed = None
-    while runner.is_alive() and time.monotonic() < deadline and killed is None:
-        done = len(log.read_text().splitlines()) if log.exists() else 0
-        if done >= 3:
-            names = {a: w["name"] for a, w in client.scheduler_info()["workers"].items()}
-            busy = [names[a] for a, keys in client.processing().items() if keys and a in names]
-            if busy:
-                killed = busy[0]
-                os.kill(workers[killed].pid, signal.SIGKILL)  # the worker alone: its facet dies with it
-        time.sleep(0.01)
+    try:
+        while killed is None:
+            assert runner.is_alive(), "render_collection ended before the held task was seen"
+            assert time.monotonic() < deadline, "the held task did not start, or the others did not finish"
+            done = len(log.read_text().splitlines()) if log.exists() else 0
+            if done >= 3 and gate.holder.exists():
+                pid = int(gate.holder.read_text())  # the worker running the held task
+                killed = next((name for name, p in workers.items() if p.pid == pid), None)
+                assert killed is not None, f"the held task runs in {pid}, not in a worker"
+                os.kill(pid, signal.SIGKILL)  # the worker alone: the task's process dies with it
+            time.sleep(0.01)
+    except BaseException:
+        gate.opened.touch()  # the held task goes on, so that the run ends
+        raise
     runner.join(TIMEOUT)
     assert not runner.is_alive(), "render_collection did not finish"
     assert "error" not in result, repr(result.get("error"))
-    assert killed is not None, "no worker was busy to be killed"
     assert workers[killed].wait(timeout=30) == -signal.SIGKILL
-    # The facet it was running (and facet's own workers) ended with it: its process group is empty.
+    # The task's process (held before it became facet; set to die with the worker as facet is) ended
+    # with it: the worker's process group is empty.
     deadline = time.monotonic() + 30
     while True:
         try:
             os.killpg(workers[killed].pid, 0)
         except ProcessLookupError:
             break
-        assert time.monotonic() < deadline, "a facet process outlived its killed worker"
+        assert time.monotonic() < deadline, "a process of the task outlived its killed worker"
         time.sleep(0.05)
 
     summary = result["summary"]
