@@ -89,17 +89,25 @@ def test_adding_to_a_scene_while_it_renders():
     scene = facet.Scene.from_arrays(v, f)
     camera = facet.Camera.look_at((0, 0, 30), (0, 0, 0), near=1, far=100)
     stop = threading.Event()
+    first = threading.Event()
     counts = []
 
+    # The thread renders at least once before the first mesh is added and once after the last (a
+    # loop that only checked `stop` first could start after the adding ended and render nothing).
     def render():
         r = facet.Renderer(threads=2)
-        while not stop.is_set():
+        while True:
+            last = stop.is_set()
             r.render(scene, camera, 64, 64)
             counts.append(r.stats["triangles_in"])
+            first.set()
+            if last:
+                break
 
     t = threading.Thread(target=render)
     t.start()
     try:
+        assert first.wait(120), "the rendering thread did not render"
         for i in range(200):
             m = np.eye(4)
             m[:2, 3] = (i % 20) - 10, (i // 20) - 5
@@ -108,5 +116,6 @@ def test_adding_to_a_scene_while_it_renders():
         stop.set()
         t.join()
     assert len(scene) == 201
-    # Each render saw the scene whole, at some point of its growth.
-    assert counts and all(1 <= c <= 201 for c in counts) and counts == sorted(counts)
+    # Each render saw the scene whole, at some point of its growth: the first before it grew, the
+    # last after.
+    assert counts[0] == 1 and counts[-1] == 201 and counts == sorted(counts)
