@@ -8,6 +8,8 @@
 #include <assimp/vector2.inl>
 #include <assimp/vector3.inl>
 
+#include "scene/triangle_shapes.hpp"
+
 namespace facet::io_detail {
 namespace {
 
@@ -39,7 +41,8 @@ int quad_start(const aiVector3D* const p[4]) {
         left.Normalize();
         diag.Normalize();
         right.Normalize();
-        const float angle = std::acos(left * diag) + std::acos(right * diag);
+        // corner_acos: std::acos(float) of glibc 2.36 (assimp's), with the same bits on every machine.
+        const float angle = detail::corner_acos(left * diag) + detail::corner_acos(right * diag);
         if (angle > AI_MATH_PI_F) return i;
     }
     return 0;

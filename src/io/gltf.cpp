@@ -34,6 +34,7 @@
 #include "io/assimp_join.hpp"
 #include "io/import_notes.hpp"
 #include "io/resources.hpp"
+#include "math/portable_trig.hpp"
 
 namespace facet::io_detail {
 namespace {
@@ -838,8 +839,10 @@ private:
             transform.mScaling.x = info.scale[0];
             transform.mScaling.y = info.scale[1];
             transform.mRotation = -info.rotation;
-            const float rcos(std::cos(static_cast<double>(-transform.mRotation)));
-            const float rsin(std::sin(static_cast<double>(-transform.mRotation)));
+            double rsin_d, rcos_d;  // assimp's std::sin and std::cos, with the same bits on every machine
+            portable::sincos(static_cast<double>(-transform.mRotation), rsin_d, rcos_d);
+            const float rcos(rcos_d);
+            const float rsin(rsin_d);
             transform.mTranslation.x = (0.5f * transform.mScaling.x) * (-rcos + rsin + 1) + info.offset[0];
             transform.mTranslation.y = ((0.5f * transform.mScaling.y) * (rsin + rcos - 1)) + 1 - transform.mScaling.y - info.offset[1];
             transform.mTranslation.y *= -1.f;  // FlipUVs

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "facet/image.hpp"
+#include "math/portable_trig.hpp"
 
 namespace facet {
 namespace {
@@ -69,7 +70,10 @@ Camera Camera::looking(Vec3 position, Vec3 direction, float roll) {
 Camera Camera::orbit(Vec3 target, float azimuth, float elevation, float distance) {
     Camera c;
     c.target = target;
-    Vec3 dir{std::cos(elevation) * std::sin(azimuth), std::sin(elevation), std::cos(elevation) * std::cos(azimuth)};
+    float se, ce, sa, ca;
+    portable::sincos(elevation, se, ce);
+    portable::sincos(azimuth, sa, ca);
+    Vec3 dir{ce * sa, se, ce * ca};
     c.position = target + dir * distance;
     return c;
 }
@@ -146,7 +150,7 @@ Camera Camera::from_opencv(const OpenCvCamera& cv, float near, float far) {
     // Camera +Z (the third row of R) is forward, camera -Y (minus the second row) is up.
     c.target = eye + Vec3{static_cast<float>(r[6]), static_cast<float>(r[7]), static_cast<float>(r[8])};
     c.up = -Vec3{static_cast<float>(r[3]), static_cast<float>(r[4]), static_cast<float>(r[5])};
-    c.fovy = static_cast<float>(2 * std::atan(cv.height / (2 * cv.fy)));
+    c.fovy = static_cast<float>(2 * portable::atan(cv.height / (2 * cv.fy)));
     c.near = near;
     c.far = far;
     c.opencv = cv;

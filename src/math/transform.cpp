@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "math/portable_trig.hpp"
+
 namespace facet {
 
 Mat4 translate(Vec3 t) {
@@ -25,7 +27,8 @@ namespace {
 
 // Rotation in the plane of axes a -> b (a positive angle turns a toward b).
 Mat4 plane_rotation(int a, int b, float angle) {
-    float c = std::cos(angle), s = std::sin(angle);
+    float s, c;
+    portable::sincos(angle, s, c);
     Mat4 m;
     m(a, a) = c;
     m(a, b) = -s;
@@ -43,7 +46,9 @@ Mat4 rotate_z(float angle) { return plane_rotation(0, 1, angle); }
 Mat4 rotate(Vec3 axis, float angle) {
     Vec3 u = normalize(axis);
     if (!(dot(u, u) > 0)) return Mat4::identity();
-    float c = std::cos(angle), s = std::sin(angle), t = 1 - c;
+    float s, c;
+    portable::sincos(angle, s, c);
+    const float t = 1 - c;
     Mat4 m;
     m(0, 0) = c + t * u.x * u.x;
     m(1, 0) = t * u.x * u.y + s * u.z;
@@ -61,7 +66,7 @@ Mat4 yaw_pitch_roll(float yaw, float pitch, float roll) { return rotate_y(yaw) *
 
 
 Mat4 perspective_rh_zo(float fovy, float aspect, float near, float far) {
-    float f = 1.0f / std::tan(fovy / 2);
+    float f = 1.0f / static_cast<float>(portable::tan(fovy / 2));
     Mat4 m = Mat4::zero();
     m(0, 0) = f / aspect;
     m(1, 1) = f;
@@ -72,7 +77,7 @@ Mat4 perspective_rh_zo(float fovy, float aspect, float near, float far) {
 }
 
 Mat4 perspective_lh_zo(float fovy, float aspect, float near, float far) {
-    float f = 1.0f / std::tan(fovy / 2);
+    float f = 1.0f / static_cast<float>(portable::tan(fovy / 2));
     Mat4 m = Mat4::zero();
     m(0, 0) = f / aspect;
     m(1, 1) = f;

@@ -28,6 +28,7 @@
 
 #include "exec/fresh_pages.hpp"
 #include "facet/detail/thread_pool.hpp"
+#include "math/portable_trig.hpp"
 #include "scene/creased_normals.hpp"
 #include "scene/triangle_shapes.hpp"
 
@@ -583,7 +584,8 @@ constexpr std::uint32_t k_count = k_far - 1;
 struct FirstFaceTest {
     float cos_half = 2;  // never passed: every fan of two faces or more is split as the threads do
     explicit FirstFaceTest(float crease) {
-        if (crease >= 0.05f && crease <= k_pi - 0.05f) cos_half = static_cast<float>(std::cos(double{crease} / 2 - 1e-3));
+        if (crease >= 0.05f && crease <= k_pi - 0.05f)
+            cos_half = static_cast<float>(portable::cos(double{crease} / 2 - 1e-3));
     }
     bool near(Vec3 face, Vec3 first) const {
         return std::fabs(dot(face, face) - 1.0f) <= 4e-6f && dot(face, first) > cos_half;
@@ -784,7 +786,7 @@ void creased_normals_in_order(Mesh& mesh, WeldIds weld, std::size_t positions,
                 if (const std::uint32_t w = weld[mesh.indices[3 * t + k]]; listed[w / 64] >> w % 64 & 1)
                     listed_corners[sums[w].place++] = 3 * t + k;
         }
-        const float cos_crease = std::cos(crease);
+        const float cos_crease = static_cast<float>(portable::cos(crease));
         FanScratch& s = scratch[0];
         for (std::size_t word = 0; word < listed.size(); ++word)
             for (std::uint64_t bits = listed[word]; bits; bits &= bits - 1) {
@@ -857,7 +859,8 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
     CornersByPosition by_position;
     const auto facts = std::make_unique_for_overwrite<TriangleFacts[]>(triangles);
     describe_triangles(mesh, welded.id, positions, in_range, workers, facts.get(), by_position);
-    const std::vector<Vec3> around = split_fans(by_position, facts.get(), std::cos(crease_angle_radians),
+    const float cos_crease = static_cast<float>(portable::cos(crease_angle_radians));
+    const std::vector<Vec3> around = split_fans(by_position, facts.get(), cos_crease,
                                                 FirstFaceTest(crease_angle_radians), workers, scratch,
                                                 {vertex_set, mesh.normals});
     copy_vertices(scratch, mesh);

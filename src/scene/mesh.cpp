@@ -8,6 +8,9 @@
 #include <string>
 #include <utility>
 
+#include "math/portable_trig.hpp"
+#include "scene/triangle_shapes.hpp"
+
 namespace facet {
 
 Status Mesh::validate() const {
@@ -77,7 +80,7 @@ void compute_smooth_normals(Mesh& mesh) {
             const Vec3 p = mesh.positions[idx[k]];
             const Vec3 e1 = normalize(mesh.positions[idx[(k + 1) % 3]] - p);
             const Vec3 e2 = normalize(mesh.positions[idx[(k + 2) % 3]] - p);
-            const float angle = std::acos(clamp(dot(e1, e2), -1.0f, 1.0f));
+            const float angle = detail::corner_acos(clamp(dot(e1, e2), -1.0f, 1.0f));
             mesh.normals[idx[k]] += face * angle;
         }
     }
@@ -137,7 +140,10 @@ Mesh make_uv_sphere(float radius, int slices, int stacks) {
         const float v = static_cast<float>(j) / stacks, phi = v * k_pi;  // from the north pole down
         for (int i = 0; i <= slices; ++i) {
             const float u = static_cast<float>(i) / slices, theta = u * 2 * k_pi;
-            const Vec3 n{std::sin(phi) * std::sin(theta), std::cos(phi), std::sin(phi) * std::cos(theta)};
+            float sp, cp, st, ct;
+            portable::sincos(phi, sp, cp);
+            portable::sincos(theta, st, ct);
+            const Vec3 n{sp * st, cp, sp * ct};
             m.positions.push_back(n * radius);
             m.normals.push_back(n);
             m.uvs.push_back({u, v});
@@ -189,10 +195,14 @@ Mesh make_torus(float major_radius, float minor_radius, int segments, int sides)
     Mesh m;
     for (int i = 0; i <= segments; ++i) {
         const float u = static_cast<float>(i) / segments, a = u * 2 * k_pi;
-        const Vec3 centre{std::cos(a) * major_radius, 0, -std::sin(a) * major_radius};
+        float sa, ca;
+        portable::sincos(a, sa, ca);
+        const Vec3 centre{ca * major_radius, 0, -sa * major_radius};
         for (int j = 0; j <= sides; ++j) {
             const float v = static_cast<float>(j) / sides, b = v * 2 * k_pi;
-            const Vec3 n{std::cos(a) * std::cos(b), std::sin(b), -std::sin(a) * std::cos(b)};
+            float sb, cb;
+            portable::sincos(b, sb, cb);
+            const Vec3 n{ca * cb, sb, -sa * cb};
             m.positions.push_back(centre + n * minor_radius);
             m.normals.push_back(n);
             m.uvs.push_back({u, v});

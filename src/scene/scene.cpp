@@ -9,6 +9,7 @@
 
 #include "facet/shaders.hpp"
 #include "facet/views.hpp"
+#include "math/portable_trig.hpp"
 #include "scene/lit_shading.hpp"
 #include "scene/scene_passes.hpp"
 #include "tile/passes.hpp"
@@ -293,8 +294,10 @@ FramingSphere framing_sphere(const Objects& objects) {
 }
 
 Camera frame_sphere(FramingSphere s, float azimuth, float elevation, float fovy, float aspect) {
-    const float fovx = 2 * std::atan(std::tan(fovy / 2) * aspect);
-    const float dist = s.radius / std::sin(std::min(fovy, fovx) / 2);
+    const float fovx = 2 * static_cast<float>(portable::atan(static_cast<float>(portable::tan(fovy / 2)) * aspect));
+    float half_sin, half_cos;
+    portable::sincos(std::min(fovy, fovx) / 2, half_sin, half_cos);
+    const float dist = s.radius / half_sin;
     Camera c = Camera::orbit(s.centre, azimuth, elevation, dist);
     c.fovy = fovy;
     c.near = std::max(dist - 1.5f * s.radius, 0.01f * s.radius);

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "facet/mesh.hpp"
+#include "scene/triangle_shapes.hpp"
 
 namespace facet {
 namespace {
@@ -14,7 +15,7 @@ namespace {
 // The angle at corner p between the edges to a and b (as compute_smooth_normals weighs normals).
 float corner_angle(Vec3 p, Vec3 a, Vec3 b) {
     const Vec3 e1 = normalize(a - p), e2 = normalize(b - p);
-    return std::acos(clamp(dot(e1, e2), -1.0f, 1.0f));
+    return detail::corner_acos(clamp(dot(e1, e2), -1.0f, 1.0f));
 }
 
 // Any unit vector orthogonal to unit n.

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <string>
 
+#include "math/portable_trig.hpp"
 #include "scene/scene_passes.hpp"
 
 namespace facet {
@@ -346,7 +347,7 @@ std::vector<ViewSpec> sphere_views(int n, const ViewSpec& base) {
     std::vector<ViewSpec> views;
     for (int k = 0; k < n; ++k) {
         const double y = 1 - (2.0 * k + 1) / n;
-        views.push_back(looking_from(base, std::fmod(golden_angle * k, 2 * std::numbers::pi), std::asin(y)));
+        views.push_back(looking_from(base, std::fmod(golden_angle * k, 2 * std::numbers::pi), portable::asin(y)));
     }
     return views;
 }
@@ -357,7 +358,7 @@ std::vector<ViewSpec> random_views(int n, std::uint64_t seed, const ViewSpec& ba
     for (int k = 0; k < n; ++k) {
         const double y = 2 * unit_random(state) - 1;  // uniform height: uniform on the sphere
         const double azimuth = 2 * std::numbers::pi * unit_random(state);
-        views.push_back(looking_from(base, azimuth, std::asin(y)));
+        views.push_back(looking_from(base, azimuth, portable::asin(y)));
     }
     return views;
 }

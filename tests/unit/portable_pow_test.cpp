@@ -1,6 +1,7 @@
 // portable_pow and portable_log2: close to std::pow and log2 in double over the range shaders use,
 // exact at the special values and powers of two, and the same value wherever it is computed (the SIMD
-// lanes are tested in CompiledVisiblePass.*).
+// lanes are tested in CompiledVisiblePass.*). portable:: sine, cosine, tangent and the inverses
+// (math/portable_trig.hpp): within a few units of double of long double's.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -10,6 +11,7 @@
 #include <random>
 
 #include "facet/math/portable_pow.hpp"
+#include "math/portable_trig.hpp"
 
 namespace {
 
@@ -102,6 +104,67 @@ TEST(PortableLog2, IsWithinThreeUnitsInTheLastPlace) {
         worst = std::max(worst, std::fabs(r - exact) / ulp(static_cast<float>(exact)));
     }
     EXPECT_LE(worst, 3.01);
+}
+
+// Error in units of double's last place at the exact value.
+double ulps(double r, long double exact) {
+    const double e = static_cast<double>(exact);
+    const double u = std::nextafter(std::fabs(e), std::numeric_limits<double>::infinity()) - std::fabs(e);
+    return static_cast<double>(std::fabs(static_cast<long double>(r) - exact)) / u;
+}
+
+// Against the C library's long double functions (64-bit significands: 11 bits beyond double's),
+// over angles of a few turns and the whole domain of the inverses.
+TEST(PortableTrig, WithinAFewUnitsOfDoubleOfLongDouble) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> angle(-20.0, 20.0), unit(-1.0, 1.0), any(-50.0, 50.0);
+    double worst_sin = 0, worst_cos = 0, worst_tan = 0, worst_atan = 0, worst_asin = 0, worst_acos = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const double x = angle(rng), u = unit(rng), a = any(rng);
+        double s, c;
+        facet::portable::sincos(x, s, c);
+        const long double lx = x;
+        worst_sin = std::max(worst_sin, ulps(s, std::sin(lx)));
+        worst_cos = std::max(worst_cos, ulps(c, std::cos(lx)));
+        worst_tan = std::max(worst_tan, ulps(facet::portable::tan(x), std::tan(lx)));
+        worst_atan = std::max(worst_atan, ulps(facet::portable::atan(a), std::atan(static_cast<long double>(a))));
+        worst_asin = std::max(worst_asin, ulps(facet::portable::asin(u), std::asin(static_cast<long double>(u))));
+        worst_acos = std::max(worst_acos, ulps(facet::portable::acos(u), std::acos(static_cast<long double>(u))));
+    }
+    // The header's measured worst cases (over 2 million arguments), with a little room.
+    EXPECT_LE(worst_sin, 2.5);
+    EXPECT_LE(worst_cos, 2.5);
+    EXPECT_LE(worst_tan, 4.5);
+    EXPECT_LE(worst_atan, 5.0);
+    EXPECT_LE(worst_asin, 6.5);
+    EXPECT_LE(worst_acos, 6.0);
+}
+
+TEST(PortableTrig, ExactValues) {
+    double s, c;
+    facet::portable::sincos(0.0, s, c);
+    EXPECT_EQ(s, 0.0);
+    EXPECT_EQ(c, 1.0);
+    float sf, cf;
+    facet::portable::sincos(0.0f, sf, cf);
+    EXPECT_EQ(sf, 0.0f);
+    EXPECT_EQ(cf, 1.0f);
+    EXPECT_EQ(facet::portable::tan(0.0), 0.0);
+    EXPECT_EQ(facet::portable::cos(0.0), 1.0);
+    EXPECT_EQ(facet::portable::asin(0.0), 0.0);
+    EXPECT_EQ(facet::portable::asin(1.0), facet::portable::k_half_pi);
+    EXPECT_EQ(facet::portable::asin(-1.0), -facet::portable::k_half_pi);
+    EXPECT_EQ(facet::portable::asin(2.0), facet::portable::k_half_pi);  // clamped
+    EXPECT_EQ(facet::portable::acos(1.0), 0.0);
+    EXPECT_EQ(facet::portable::acos(-1.0), facet::portable::k_pi);
+    EXPECT_EQ(facet::portable::atan(0.0), 0.0);
+    // The float forms are the double ones rounded once.
+    for (float x : {0.1f, 0.5f, 1.0f, 2.5f, -3.0f, 10.0f}) {
+        facet::portable::sincos(x, sf, cf);
+        facet::portable::sincos(static_cast<double>(x), s, c);
+        EXPECT_EQ(sf, static_cast<float>(s)) << x;
+        EXPECT_EQ(cf, static_cast<float>(c)) << x;
+    }
 }
 
 }  // namespace
