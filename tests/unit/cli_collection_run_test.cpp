@@ -9,10 +9,12 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <filesystem>
 #include <map>
@@ -459,8 +461,13 @@ pid_t spawn_facet(const std::vector<std::string>& args) {
     posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+    posix_spawnattr_t attributes;  // a process group of its own, which its workers join
+    posix_spawnattr_init(&attributes);
+    posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+    posix_spawnattr_setpgroup(&attributes, 0);
     pid_t pid = -1;
-    const int spawned = posix_spawn(&pid, binary.c_str(), &actions, nullptr, argv.data(), environ);
+    const int spawned = posix_spawn(&pid, binary.c_str(), &actions, &attributes, argv.data(), environ);
+    posix_spawnattr_destroy(&attributes);
     posix_spawn_file_actions_destroy(&actions);
     return spawned == 0 ? pid : -1;
 }
@@ -490,13 +497,19 @@ TEST(CliCollection, KilledAtRandomMomentsThenResumedRendersEveryObjectOnceWithNo
     // moments are counted in logged objects, not in time, so that a fast machine (an object in a few
     // milliseconds) is interrupted as often as a slow one; the rounds stop while a quarter of the
     // collection is still left for the last run.
+    // --worker-sharing folder: a worker per object, as the moments above assume (the manifest's
+    // default, batches of 32 objects per worker, finished the run within a few milliseconds of a
+    // target, before the kill, 2 runs in 10 under load).
     const std::vector<std::string> args{"thumbs", "--manifest", (dir / "m.jsonl").string(), "-o", out.string(), "--size",
-                                        "24", "--threads", "2", "--log", log.string(), "--resume"};
+                                        "24", "--threads", "2", "--worker-sharing", "folder", "--log", log.string(),
+                                        "--resume"};
     std::mt19937 rng(20240611);  // fixed: the same rounds on every run of the test
     const auto lines_in_log = [&] {
         const std::string text = facet_test::read_file(log);
         return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
     };
+    // The killed runs' workers become this process's children, to be reaped before the next run.
+    ASSERT_EQ(prctl(PR_SET_CHILD_SUBREAPER, 1), 0);
     int interrupted = 0;
     for (int round = 0; round < 6 && lines_in_log() < k_objects * 3 / 4; ++round) {
         const int target = lines_in_log() + std::uniform_int_distribution<int>(1, 4)(rng);
@@ -515,8 +528,14 @@ TEST(CliCollection, KilledAtRandomMomentsThenResumedRendersEveryObjectOnceWithNo
             while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
         }
         interrupted += WIFSIGNALED(status) ? 1 : 0;
-        // Its workers die with it (PR_SET_PDEATHSIG); let them go before the next run starts.
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        // Its workers die with it (PR_SET_PDEATHSIG): all gone before the next run starts, however
+        // long a loaded machine takes to end them.
+        const auto reap_by = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+        for (pid_t reaped; (reaped = waitpid(-pid, nullptr, WNOHANG)) != -1 || errno == EINTR;) {
+            ASSERT_LT(std::chrono::steady_clock::now(), reap_by) << "a worker outlived its killed run";
+            if (reaped == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+        ASSERT_EQ(errno, ECHILD);
     }
     EXPECT_GE(interrupted, 4) << "the runs ended before they could be killed";
     const int logged_before = lines_in_log();
