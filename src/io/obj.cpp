@@ -506,6 +506,10 @@ public:
                     stop = plain_vertex(line + 1);
                 else if (line[0] == 'f' && is_space(line[1]))
                     stop = plain_face(line + 1);
+                else if (line[0] == 'v' && line[1] == 't' && is_space(line[2]))
+                    stop = plain_texcoord(line + 2);
+                else if (line[0] == 'v' && line[1] == 'n' && is_space(line[2]))
+                    stop = plain_normal(line + 2);
                 if (!stop) stop = read_line(line, in_cstype);
             } else if (*line == 'e' && word_at(line) == "end")
                 in_cstype = false;
@@ -605,6 +609,42 @@ private:
         return p;
     }
 
+    // Up to `most` plain numbers (read_plain_float's, each followed by a blank) from c, into out, and
+    // the line's end after them: their count, or 0 where the line holds anything else.
+    [[gnu::always_inline]] std::size_t plain_floats(const char*& c, float* out, std::size_t most) const {
+        const char* p = skip_blanks(c);
+        std::size_t n = 0;
+        while (n < most && !ends_line(*p)) {
+            p = read_plain_float(p, out[n], readable_end_);
+            if (!p || !is_blank(*p)) return 0;
+            ++n;
+            p = skip_blanks(p);
+        }
+        if (!ends_line(*p)) return 0;
+        c = p;
+        return n;
+    }
+
+    // The common "vt u v" and "vt u v w" of plain numbers (texcoord()'s, whose token count they
+    // are and whose values are finite): the line's end, or null (nothing done) for texcoord().
+    [[gnu::always_inline]] const char* plain_texcoord(const char* c) {
+        float t[3] = {0, 0, 0};
+        const std::size_t n = plain_floats(c, t, 3);
+        if (n < 2) return nullptr;
+        model_.texcoords.push_back({t[0], t[1], t[2]});
+        model_.texcoord_dim = std::max(model_.texcoord_dim, static_cast<unsigned>(n));
+        return c;
+    }
+
+    // The common "vn x y z" of plain numbers (normal()'s first three words): the line's end, or
+    // null (nothing done) for normal().
+    [[gnu::always_inline]] const char* plain_normal(const char* c) {
+        float n[3];
+        if (plain_floats(c, n, 3) != 3) return nullptr;
+        model_.normals.push_back({n[0], n[1], n[2]});
+        return c;
+    }
+
     const char* vertex(const char* c) {
         // Three plain numbers (other than plain_vertex's), then other forms.
         const char* p = c;
@@ -691,18 +731,45 @@ private:
     // Returns the line's end.
     // The common "f 1 2 3" (from c, past the 'f'): vertex indices alone, each plain
     // (read_plain_index's), up to 8 corners. The line's end, or null (nothing done) for face().
+    // Also "f 1/2/3 ...", "f 1/2 ..." and "f 1//3 ...": face()'s lists of each corner's plain indices
+    // (plain_face_with_attributes).
     [[gnu::always_inline]] const char* plain_face(const char* c) {
         std::uint32_t v[8];
         std::size_t corners = 0;
         const char* p = skip_blanks(c);
-        for (const char* e; corners < 8 && (e = read_plain_index(p, v[corners]));) {
+        for (const char* e; corners < 8 && (e = read_plain_index<false>(p, v[corners]));) {
             ++corners;
             p = e;
             if (!is_space(*p)) break;  // the line's end
             p = skip_blanks(p + 1);
         }
+        if (corners == 0) return plain_face_with_attributes(p);
         if (!ends_line(*p)) return nullptr;
         if (corners != 3 || !add_plain_triangle(v)) add_face(v, corners, nullptr, 0, nullptr, 0);
+        return p;
+    }
+
+    // Corners of plain indices separated by slashes, up to 8, each index in the list of face()'s
+    // position (the slashes before it; the second names a normal when only normals were read):
+    // the line's end, or null (nothing done) for face().
+    const char* plain_face_with_attributes(const char* p) {
+        const bool vt = !model_.texcoords.empty(), vn = !model_.normals.empty();
+        std::uint32_t lists[3][8];
+        std::size_t counts[3] = {0, 0, 0};
+        while (!ends_line(*p)) {
+            if (counts[0] == 8) return nullptr;
+            for (std::size_t position = 0;;) {
+                if (position == 1 && !vt && vn) position = 2;
+                if (position > 2 || counts[position] == 8) return nullptr;
+                const char* e = read_plain_index<true>(p, lists[position][counts[position]]);
+                if (!e) return nullptr;
+                ++counts[position];
+                for (p = e; *p == '/'; ++p) ++position;
+                if (p == e) break;
+            }
+            p = skip_blanks(p);
+        }
+        add_face(lists[0], counts[0], lists[1], counts[1], lists[2], counts[2]);
         return p;
     }
 
@@ -746,12 +813,14 @@ private:
 
     // A vertex index as the face's reading below takes it ("[1-9]D{0,7}" then a space or line end),
     // minus one, from one 8-byte word when 9 bytes from p may be read: its end, or null.
+    // `Slash`: a '/' may end it too.
+    template <bool Slash>
     [[gnu::always_inline]] const char* read_plain_index(const char* p, std::uint32_t& index) const {
         if (readable_end_ - p < 9) return nullptr;
         std::uint64_t word;
         std::memcpy(&word, p, sizeof word);
         const unsigned n = text_detail::leading_digits(word);
-        if (n == 0 || (word & 0xFF) == '0' || !is_blank(p[n])) return nullptr;
+        if (n == 0 || (word & 0xFF) == '0' || !(is_blank(p[n]) || (Slash && p[n] == '/'))) return nullptr;
         index = static_cast<std::uint32_t>(text_detail::digits_value(word, n) - 1);
         return p + n;
     }
