@@ -38,6 +38,11 @@ struct UvTransform {
     Vec2 apply_linear(Vec2 d) const { return {m[0] * d.x + m[1] * d.y, m[3] * d.x + m[4] * d.y}; }
 };
 
+// Texels of one level: columns [x0, x1) and rows [y0, y1); empty when x0 == x1.
+struct TexelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+
 struct TextureLimits {
     int max_size = defaults::k_max_texture_size;            // per side
     std::size_t max_pixels = defaults::k_max_texture_pixels;  // width * height
@@ -63,6 +68,9 @@ public:
     int level_count() const { return static_cast<int>(levels_.size()); }
     const Image& level(int i) const { return levels_[static_cast<std::size_t>(i)]; }
     bool has_transparency() const { return has_transparency_; }  // any texel with alpha < 255
+    // The smallest rectangle of level 0 holding every texel whose alpha is not 0 (empty when none
+    // is): a bilinear sample of level 0 whose texels all lie outside has alpha 0 exactly.
+    TexelRect alpha_bounds() const { return alpha_bounds_; }
 
     // Samples at uv (texel centres at (i + 0.5) / size, v = 0 at the top row of the image, as
     // glTF and OBJ-after-flip use it). The derivatives of uv along screen x and y choose the mip level.
@@ -80,6 +88,7 @@ public:
 private:
     std::vector<Image> levels_;
     bool has_transparency_ = false;
+    TexelRect alpha_bounds_;
 };
 
 }  // namespace facet

@@ -18,7 +18,9 @@
 
 #include <hwy/highway.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 
 #include "facet/detail/fragment.hpp"
@@ -78,6 +80,75 @@ HWY_INLINE VF channel(hn::Vec<DU> packed, int shift) {
     return hn::Div(hn::ConvertTo(df, hn::BitCast(DI(), c)), hn::Set(df, 255.0f));
 }
 
+// The pixels of a row whose bilinear samples of the map may have alpha: the others blend to the
+// target's own bytes (alpha 0: the display colour, in [0, 1], times 0 plus each byte / 255 times 1
+// rounds back to the byte). A sample has alpha only where u and v reach the texels of the map's
+// alpha_bounds; those ranges are widened here by a texel and the pixels found by a pixel, far more
+// than the kernel's float rounding moves its uv. Along a row u and v are quotients of linear
+// functions of x with the denominator q, > 0 at the row's ends and so between them: each bound on
+// u or v is a linear inequality in x, solved in double.
+template <int N>
+struct AlphaColumns {
+    const TriangleSetup& t;
+    const float* planes;
+    int uv_at;
+    PixelRect tile;
+    bool any = true;    // without a map: every pixel
+    bool none = false;  // no texel has alpha
+    double lo[2] = {-HUGE_VAL, -HUGE_VAL}, hi[2] = {HUGE_VAL, HUGE_VAL};
+
+    AlphaColumns(const Texture* texture, const TriangleSetup& setup, const float* p, int at, PixelRect r)
+        : t(setup), planes(p), uv_at(at), tile(r) {
+        if (!texture) return;
+        any = false;
+        const TexelRect b = texture->alpha_bounds();
+        none = b.x0 == b.x1;
+        // footprint() takes texels floor(c * size - 0.5) and the next, c clamped to [0, 1]: one of
+        // [first, end) only when c >= (first - 0.5) / size and c < (end + 0.5) / size.
+        auto range = [](int first, int end, int size, double& l, double& h) {
+            const double texel = 1.0 / size;
+            if (first > 0) l = (first - 0.5) * texel - texel;
+            if (end < size) h = (end + 0.5) * texel + texel;
+        };
+        range(b.x0, b.x1, texture->width(), lo[0], hi[0]);
+        range(b.y0, b.y1, texture->height(), lo[1], hi[1]);
+    }
+
+    std::uint64_t operator()(int y) const {
+        const int width = tile.x1 - tile.x0;
+        const std::uint64_t all = width >= 64 ? ~0ull : (1ull << width) - 1;
+        if (any) return all;
+        if (none) return 0;
+        const double dy = y + 0.5 - t.y0, x_offset = 0.5 - t.x0;
+        const double qa = t.dqdx, qb = t.q0 + t.dqdx * x_offset + t.dqdy * dy;
+        const double l1a = t.dl1dx, l1b = t.dl1dx * x_offset + t.dl1dy * dy;
+        const double l2a = t.dl2dx, l2b = t.dl2dx * x_offset + t.dl2dy * dy;
+        const double first = tile.x0, last = tile.x1 - 1;
+        if (!(qa * first + qb > 0) || !(qa * last + qb > 0)) return all;
+        double xa = first, xb = last;
+        // a x + b >= 0 (a x + b <= 0 with `below`) for x in [xa, xb].
+        auto keep = [&](double a, double b, bool below) {
+            if (below) a = -a, b = -b;
+            if (a > 0) xa = std::max(xa, -b / a);
+            else if (a < 0) xb = std::min(xb, -b / a);
+            else if (b < 0) xb = xa - 1;
+        };
+        for (int k = 0; k < 2; ++k) {
+            const double p0 = planes[uv_at + k], p1 = planes[N + uv_at + k], p2 = planes[2 * N + uv_at + k];
+            const double ua = p0 * qa + p1 * l1a + p2 * l2a, ub = p0 * qb + p1 * l1b + p2 * l2b;
+            for (const double x : {first, last})
+                if (!(std::abs((ua * x + ub) / (qa * x + qb)) < 16)) return all;  // also NaN
+            if (lo[k] > -HUGE_VAL) keep(ua - lo[k] * qa, ub - lo[k] * qb, false);  // u >= lo
+            if (hi[k] < HUGE_VAL) keep(ua - hi[k] * qa, ub - hi[k] * qb, true);    // u <= hi
+        }
+        if (!(xa <= xb)) return 0;
+        const int from = std::max(static_cast<int>(std::ceil(xa)) - 1, tile.x0) - tile.x0;
+        const int to = std::min(static_cast<int>(std::floor(xb)) + 1, tile.x1 - 1) - tile.x0;
+        if (from > to) return 0;
+        return (to - from + 1 >= 64 ? ~0ull : ((1ull << (to - from + 1)) - 1)) << from;
+    }
+};
+
 }  // namespace
 
 void BlendUnlit(const Shader& s, const TriangleSetup& t, const TileCoverage& cov, PixelRect tile,
@@ -107,9 +178,11 @@ void BlendUnlit(const Shader& s, const TriangleSetup& t, const TileCoverage& cov
     const auto lane_bit = hn::Load(du, bit_of);
     const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
 
+    const AlphaColumns<N> with_alpha(texture, t, planes.p, uv_at, tile);
     for (int row = cov.first_row; row <= cov.last_row; ++row) {
-        std::uint64_t mask = cov.rows[row];
         const int y = tile.y0 + row;
+        std::uint64_t mask = cov.rows[row];
+        mask &= with_alpha(y);
         Rgba8* colour_row = target.colour + static_cast<std::size_t>(y) * target.stride;
         float* depth_row = target.depth + static_cast<std::size_t>(y) * target.stride;
         const float dy_scalar = (static_cast<float>(y) + 0.5f) - t.y0;

@@ -270,6 +270,13 @@ Result<std::vector<unsigned char>> read_file(const std::string& path) {
 Texture::Texture(Image base) {
     validate(base);
     has_transparency_ = std::any_of(base.pixels.begin(), base.pixels.end(), [](Rgba8 t) { return t.a < 255; });
+    TexelRect& b = alpha_bounds_;
+    b = {base.width, base.height, 0, 0};
+    for (int y = 0; y < base.height; ++y)
+        for (int x = 0; x < base.width; ++x)
+            if (base.pixels[static_cast<std::size_t>(y) * static_cast<std::size_t>(base.width) + static_cast<std::size_t>(x)].a != 0)
+                b = {std::min(b.x0, x), std::min(b.y0, y), std::max(b.x1, x + 1), std::max(b.y1, y + 1)};
+    if (b.x1 == 0) b = {};
     levels_.push_back(std::move(base));
     while (levels_.back().width > 1 || levels_.back().height > 1) levels_.push_back(downsample(levels_.back()));
 }

@@ -164,6 +164,21 @@ TEST(TextureMips, TransparencyMeansAnyAlphaBelowOpaque) {
                 })).has_transparency());
 }
 
+// The rectangle of texels whose alpha is not 0: every such texel inside, the rest of the rows and
+// columns outside it with alpha 0; empty for a fully transparent image, the whole for an opaque one.
+TEST(TextureMips, AlphaBoundsHoldEveryTexelWithAlpha) {
+    auto bounds = [](int w, int h, const std::function<bool(int, int)>& has_alpha) {
+        const TexelRect b = Texture(make_image(w, h, [&](int x, int y) {
+                                return Rgba8{9, 9, 9, static_cast<std::uint8_t>(has_alpha(x, y) ? 1 + x : 0)};
+                            })).alpha_bounds();
+        return std::vector<int>{b.x0, b.y0, b.x1, b.y1};
+    };
+    EXPECT_EQ(bounds(7, 5, [](int, int) { return true; }), (std::vector<int>{0, 0, 7, 5}));
+    EXPECT_EQ(bounds(7, 5, [](int, int) { return false; }), (std::vector<int>{0, 0, 0, 0}));
+    EXPECT_EQ(bounds(7, 5, [](int x, int y) { return x == 3 && y == 1; }), (std::vector<int>{3, 1, 4, 2}));
+    EXPECT_EQ(bounds(7, 5, [](int x, int y) { return (x == 1 && y == 4) || (x == 5 && y == 2); }), (std::vector<int>{1, 2, 6, 5}));
+}
+
 // ---- sampling ------------------------------------------------------------------------------------
 
 TEST(TextureSample, TexelCentresReturnTheExactTexel) {
