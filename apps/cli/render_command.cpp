@@ -24,13 +24,6 @@
 namespace facet::cli {
 namespace {
 
-// OFF and STL files: facet reads nearly all of them itself, and assimp's readers of the others
-// are not among those that read past their buffers (tests/regression/assimp_crashes).
-bool huge_pages_suit(const std::string& path) {
-    const std::string ext = model_extension(path);
-    return ext == "off" || ext == "stl";
-}
-
 using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point start) {

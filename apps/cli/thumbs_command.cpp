@@ -319,10 +319,17 @@ bool run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
         }
         return true;
     };
-    // In the worker: the job the parent sent. `confined` is the worker's own copy (a fork's).
-    bool confined = false;
+    // In the worker: the job the parent sent. `confined` and `huge_heap` are the worker's own
+    // copies (a fork's).
+    bool confined = false, huge_heap = false;
     const ServingJob serve = [&](std::size_t i, const WorkerReport& report, bool& go_on) {
         if (!confined) keep_freed_memory_for_reuse();  // a worker reuses what its jobs free
+        // The heap in huge pages, as facet render's: from the first job when its file suits, else
+        // from the second, since assimp reads no file in a worker after its first job.
+        if (!huge_heap && (confined || huge_pages_suit(jobs[i].entry.path))) {
+            use_huge_pages_for_heap(limits.max_memory_bytes);
+            huge_heap = true;
+        }
         ThumbnailJob job{jobs[i].entry.path, object_plan(plan, jobs[i]), output_of(i), staged[i] ? &*staged[i] : nullptr};
         job.confine = !confined;
         job.fresh_process = !confined;
@@ -608,6 +615,10 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
                      jobs.size(), collection.log.c_str(), order.size());
 
     const Clock::time_point start = Clock::now();
+    // The readers' module opened once here, before the workers are forked, when an object needs it
+    // (each worker would otherwise open and relocate it again).
+    if (std::any_of(order.begin(), order.end(), [&](std::size_t i) { return !has_own_parser(jobs[i].entry.path); }))
+        (void)open_model_reader_module();
     Progress progress(order.size());
     const bool workers_ok = run_jobs(jobs, order, *plan, output_dir, workers, across_folders, *limits, progress, log);
     const double seconds = ms_since(start) / 1000;

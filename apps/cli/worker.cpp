@@ -528,6 +528,11 @@ void keep_freed_memory_for_reuse() {
     mallopt(M_ARENA_MAX, 1);
 }
 
+bool huge_pages_suit(const std::string& path) {
+    const std::string ext = model_extension(path);
+    return ext == "off" || ext == "stl";
+}
+
 void use_huge_pages_for_heap(std::uint64_t max_memory_bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     std::uint64_t bytes = std::uint64_t{128} << 20;

@@ -194,6 +194,11 @@ void keep_freed_memory_for_reuse();
 // loads (tests/regression/assimp_crashes/x_segv_a67c05d7.x did). Nothing changes where THP is
 // "never" or the heap is not glibc's (sanitizer builds).
 void use_huge_pages_for_heap(std::uint64_t max_memory_bytes);
+// Whether a job of this model file may have the huge-page heap from its start: OFF and STL files,
+// which facet reads nearly all itself, and assimp's readers of the others are not among those that
+// read past their buffers (tests/regression/assimp_crashes). (A served worker's later jobs may have
+// it whatever their files: assimp reads none there.)
+bool huge_pages_suit(const std::string& path);
 
 // Parses --max-memory: a number of MiB, or with a suffix K, M, G (KiB, MiB, GiB); 0: no limit.
 std::optional<std::uint64_t> parse_memory_size(const std::string& text);

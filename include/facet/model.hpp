@@ -95,5 +95,10 @@ void allow_assimp_imports(bool allowed);
 // and PLY, by the extension, case-insensitive; a file the parser declines still goes to assimp).
 bool has_own_parser(const std::string& path);
 
+// Opens the module that reads OBJ, glTF and assimp's formats now, rather than at the first load
+// that needs it: for a parent that forks worker processes, which then share it instead of each
+// opening and relocating it again. False when it cannot be opened (the loads that need it say why).
+bool open_model_reader_module();
+
 }  // namespace facet
 FACET_API_END

@@ -33,3 +33,12 @@ std::optional<Result<LoadedModel>> module_load_own_scene(const std::string& path
 }
 
 }  // namespace facet::io_detail
+
+namespace facet {
+
+bool open_model_reader_module() {
+    std::string why;
+    return io_detail::assimp_module(why) != nullptr;
+}
+
+}  // namespace facet

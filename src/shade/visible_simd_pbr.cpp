@@ -114,9 +114,12 @@ HWY_INLINE Vec3Lanes sample_level(const Environment& env, const EnvironmentLevel
     const VI b = hn::Add(a, hn::Mul(stride, three));
     const float* t = env.texels().data();
     if constexpr (Grey) {
-        const VI three_on = hn::Set(di, 3);
-        const VF a0 = hn::GatherIndex(df, t, a), a1 = hn::GatherIndex(df, t, hn::Add(a, three_on));
-        const VF b0 = hn::GatherIndex(df, t, b), b1 = hn::GatherIndex(df, t, hn::Add(b, three_on));
+        // A texel's blue is its red (grey), and the next texel's red follows it: the two reds of a
+        // row are the float pair at a + 2, one 64-bit gather.
+        const VI two = hn::Set(di, 2);
+        VF a0, a1, b0, b1;
+        gather_pair(t, hn::Add(a, two), a0, a1);
+        gather_pair(t, hn::Add(b, two), b0, b1);
         const VF top = hn::Add(a0, hn::Mul(hn::Sub(a1, a0), tx));
         const VF bottom = hn::Add(b0, hn::Mul(hn::Sub(b1, b0), tx));
         const VF c = hn::Add(top, hn::Mul(hn::Sub(bottom, top), ty));
@@ -188,8 +191,36 @@ HWY_INLINE Vec3Lanes diffuse(const Environment& env, const Vec3Lanes& d) {
     return {max_zero(c.x), max_zero(c.y), max_zero(c.z)};
 }
 
-// split_sum: {A, B}
-HWY_INLINE void split_sum(VF n_dot_v, VF roughness, VF& a, VF& b) {
+// The split-sum table's A and B apart, each row of k_split_sum_size entries in a row of floats.
+struct SplitSumRows {
+    static constexpr std::size_t k_entries = std::size_t{k_split_sum_size} * k_split_sum_size;
+    HWY_ALIGN float a[k_entries], b[k_entries];
+};
+HWY_NOINLINE const SplitSumRows& split_sum_rows() {
+    static const SplitSumRows rows = [] {
+        SplitSumRows r;
+        const float* table = split_sum_table().data();
+        for (std::size_t e = 0; e < SplitSumRows::k_entries; ++e) r.a[e] = table[2 * e], r.b[e] = table[2 * e + 1];
+        return r;
+    }();
+    return rows;
+}
+
+// row[i] for each lane's i in [0, 2 lanes): the row's two vectors looked up within and the lanes
+// taken from the one that holds i (permutes instead of a gather).
+HWY_INLINE VF lookup_in_two_vectors(const float* row, VI i) {
+    const DF df;
+    const DI di;
+    constexpr int lanes = static_cast<int>(hn::MaxLanes(DF()));
+    const auto within = hn::IndicesFromVec(df, hn::And(i, hn::Set(di, lanes - 1)));
+    const VF low = hn::TableLookupLanes(hn::Load(df, row), within);
+    const VF high = hn::TableLookupLanes(hn::Load(df, row + lanes), within);
+    return hn::IfThenElse(hn::RebindMask(df, hn::Gt(i, hn::Set(di, lanes - 1))), high, low);
+}
+
+// split_sum: {A, B}. `uniform_roughness`: every lane's roughness is the same (a material's), and so
+// are the two rows read: where a row is two vectors (16 lanes), its entries are found by permutes.
+HWY_INLINE void split_sum(VF n_dot_v, VF roughness, bool uniform_roughness, VF& a, VF& b) {
     const DF df;
     const DI di;
     const float* table = split_sum_table().data();
@@ -205,8 +236,23 @@ HWY_INLINE void split_sum(VF n_dot_v, VF roughness, VF& a, VF& b) {
     const VI i1 = hn::Min(hn::Add(i0, one), last), j1 = hn::Min(hn::Add(j0, one), last);
     // A texel's A and B are a pair of floats.
     VF p00[2], p10[2], p01[2], p11[2];
-    auto at = [&](VI i, VI j, VF* ab) { gather_pair(table, hn::Mul(hn::Add(hn::Mul(j, width), i), two), ab[0], ab[1]); };
-    at(i0, j0, p00), at(i1, j0, p10), at(i0, j1, p01), at(i1, j1, p11);
+    bool looked_up = false;
+    if constexpr (hn::MaxLanes(DF()) * 2 == n) {
+        if (uniform_roughness) {
+            const SplitSumRows& rows = split_sum_rows();
+            const std::size_t row0 = static_cast<std::size_t>(hn::GetLane(j0)) * n;
+            const std::size_t row1 = static_cast<std::size_t>(hn::GetLane(j1)) * n;
+            auto at = [&](VI i, std::size_t row, VF* ab) {
+                ab[0] = lookup_in_two_vectors(rows.a + row, i), ab[1] = lookup_in_two_vectors(rows.b + row, i);
+            };
+            at(i0, row0, p00), at(i1, row0, p10), at(i0, row1, p01), at(i1, row1, p11);
+            looked_up = true;
+        }
+    }
+    if (!looked_up) {
+        auto at = [&](VI i, VI j, VF* ab) { gather_pair(table, hn::Mul(hn::Add(hn::Mul(j, width), i), two), ab[0], ab[1]); };
+        at(i0, j0, p00), at(i1, j0, p10), at(i0, j1, p01), at(i1, j1, p11);
+    }
     VF r[2];
     for (int k = 0; k < 2; ++k) {
         const VF top_row = hn::Add(p00[k], hn::Mul(hn::Sub(p10[k], p00[k]), tx));
@@ -564,7 +610,7 @@ struct PbrLanes {
         const VF n_dot_v = clamp_zero_to(n_dot_v_raw, 1.0f);
         const Vec3Lanes r = sub(mul(n, hn::Mul(hn::Set(df, 2.0f), n_dot_v_raw)), v);
         VF a, b;
-        split_sum(n_dot_v, roughness, a, b);
+        split_sum(n_dot_v, roughness, uniform_roughness, a, b);
         const Vec3Lanes dielectric = splat3(0.04f);
         const Vec3Lanes f0 = add(dielectric, mul(sub(base, dielectric), metallic));
         const Vec3Lanes c_diff = mul(base, hn::Sub(one, metallic));
