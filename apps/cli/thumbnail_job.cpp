@@ -122,7 +122,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
         if (error.empty() && !job.staging) {
             report.phase(WorkerPhase::writing);
             start = Clock::now();
-            if (Status s = write_png(job.output.string(), colour, {.threads = k_thumbnail_threads}); !s) {
+            if (Status s = write_png(job.output.string(), colour, {.threads = k_thumbnail_threads, .runs_only = true}); !s) {
                 error = s.error().message;
                 f.reason = FailReason::write_failed;
             }

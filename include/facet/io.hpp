@@ -18,6 +18,11 @@ namespace facet {
 struct PngOptions {
     int level = 2;    // zlib's level, 0..9: 2 is several times faster than 6 and within ~10% of its size
     int threads = 0;  // the encoder's threads (row blocks deflated in parallel); 0: every core
+    // deflate's run-length strategy (zlib's Z_RLE) instead of the level's string matching (levels 1
+    // to 9 then write the same bytes): only repeats of the byte before are found, which suits smooth
+    // shading on a plain background (facet thumbs: ~18% faster than level 2, ~2% smaller) better than
+    // photographic textures (up to ~20% larger).
+    bool runs_only = false;
 };
 
 // 8-bit PNG: RGB when every pixel is opaque (alpha 255), RGBA otherwise; read back, the pixels are the same.

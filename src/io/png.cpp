@@ -39,7 +39,7 @@ struct PngLayout {
 };
 
 // Each block of rows is deflated on its own (pigz's way): it starts from the 32 KB of filtered bytes
-// before it as a dictionary and ends with a sync flush, so that the blocks joined are one zlib
+// before it as a dictionary (with runs only, the byte before it) and ends with a sync flush, so that the blocks joined are one zlib
 // stream. The block's size in rows is fixed by the row's length alone (about 128 KB of filtered
 // bytes: a 512x512 RGB image has 7, enough for two threads to share evenly, and the dictionary
 // keeps the files within ~1% of one stream's size).
@@ -69,13 +69,14 @@ struct DeflatedBlock {
 
 // Deflates filtered[begin, end) as one piece of the stream: a sync flush ends it unless it is the last.
 void deflate_block(const unsigned char* filtered, std::size_t begin, std::size_t end, bool last, int level,
-                   DeflatedBlock& out) {
+                   bool runs_only, DeflatedBlock& out) {
     out.raw = end - begin;
     out.adler = adler32(1, filtered + begin, static_cast<uInt>(end - begin));
     z_stream z{};
-    out.error = deflateInit2(&z, level, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY);  // raw deflate: no header
+    out.error = deflateInit2(&z, level, Z_DEFLATED, -15, 8, runs_only ? Z_RLE : Z_DEFAULT_STRATEGY);  // raw deflate: no header
     if (out.error != Z_OK) return;
-    const std::size_t dictionary = std::min(begin, k_window);
+    // Runs look one byte back only: that byte is all the dictionary they can use.
+    const std::size_t dictionary = std::min(begin, runs_only ? std::size_t{1} : k_window);
     if (dictionary > 0) out.error = deflateSetDictionary(&z, filtered + begin - dictionary, static_cast<uInt>(dictionary));
     out.bytes.resize(deflateBound(&z, static_cast<uLong>(end - begin)) + 64);
     z.next_in = const_cast<Bytef*>(filtered + begin);
@@ -136,7 +137,7 @@ Result<std::vector<unsigned char>> encode(const std::string& path, const PngLayo
     });
     pool.parallel_for(blocks, [&](std::size_t b) {
         const std::size_t begin = b * rows_per_block * stride, end = std::min(height, (b + 1) * rows_per_block) * stride;
-        deflate_block(filtered.data(), begin, end, b + 1 == blocks, options.level, deflated[b]);
+        deflate_block(filtered.data(), begin, end, b + 1 == blocks, options.level, options.runs_only, deflated[b]);
     });
 
     std::vector<unsigned char> png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
@@ -150,7 +151,7 @@ Result<std::vector<unsigned char>> encode(const std::string& path, const PngLayo
     put_chunk(png, "IHDR", ihdr.data(), ihdr.size());
     // The zlib header (deflate, 32 KB window, the level's class as zlib writes it) leads the first
     // block's IDAT; the Adler-32 of all the filtered bytes, combined from the blocks', ends the last's.
-    const int level_class = options.level < 2 ? 0 : options.level < 6 ? 1 : options.level == 6 ? 2 : 3;
+    const int level_class = options.level < 2 || options.runs_only ? 0 : options.level < 6 ? 1 : options.level == 6 ? 2 : 3;
     unsigned header[2] = {0x78, static_cast<unsigned>(level_class << 6)};
     header[1] += 31 - (header[0] * 256 + header[1]) % 31;
     uLong adler = 1;

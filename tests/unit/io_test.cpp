@@ -97,15 +97,17 @@ Image noise(int w, int h, bool opaque) {
 
 // The encoder deflates blocks of rows (~128 KB of filtered bytes each) in parallel: a 200x400 image
 // has 2 blocks as RGB and 3 as RGBA. The file must decode to the same pixels (libspng checks the
-// chunks' CRCs and the zlib stream's Adler-32) and be the same bytes whatever the thread count.
+// chunks' CRCs and the zlib stream's Adler-32) and be the same bytes whatever the thread count,
+// with the level's matching or runs only.
 TEST(Png, ImagesOfManyRowBlocksRoundTripInTheSameBytesOnAnyThreadCount) {
     const fs::path dir = temp_dir("blocks");
-    for (bool opaque : {true, false}) {
+    for (bool opaque : {true, false})
+    for (bool runs_only : {false, true}) {
         const Image img = noise(200, 400, opaque);
         std::string first;
         for (int threads : {1, 2, 3}) {
-            const fs::path path = dir / ("t" + std::to_string(threads) + (opaque ? "rgb" : "rgba") + ".png");
-            ASSERT_TRUE(write_png(path.string(), img, {.threads = threads}).ok());
+            const fs::path path = dir / ("t" + std::to_string(threads) + (opaque ? "rgb" : "rgba") + (runs_only ? "runs" : "") + ".png");
+            ASSERT_TRUE(write_png(path.string(), img, {.threads = threads, .runs_only = runs_only}).ok());
             if (first.empty()) {
                 first = file_bytes(path);
                 EXPECT_EQ(png_colour_type(path), opaque ? 2 : 6);
@@ -116,6 +118,26 @@ TEST(Png, ImagesOfManyRowBlocksRoundTripInTheSameBytesOnAnyThreadCount) {
                 EXPECT_EQ(file_bytes(path), first) << threads << " threads";
             }
         }
+    }
+}
+
+// With runs only, a block's dictionary is the byte before it: runs of a plain image cross the
+// seams of its first blocks (a 256x512 RGBA image: 5 blocks of 127 rows), and each of those blocks'
+// first run reaches back into it.
+TEST(Png, RunsOnlyAcrossRowBlocksDecodeToTheSamePixelsOnAnyThreadCount) {
+    const fs::path dir = temp_dir("runs");
+    Image img{256, 512, std::vector<Rgba8>(256u * 512u, Rgba8{30, 40, 50, 200})};
+    for (int y = 300; y < 512; ++y)
+        for (int x = 0; x < 256; ++x) img.at(x, y) = {static_cast<std::uint8_t>(x), static_cast<std::uint8_t>(y), 7, 255};
+    std::string first;
+    for (int threads : {1, 2}) {
+        const fs::path path = dir / ("r" + std::to_string(threads) + ".png");
+        ASSERT_TRUE(write_png(path.string(), img, {.threads = threads, .runs_only = true}).ok());
+        Result<Image> back = read_png(path.string());
+        ASSERT_TRUE(back.ok()) << back.error().message;
+        EXPECT_TRUE(back->pixels == img.pixels);
+        if (first.empty()) first = file_bytes(path);
+        else EXPECT_EQ(file_bytes(path), first);
     }
 }
 
