@@ -38,6 +38,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "exec/fresh_pages.hpp"
 #include "io/assimp_join.hpp"
 #include "io/assimp_text.hpp"
@@ -496,16 +500,27 @@ public:
         if (text.size() > k_stream_block && !ends_line(text.back()))
             while (end > 0 && !ends_line(text[end - 1])) --end;
         readable_end_ = text.data() + text.size() + 1;  // the NUL
+        const char* const limit = text.data() + end;
         bool in_cstype = false;
         for (std::size_t begin = 0; begin < end;) {
             const char* line = text.data() + begin;
             const char* stop = nullptr;
             if (!in_cstype) {
-                // The common lines first, in this loop; then every line's statement.
-                if (line[0] == 'v' && is_space(line[1]))
+                // The common lines first, in this loop (runs of them in loops of their own); then
+                // every line's statement.
+                if (line[0] == 'v' && is_space(line[1])) {
+                    if (const char* next = plain_vertices(line, limit); next != line) {
+                        begin = static_cast<std::size_t>(next - text.data());
+                        continue;
+                    }
                     stop = plain_vertex(line + 1);
-                else if (line[0] == 'f' && is_space(line[1]))
+                } else if (line[0] == 'f' && is_space(line[1])) {
+                    if (const char* next = plain_triangles(line, limit); next != line) {
+                        begin = static_cast<std::size_t>(next - text.data());
+                        continue;
+                    }
                     stop = plain_face(line + 1);
+                }
                 else if (line[0] == 'v' && line[1] == 't' && is_space(line[2]))
                     stop = plain_texcoord(line + 2);
                 else if (line[0] == 'v' && line[1] == 'n' && is_space(line[2]))
@@ -607,6 +622,160 @@ private:
         if (!p || !ends_line(*(p = skip_blanks(p)))) return nullptr;
         model_.vertices.push_back({x, y, z});  // finite: read as at most 7 + 7 digits
         return p;
+    }
+
+    // A run of plain_vertex's lines from `line` (before `limit`), read as it reads each, without a
+    // turn of the line loop each: the start of the first line not taken (`line` when none).
+    const char* plain_vertices(const char* line, const char* limit) {
+        std::vector<aiVector3D>& vertices = model_.vertices;
+        for (; line < limit && line[0] == 'v' && is_space(line[1]);) {
+            float xyz[3];
+            const char* p = plain_vertex_of_masks(line, xyz);
+            if (!p) {
+                p = read_plain_float(skip_blanks(line + 1), xyz[0], readable_end_);
+                p = p && is_space(*p) ? read_plain_float(skip_blanks(p), xyz[1], readable_end_) : nullptr;
+                p = p && is_space(*p) ? read_plain_float(skip_blanks(p), xyz[2], readable_end_) : nullptr;
+                if (!p || !ends_line(*(p = skip_blanks(p)))) break;
+            }
+            vertices.push_back({xyz[0], xyz[1], xyz[2]});
+            line = p + 1;
+        }
+        return line;
+    }
+
+#if defined(__SSE2__)
+    // Bit masks of 16 bytes from `at`: decimal digits, blanks (space, tab), '.' and '-'.
+    struct Masks {
+        std::uint64_t digits = 0, blanks = 0, dots = 0, minus = 0;
+    };
+    [[gnu::always_inline]] static void add_masks(const char* at, int shift, Masks& m) {
+        const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(at));
+        const __m128i d = _mm_sub_epi8(x, _mm_set1_epi8('0'));  // a digit: 0..9
+        const auto bits = [&](__m128i lanes) { return static_cast<std::uint64_t>(static_cast<std::uint32_t>(_mm_movemask_epi8(lanes))) << shift; };
+        m.digits |= bits(_mm_cmpeq_epi8(_mm_min_epu8(d, _mm_set1_epi8(9)), d));
+        m.blanks |= bits(_mm_or_si128(_mm_cmpeq_epi8(x, _mm_set1_epi8(' ')), _mm_cmpeq_epi8(x, _mm_set1_epi8('\t'))));
+        m.dots |= bits(_mm_cmpeq_epi8(x, _mm_set1_epi8('.')));
+        m.minus |= bits(_mm_cmpeq_epi8(x, _mm_set1_epi8('-')));
+    }
+#endif
+
+    // plain_vertex's line at `line` ('v' and a blank checked) when it lies in its first 48 bytes,
+    // read from bit masks of them: each number "[-]D.F" with 1 to 7 digits each side (where
+    // read_plain_float reads them, by its arithmetic), blanks between them, then the line's end.
+    // Its line end, or null (nothing read) for read_plain_float's reading.
+    [[gnu::always_inline]] const char* plain_vertex_of_masks(const char* line, float* xyz) const {
+#if defined(__SSE2__)
+        if (readable_end_ - line < 64) return nullptr;
+        Masks m;
+        add_masks(line, 0, m);
+        add_masks(line + 16, 16, m);
+        add_masks(line + 32, 32, m);
+        const auto run = [](std::uint64_t mask, unsigned at) { return static_cast<unsigned>(std::countr_zero(~(mask >> at))); };
+        unsigned at = 1 + run(m.blanks, 1);  // at most 48
+        for (int k = 0; k < 3; ++k) {
+            const unsigned negative = static_cast<unsigned>(m.minus >> at & 1);
+            at += negative;
+            const unsigned n = run(m.digits, at);  // at + n at most 48
+            if (n - 1 >= 7 || !(m.dots >> (at + n) & 1)) return nullptr;
+            const unsigned fraction_at = at + n + 1;
+            const unsigned f = run(m.digits, fraction_at);
+            if (f - 1 >= 7) return nullptr;
+            std::uint64_t whole, fraction;
+            std::memcpy(&whole, line + at, sizeof whole);  // within the 64 bytes
+            std::memcpy(&fraction, line + fraction_at, sizeof fraction);
+            float value = static_cast<float>(static_cast<std::int64_t>(text_detail::digits_value(whole, n)));
+            value += static_cast<float>(static_cast<double>(static_cast<std::int64_t>(text_detail::digits_value(fraction, f))) *
+                                        Assimp::fast_atof_table[f]);
+            xyz[k] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(value) ^ negative << 31);
+            at = fraction_at + f;
+            const unsigned blanks = run(m.blanks, at);
+            if (k < 2 && blanks == 0) return nullptr;
+            at += blanks;
+        }
+        return ends_line(line[at]) ? line + at : nullptr;
+#else
+        (void)line, (void)xyz;
+        return nullptr;
+#endif
+    }
+
+    // A run of "f a b c" lines of plain indices (plain_face's form of three corners, which
+    // add_plain_triangle takes) from `line` (before `limit`), the mesh's counts kept in registers
+    // and the corners gathered in batches until the run ends: the start of the first line not
+    // taken (`line` when none).
+    const char* plain_triangles(const char* line, const char* limit) {
+        if (model_.current_object < 0 || model_.current_mesh < 0 || model_.total_triangles >= options_.max_triangles) return line;
+        ObjMesh& mesh = model_.meshes[static_cast<std::size_t>(model_.current_mesh)];
+        if (mesh.uv_count != 0 || mesh.has_normals) return line;
+        const std::size_t most = options_.max_triangles - model_.total_triangles;
+        constexpr std::size_t k_batch = 512;
+        std::uint32_t batch[3 * k_batch];
+        std::size_t in_batch = 0, taken = 0;
+        const auto flush = [&] {
+            model_.corner_v.insert(model_.corner_v.end(), batch, batch + 3 * in_batch);
+            model_.face_corners.insert(model_.face_corners.end(), in_batch, std::uint16_t{3});
+            taken += in_batch;
+            in_batch = 0;
+        };
+        std::uint32_t largest = model_.largest_vertex;
+        while (taken + in_batch < most && line < limit && line[0] == 'f' && is_space(line[1])) {
+            std::uint32_t* const v = batch + 3 * in_batch;
+            const char* p = single_spaced_triangle(line, v);
+            if (!p) {
+                p = read_plain_index<false>(skip_blanks(line + 1), v[0]);
+                p = p && is_space(*p) ? read_plain_index<false>(skip_blanks(p), v[1]) : nullptr;
+                p = p && is_space(*p) ? read_plain_index<false>(skip_blanks(p), v[2]) : nullptr;
+                if (!p || !ends_line(*(p = skip_blanks(p)))) break;
+            }
+            largest = std::max(largest, std::max(v[0], std::max(v[1], v[2])));
+            line = p + 1;
+            if (++in_batch == k_batch) flush();
+        }
+        flush();
+        mesh.faces += taken;
+        mesh.triangles += taken;
+        mesh.corners += 3 * taken;
+        model_.total_triangles += taken;
+        model_.largest_vertex = largest;
+        return line;
+    }
+
+    // The line "f A B C" at `line` ('f' checked) when each of its separators is one space or tab
+    // and it ends right after C, each index 1 to 8 digits without a leading zero (the lines
+    // read_plain_index's reading above takes, in this form), read from 32 bytes at once: the digits
+    // and blanks as bit masks, each index's end the first byte past its run of digits. Its line end,
+    // or null (nothing read) for that reading.
+    [[gnu::always_inline]] const char* single_spaced_triangle(const char* line, std::uint32_t* v) const {
+#if defined(__SSE2__)
+        if (readable_end_ - line < 32) return nullptr;
+        const auto masks = [](const char* at, std::uint32_t& digits, std::uint32_t& blanks) {
+            const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(at));
+            const __m128i d = _mm_sub_epi8(x, _mm_set1_epi8('0'));  // a digit: 0..9
+            digits = static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_min_epu8(d, _mm_set1_epi8(9)), d)));
+            blanks = static_cast<std::uint32_t>(
+                _mm_movemask_epi8(_mm_or_si128(_mm_cmpeq_epi8(x, _mm_set1_epi8(' ')), _mm_cmpeq_epi8(x, _mm_set1_epi8('\t')))));
+        };
+        std::uint32_t digits_low, blanks_low, digits_high, blanks_high;
+        masks(line, digits_low, blanks_low);
+        masks(line + 16, digits_high, blanks_high);
+        const std::uint32_t digits = digits_low | digits_high << 16, blanks = blanks_low | blanks_high << 16;
+        if (!(blanks >> 1 & 1)) return nullptr;
+        std::uint32_t at = 2;  // the index's first digit
+        for (int k = 0; k < 3; ++k) {
+            const auto n = static_cast<std::uint32_t>(std::countr_zero(~(digits >> at)));  // at most 32 - at
+            if (n - 1 >= 8 || line[at] == '0') return nullptr;
+            std::uint64_t word;
+            std::memcpy(&word, line + at, sizeof word);  // at most 28 bytes from line
+            v[k] = static_cast<std::uint32_t>(text_detail::digits_value(word, n) - 1);
+            at += n;  // at most 26
+            if (k < 2 ? !(blanks >> at & 1) : !ends_line(line[at])) return nullptr;
+            ++at;
+        }
+        return line + at - 1;
+#else
+        (void)line, (void)v;
+        return nullptr;
+#endif
     }
 
     // Up to `most` plain numbers (read_plain_float's, each followed by a blank) from c, into out, and
@@ -994,8 +1163,7 @@ private:
 class MeshBuilder {
 public:
     MeshBuilder(ObjModel& model, ImportNotes& notes) : model_(model), notes_(notes) {
-        detail::reserve_in_huge_pages(by_vertex_, model.vertices.size());  // probed at random
-        by_vertex_.resize(model.vertices.size());
+        detail::reserve_in_huge_pages(by_vertex_, model.vertices.size());  // probed at random; sized when first needed
     }
 
     OwnMesh build(const ObjMesh& mesh, unsigned material) {
@@ -1032,9 +1200,22 @@ public:
         const bool by_vertex = !with_vt && !with_vn;
         std::vector<std::uint32_t> group_of(by_vertex ? 0 : corners), group_corner;
         detail::reserve_in_huge_pages(group_corner, by_vertex ? std::min(corners, model_.vertices.size()) : corners);
+        // Most files use their vertices in the order they list them: then vertex v is group v, found
+        // by one sequential pass (and no stamps written at random).
+        bool in_order = by_vertex;
+        for (std::uint32_t c = 0, next = 0; in_order && c < corners; ++c) {
+            const std::uint32_t v = mesh_v[c];
+            if (v == next) {
+                group_corner.push_back(c);
+                ++next;
+            }
+            in_order = v < next;
+        }
+        if (!in_order) group_corner.clear();
+        if (!in_order && by_vertex_.empty()) by_vertex_.resize(model_.vertices.size());
         ++stamp_;
         indices_.clear();
-        for (std::size_t c = 0; by_vertex && c < corners; ++c) {
+        for (std::size_t c = 0; by_vertex && !in_order && c < corners; ++c) {
             Stamped& s = by_vertex_[mesh_v[c]];
             if (s.stamp != stamp_) {
                 s = {stamp_, static_cast<std::uint32_t>(group_corner.size())};
@@ -1057,7 +1238,11 @@ public:
         const auto group_value = [&](std::size_t g) { return value_of(group_corner[g]); };
         OwnMesh out;
         out.material = material;
-        std::optional<Join> exact_join = join_as_assimp(group_corner.size(), group_value, corners, out.positions);
+        // (Group g in order is vertex g, read without its first corner.)
+        std::optional<Join> exact_join =
+            in_order ? join_as_assimp(group_corner.size(), [&](std::size_t g) { return JoinVertex{model_.vertices[g], {}, {}, {}, {}}; },
+                                      corners, out.positions)
+                     : join_as_assimp(group_corner.size(), group_value, corners, out.positions);
         const bool exact = exact_join.has_value();
         Join join;
         std::vector<std::uint32_t> unique_of_corner = std::move(group_of);
@@ -1088,7 +1273,13 @@ public:
         // corners (each triangle's read before it is written), not into fresh pages.
         if (mesh.first_corner == 0 && corners == model_.corner_v.size() && 3 * mesh.triangles == corners)
             out.triangles = std::move(model_.corner_v);  // mesh_v still points at them
-        if (exact && by_vertex) {
+        if (exact && in_order) {
+            // Vertex v is group v: with no two groups joined, each corner's unique vertex is its vertex.
+            const bool joined = join.first.size() != group_corner.size();
+            if (joined || out.triangles.data() != mesh_v || 3 * mesh.triangles != corners)
+                triangulate(mesh, mesh_v, [&](std::uint32_t c) { return joined ? join.unique[mesh_v[c]] : mesh_v[c]; }, out.triangles);
+            out.numbered = 3 * mesh.triangles == corners;
+        } else if (exact && by_vertex) {
             // Each vertex's unique vertex kept in its stamp (in the place of its group's number, the
             // same when no two groups joined): a corner then looks up one number, not two.
             if (join.first.size() != group_corner.size())

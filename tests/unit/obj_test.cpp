@@ -122,6 +122,10 @@ TEST(Obj, AcceptedFormsMatchAssimp) {
         // arrays are the model's, in ranges per mesh), tabs, and faces of more than 8 corners.
         {"mixed_meshes.obj", quads + "g a\nf 1 2 3\nf 1/1 2/2 3/3\ng b\nf 2 3 4\ng c\nf 3 4 5\nf 1//1 2//1 3//1\nf 3 4 5\n"
                              "f\t1\t2  3 \ng d\nf 1 2 3 4 5 1 2 3 4\nusemtl x\nf 5 4 3\n"},
+        // Vertices used in the order they are listed (grouped without stamps), some at one position
+        // (joined), and a quad (triangulated).
+        {"in_order_joined.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nv 1 1 0\nv 2 2 0\nf 1 2 3\nf 4 3 5\nf 1 5 6\n"},
+        {"in_order_quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 0\nf 1 2 3 4\nf 2 5 3\n"},
         {"pentagon.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 0.2 0\nv 0 1 0\nf 1 2 3 4 5\nf 5 4 3 2 1\nf 1 2 3 4 5 1 2 3 4 5\n"},
     };
     for (const auto& [name, bytes] : files) expect_taken_and_same(write_file(dir / name, bytes));
@@ -287,6 +291,45 @@ TEST(Obj, GeneratedFilesMatchAssimp) {
         expect_same_as_assimp(path);
     }
     EXPECT_GT(accepted, files / 2) << "the reader took too few of the generated files to test it";
+}
+
+// Runs of "v x y z" and "f a b c" lines, which the reader reads in loops of their own (from bit
+// masks of a line's first 48 bytes where it fits them, else number by number): numbers of 1 to 8
+// digits each side of the point (8 is not the plain form), signs, one or two blanks (spaces, tabs)
+// between and after them, both line ends, lines across the masks' 48 bytes and near the file's
+// end, indices of 1 to 4 digits. The same scene as assimp's, and taken.
+TEST(Obj, PlainRunsOfEveryLayoutMatchAssimp) {
+    const fs::path dir = temp_dir();
+    std::mt19937 rng(31);
+    auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<std::uint32_t>(n)); };
+    auto digits = [&](int n) {
+        std::string d;
+        for (int i = 0; i < n; ++i) d += static_cast<char>('0' + pick(10));
+        return d;
+    };
+    auto blanks = [&]() { return std::string(pick(4) ? " " : "\t") + (pick(6) ? "" : " "); };
+    for (int file = 0; file < 3; ++file) {
+        std::string text;
+        const int vertices = 1200;
+        for (int v = 0; v < vertices; ++v) {
+            text += "v";
+            for (int k = 0; k < 3; ++k) {
+                const int whole = pick(4) ? 1 + pick(2) : 1 + pick(8), fraction = pick(3) ? 6 : 1 + pick(8);
+                text += blanks() + (pick(2) ? "-" : "") + digits(whole) + "." + digits(fraction);
+            }
+            text += std::string(pick(8) ? "" : blanks()) + (pick(5) ? "\n" : "\r\n");
+        }
+        for (int f = 0; f < 2000; ++f) {
+            text += "f";
+            for (int k = 0; k < 3; ++k) {
+                const int index = 1 + pick(pick(3) ? vertices : 9);
+                text += blanks() + std::to_string(index);
+            }
+            text += std::string(pick(8) ? "" : blanks()) + (pick(5) ? "\n" : "\r\n");
+        }
+        const std::string path = write_file(dir / ("runs_" + std::to_string(file) + ".obj"), text);
+        expect_taken_and_same(path);
+    }
 }
 
 // Cut and damaged copies of a valid file: whatever each path makes of them (a scene, or an error
