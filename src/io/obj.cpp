@@ -515,7 +515,7 @@ public:
                     }
                     stop = plain_vertex(line + 1);
                 } else if (line[0] == 'f' && is_space(line[1])) {
-                    if (const char* next = plain_triangles(line, limit); next != line) {
+                    if (const char* next = face_run(line, limit); next != line) {
                         begin = static_cast<std::size_t>(next - text.data());
                         continue;
                     }
@@ -699,15 +699,25 @@ private:
 #endif
     }
 
-    // A run of "f a b c" lines of plain indices (plain_face's form of three corners, which
-    // add_plain_triangle takes) from `line` (before `limit`), the mesh's counts kept in registers
-    // and the corners gathered in batches until the run ends: the start of the first line not
-    // taken (`line` when none).
-    const char* plain_triangles(const char* line, const char* limit) {
+    // A run of face lines from `line` (before `limit`) in one of the two forms that have loops of
+    // their own, as the current mesh allows: the start of the first line not taken (`line` when none).
+    const char* face_run(const char* line, const char* limit) {
         if (model_.current_object < 0 || model_.current_mesh < 0 || model_.total_triangles >= options_.max_triangles) return line;
         ObjMesh& mesh = model_.meshes[static_cast<std::size_t>(model_.current_mesh)];
-        if (mesh.uv_count != 0 || mesh.has_normals) return line;
         const std::size_t most = options_.max_triangles - model_.total_triangles;
+        if (mesh.uv_count == 0 && !mesh.has_normals) return plain_triangles(line, limit, mesh, most);
+        // Corners "v/vt/vn" where both arrays have values and this mesh's corners have both (each
+        // face of it adds its corners to all three arrays).
+        if (mesh.uv_count != 0 && mesh.has_normals && !model_.texcoords.empty() && !model_.normals.empty() &&
+            model_.corner_vt.size() == model_.corner_v.size() && model_.corner_vn.size() == model_.corner_v.size())
+            return attributed_triangles(line, limit, mesh, most);
+        return line;
+    }
+
+    // A run of "f a b c" lines of plain indices (plain_face's form of three corners, which
+    // add_plain_triangle takes) in a mesh without texture coordinates and normals, at most `most`:
+    // the mesh's counts kept in registers and the corners gathered in batches until the run ends.
+    const char* plain_triangles(const char* line, const char* limit, ObjMesh& mesh, std::size_t most) {
         constexpr std::size_t k_batch = 512;
         std::uint32_t batch[3 * k_batch];
         std::size_t in_batch = 0, taken = 0;
@@ -738,6 +748,76 @@ private:
         model_.total_triangles += taken;
         model_.largest_vertex = largest;
         return line;
+    }
+
+    // A run of "f a/b/c a/b/c a/b/c" lines (plain_face_with_attributes's lists, three each, as
+    // add_face adds them to a mesh whose corners have texture coordinates and normals) when each
+    // corner is read by attributed_corner, at most `most`: the mesh's counts kept in registers and
+    // the corners gathered in batches until the run ends.
+    const char* attributed_triangles(const char* line, const char* limit, ObjMesh& mesh, std::size_t most) {
+        constexpr std::size_t k_batch = 512;
+        std::uint32_t batch[3][3 * k_batch];  // vertex, texture coordinate, normal indices
+        std::size_t in_batch = 0, taken = 0;
+        const auto flush = [&] {
+            model_.corner_v.insert(model_.corner_v.end(), batch[0], batch[0] + 3 * in_batch);
+            model_.corner_vt.insert(model_.corner_vt.end(), batch[1], batch[1] + 3 * in_batch);
+            model_.corner_vn.insert(model_.corner_vn.end(), batch[2], batch[2] + 3 * in_batch);
+            model_.face_corners.insert(model_.face_corners.end(), in_batch, std::uint16_t{3});
+            taken += in_batch;
+            in_batch = 0;
+        };
+        std::uint32_t largest = model_.largest_vertex;
+        while (taken + in_batch < most && line < limit && line[0] == 'f' && is_space(line[1])) {
+            const char* p = line + 2;
+            for (std::size_t k = 0; p && k < 3; ++k) {
+                p = attributed_corner(p, batch[0][3 * in_batch + k], batch[1][3 * in_batch + k], batch[2][3 * in_batch + k]);
+                if (p && !(k < 2 ? is_space(*p++) : ends_line(*p))) p = nullptr;
+            }
+            if (!p) break;
+            const std::uint32_t* v = batch[0] + 3 * in_batch;
+            largest = std::max(largest, std::max(v[0], std::max(v[1], v[2])));
+            line = p + 1;
+            if (++in_batch == k_batch) flush();
+        }
+        flush();
+        mesh.faces += taken;
+        mesh.triangles += taken;
+        mesh.corners += 3 * taken;
+        mesh.uv_count += 3 * taken;
+        model_.total_triangles += taken;
+        model_.largest_vertex = largest;
+        return line;
+    }
+
+    // The corner "A/B/C" at p, each index 1 to 8 digits without a leading zero (read_plain_index's),
+    // read from bit masks of its 32 bytes (digits and slashes): the byte after it, or null (nothing
+    // read).
+    [[gnu::always_inline]] const char* attributed_corner(const char* p, std::uint32_t& v, std::uint32_t& vt, std::uint32_t& vn) const {
+#if defined(__SSE2__)
+        if (readable_end_ - p < 40) return nullptr;
+        std::uint32_t digits = 0, slashes = 0;
+        for (int half = 0; half < 2; ++half) {
+            const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16 * half));
+            const __m128i d = _mm_sub_epi8(x, _mm_set1_epi8('0'));  // a digit: 0..9
+            digits |= static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(_mm_min_epu8(d, _mm_set1_epi8(9)), d))) << 16 * half;
+            slashes |= static_cast<std::uint32_t>(_mm_movemask_epi8(_mm_cmpeq_epi8(x, _mm_set1_epi8('/')))) << 16 * half;
+        }
+        std::uint32_t* const out[3] = {&v, &vt, &vn};
+        std::uint32_t at = 0;
+        for (int j = 0; j < 3; ++j) {
+            const auto n = static_cast<std::uint32_t>(std::countr_zero(~(digits >> at)));  // at most 32 - at
+            if (n - 1 >= 8 || p[at] == '0') return nullptr;
+            std::uint64_t word;
+            std::memcpy(&word, p + at, sizeof word);  // at most 26 bytes from p
+            *out[j] = static_cast<std::uint32_t>(text_detail::digits_value(word, n) - 1);
+            at += n;  // at most 26
+            if (j < 2 && !(slashes >> at++ & 1)) return nullptr;
+        }
+        return is_blank(p[at]) ? p + at : nullptr;
+#else
+        (void)p, (void)v, (void)vt, (void)vn;
+        return nullptr;
+#endif
     }
 
     // The line "f A B C" at `line` ('f' checked) when each of its separators is one space or tab

@@ -297,7 +297,7 @@ TEST(Obj, GeneratedFilesMatchAssimp) {
 // masks of a line's first 48 bytes where it fits them, else number by number): numbers of 1 to 8
 // digits each side of the point (8 is not the plain form), signs, one or two blanks (spaces, tabs)
 // between and after them, both line ends, lines across the masks' 48 bytes and near the file's
-// end, indices of 1 to 4 digits. The same scene as assimp's, and taken.
+// end, indices of 1 to 4 digits, corners "a/b/c". The same scene as assimp's, and taken.
 TEST(Obj, PlainRunsOfEveryLayoutMatchAssimp) {
     const fs::path dir = temp_dir();
     std::mt19937 rng(31);
@@ -310,7 +310,7 @@ TEST(Obj, PlainRunsOfEveryLayoutMatchAssimp) {
     auto blanks = [&]() { return std::string(pick(4) ? " " : "\t") + (pick(6) ? "" : " "); };
     for (int file = 0; file < 3; ++file) {
         std::string text;
-        const int vertices = 1200;
+        const int vertices = 1000;
         for (int v = 0; v < vertices; ++v) {
             text += "v";
             for (int k = 0; k < 3; ++k) {
@@ -319,11 +319,16 @@ TEST(Obj, PlainRunsOfEveryLayoutMatchAssimp) {
             }
             text += std::string(pick(8) ? "" : blanks()) + (pick(5) ? "\n" : "\r\n");
         }
-        for (int f = 0; f < 2000; ++f) {
+        // The third file's faces give texture coordinates and normals ("a/b/c", their own loop).
+        const bool attributed = file == 2;
+        for (int t = 0; attributed && t < 300; ++t)
+            text += "vt 0." + digits(6) + " 0." + digits(6) + "\nvn " + digits(1) + ".5 -0." + digits(3) + " 1.0\n";
+        auto index = [&](int count) { return std::to_string(1 + pick(pick(3) ? count : 9)); };
+        for (int f = 0; f < 1500; ++f) {
             text += "f";
             for (int k = 0; k < 3; ++k) {
-                const int index = 1 + pick(pick(3) ? vertices : 9);
-                text += blanks() + std::to_string(index);
+                text += blanks() + index(vertices);
+                if (attributed) text += "/" + index(300) + "/" + index(300);
             }
             text += std::string(pick(8) ? "" : blanks()) + (pick(5) ? "\n" : "\r\n");
         }
