@@ -7,6 +7,7 @@
 // shade or write the target.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -100,16 +101,20 @@ using ResolveBinKernel = void (*)(const TriangleSetup* records, std::size_t coun
                                   TileBuffers& buffers);
 ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write);
 
-// Sets TileBuffers::covered from the owners, with the ISA selected in facet/isa.hpp (a SIMD kernel
-// in depth_simd.cpp, or find_owned_pixels_reference).
+// Sets TileBuffers::covered and first_owner from the owners, with the ISA selected in facet/isa.hpp
+// (a SIMD kernel in depth_simd.cpp, or find_owned_pixels_reference).
 void find_owned_pixels(TileBuffers& buffers, PixelRect tile);
 
 // The scalar specification of find_owned_pixels.
 inline void find_owned_pixels_reference(TileBuffers& buffers, PixelRect tile) {
+    buffers.first_owner = TileBuffers::k_none;
     for (int row = 0; row < tile.y1 - tile.y0; ++row) {
         std::uint64_t bits = 0;
-        for (int i = 0; i < tile.x1 - tile.x0; ++i)
-            bits |= std::uint64_t{buffers.owner[row * k_max_tile_size + i] != TileBuffers::k_none} << i;
+        for (int i = 0; i < tile.x1 - tile.x0; ++i) {
+            const std::uint32_t owner = buffers.owner[row * k_max_tile_size + i];
+            bits |= std::uint64_t{owner != TileBuffers::k_none} << i;
+            buffers.first_owner = std::min(buffers.first_owner, owner);
+        }
         buffers.covered[row] = bits;
     }
 }

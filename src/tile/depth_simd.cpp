@@ -732,17 +732,22 @@ void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect ti
     buffers.triangles.resize(id);
 }
 
-// Marks the pixels some triangle owns in `covered` (see TileBuffers::end).
-void FindOwnedPixels(TileBuffers& buffers, PixelRect tile) {
+// Marks the pixels some triangle owns in `covered` (see TileBuffers::end), and with First the lowest
+// owner in first_owner.
+template <bool First>
+HWY_INLINE void find_owned_pixels_of(TileBuffers& buffers, PixelRect tile) {
     const hn::ScalableTag<std::uint32_t> du;
     const int lanes = static_cast<int>(hn::Lanes(du));
     const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
     const auto none = hn::Set(du, TileBuffers::k_none);
+    auto first = none;  // the lowest owner (k_none is above every id), or lower: see first_owner
     for (int row = 0; row < height; ++row) {
         std::uint64_t bits = 0;
         for (int i = 0; i < width; i += lanes) {
             std::uint8_t lane_bits[8] = {};
-            hn::StoreMaskBits(du, hn::Ne(hn::Load(du, buffers.owner + row * k_max_tile_size + i), none), lane_bits);
+            const auto owner = hn::Load(du, buffers.owner + row * k_max_tile_size + i);
+            if constexpr (First) first = hn::Min(first, owner);
+            hn::StoreMaskBits(du, hn::Ne(owner, none), lane_bits);
             std::uint64_t word;
             std::memcpy(&word, lane_bits, sizeof(word));
             bits |= word << i;
@@ -750,6 +755,22 @@ void FindOwnedPixels(TileBuffers& buffers, PixelRect tile) {
         // Lanes past the tile's width may hold anything (begin() sets the tile's columns only).
         buffers.covered[row] = width >= 64 ? bits : bits & ((std::uint64_t{1} << width) - 1);
     }
+    if constexpr (First) {
+        HWY_ALIGN std::uint32_t lane[hn::MaxLanes(du)];
+        hn::Store(first, du, lane);
+        buffers.first_owner = *std::min_element(lane, lane + lanes);
+    } else {
+        buffers.first_owner = 0;
+    }
+}
+
+// The lowest owner is looked for in tiles of many listed triangles (a dense mesh's), where the
+// records it saves cost more than the search; in the others first_owner is 0.
+constexpr std::size_t k_find_first_owner = 64;
+
+void FindOwnedPixels(TileBuffers& buffers, PixelRect tile) {
+    if (buffers.triangles.size() >= k_find_first_owner) return find_owned_pixels_of<true>(buffers, tile);
+    find_owned_pixels_of<false>(buffers, tile);
 }
 
 // This target's kernels for a depth test and write flag (never, which no tile draws: ones that do nothing).

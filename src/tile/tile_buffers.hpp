@@ -34,11 +34,19 @@ struct TileBuffers {
     // index here is their id); the others cannot own a pixel, so they are not listed and their
     // varyings are never copied.
     std::vector<const TriangleSetup*> triangles;
-    // Each listed triangle's shading record (write_shading_record), `stride` floats apart: copied
-    // while the vertices are in the cache, so the shading pass reads them from here, not from
-    // scattered vertices. Uninitialised when it grows: write_shading_records writes every float of
-    // the records it adds (a zero-filling resize cost 17 M instructions per bunny frame).
+    // The shading records (write_shading_record) of the listed triangles from the first that owns a
+    // pixel when the depth pass ends, at their ids, `stride` floats apart, so the shading pass reads
+    // them from here, not from scattered vertices. The slots before it (triangles that later ones hid
+    // everywhere) are neither written nor read. Uninitialised when it grows (a zero-filling resize
+    // cost 17 M instructions per bunny frame).
     std::vector<float, UninitialisedAllocator<float>> records;
+    // Where each bin's listed triangles end and where their clip-made vertices are (the bin's chunk's
+    // extras), in the order the depth pass took the bins.
+    struct BinRun {
+        std::uint32_t end;
+        const ClipVertices* extras;
+    };
+    std::vector<BinRun> runs;
     int stride = 0;
     int varyings = 0;
     // Rows of owner and depth: three more than the largest tile, never inside a triangle, so that the
@@ -67,6 +75,11 @@ struct TileBuffers {
     // Per row, the pixels some triangle owns: set by end() from `owner`, once per tile, rather than
     // by the depth pass for every row of every triangle.
     std::uint64_t covered[k_max_tile_size];
+    // No pixel's owner id is below it: the lowest owner id (k_none when no pixel has one), or lower
+    // (the SIMD kernel also reads the entries past a narrower tile's width, which hold anything, and
+    // gives 0 in tiles of few listed triangles, where the search costs more than the records it
+    // saves). Set by end() with covered.
+    std::uint32_t first_owner = k_none;
     // Empty tiles this worker was handed, written between the blocks of the shading pass.
     DeferredFills fills;
     // A draw with render passes (tile/passes.hpp): each listed triangle's pass record, `pass_stride`
@@ -77,9 +90,9 @@ struct TileBuffers {
 
     static_assert(VisibleTile::k_row == k_max_tile_size, "owner and depth rows are VisibleTile's");
 
-    // Room for `count` triangles with `varyings` each, so that drawing a tile of that many allocates
-    // nothing.
-    void reserve(std::size_t count, int varyings, int pass_varyings = -1);  // -1: no render passes
+    // Room for `count` triangles with `varyings` each, from `bins` bins, so that drawing a tile of that
+    // many allocates nothing.
+    void reserve(std::size_t count, int varyings, int pass_varyings = -1, std::size_t bins = 0);  // -1: no render passes
     struct Clear {
         Rgba8 colour;
         float depth;
@@ -90,13 +103,18 @@ struct TileBuffers {
     // Starts a tile of the one-pass order with render passes: no owner yet, no triangle listed. (Then
     // each triangle drawn is listed, and owns the pixels whose depth it writes.)
     void begin_owners(PixelRect tile);
-    // The shading records of the triangles listed from `first` on (the depth pass lists them), their
-    // varyings found in `source`.
-    void write_shading_records(std::size_t first, const VaryingsSource& source);
+    // The depth pass has listed the triangles of a bin of the chunk whose clip-made vertices are
+    // `extras`: the next bin's start from here.
+    void end_bin(const ClipVertices& extras) {
+        runs.push_back({static_cast<std::uint32_t>(triangles.size()), &extras});
+    }
     // Ends the depth pass: finds the covered pixels, and writes the tile's depth back to the target
     // when it changed (cleared by begin() or written by the depth pass, depth_write) and the draw
     // stores its depth (store_depth).
     void end(PixelRect tile, TargetView target, bool depth_write, bool store_depth = true);
+    // After end(): the shading records of the listed triangles from first_owner on, their varyings in
+    // `vertices` or in their bin's extras (end_bin).
+    void write_shading_records(const ClipVertices& vertices);
     // What the shading pass reads (valid until the next begin()).
     VisibleTile visible(PixelRect tile) {
         return {tile, owner, covered, static_cast<std::uint32_t>(triangles.size()), triangles.data(), records.data(),

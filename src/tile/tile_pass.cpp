@@ -80,18 +80,18 @@ void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJ
     const PixelRect tile = job.rect;
     buffers.begin(tile, shading.varyings, target, clear);
     for_each_bin(batch, job.index, [&](const FrontEndChunk& chunk, const TileBin& bin) {
-        // A bin a piece at a time, each piece's shading records written right after its depth pass,
-        // while its records are still in L1: a whole bin (a 1M-triangle mesh's: thousands of records)
-        // had left the caches by then. A triangle that passes nowhere now never owns a pixel: it is
-        // not listed.
+        // A bin a piece at a time (the depth pass fetches records ahead past the piece it is given),
+        // each piece's pass records written right after its depth pass, while its records are still
+        // in L1. A triangle that passes nowhere now never owns a pixel: it is not listed.
         for (std::size_t at = 0; at < bin.size(); at += k_bin_piece) {
             const std::size_t first = buffers.triangles.size();
             resolve_bin(bin.data() + at, std::min(k_bin_piece, bin.size() - at), tile, buffers);
-            buffers.write_shading_records(first, {batch.vertices, chunk.extras});
             if (passes) write_pass_records(buffers, first, *passes, chunk, bin, chunk.primitives[job.index]);
         }
+        buffers.end_bin(chunk.extras);
     });
     buffers.end(tile, target, shading.depth_write, store_depth);
+    buffers.write_shading_records(batch.vertices);
     const VisibleTile visible = buffers.visible(tile);
     shading.shade_visible(shading.shader, visible, buffers.colour_view(tile, target));
     if (passes) write_pass_pixels(visible, buffers.pass_records.data(), buffers.pass_stride, *passes, pass_rows);
@@ -164,7 +164,7 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
         // Every worker's lists sized for the fullest tile now: after the first draw of a scene they
         // no longer grow, whichever tiles each worker is given.
         for (const auto& b : buffers_) {
-            b->reserve(max_tile_triangles, shading.varyings, pass_varyings);
+            b->reserve(max_tile_triangles, shading.varyings, pass_varyings, batch.chunk_count);
             if (visible_only) b->fills.start(view, clear_to.colour, clear_to.depth, store_depth, order_.size());
         }
     }

@@ -222,6 +222,70 @@ TEST(DepthTest, SecondPassOfTheSameGeometryMatchesExactly) {
     }
 }
 
+// A tile's shading records are written for its listed triangles from the first that owns a pixel
+// when its depth pass ends; those before it were hidden everywhere by later ones. 8,192 far
+// triangles (one per half pixel of the target) fill the first chunks' bins; a near triangle that
+// holds the whole target, clipped to the guard band (its varyings in its chunk's clip extras), comes
+// in the second chunk, and a small nearer one in the last. The image is the one of the two near
+// triangles drawn alone: a record skipped for a triangle that owns a pixel, or read from another
+// chunk's extras, would show in their colours.
+TEST(DepthTest, TrianglesHiddenByLaterChunksLeaveTheNearOnesAsDrawnAlone) {
+    std::vector<Vec4> far_pos, far_colour;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const R::Fixed c[4] = {{x * 256, y * 256}, {x * 256 + 256, y * 256}, {x * 256 + 256, y * 256 + 256}, {x * 256, y * 256 + 256}};
+            for (int k : {0, 1, 2, 0, 2, 3}) {
+                far_pos.push_back(R::clip_from_fixed(c[k], k_vp, 0.75f));
+                far_colour.push_back(Vec4{static_cast<float>(x) / W, static_cast<float>(y) / H, static_cast<float>(k) / 4, 1});
+            }
+        }
+    const std::vector<Vec4> near_pos = {{-1e6f, -1e6f, 0.5f, 1}, {1e6f, -1e6f, 0.5f, 1}, {0, 1e6f, 0.5f, 1},
+                                        R::clip_from_fixed(k_a[0], k_vp, 0.25f), R::clip_from_fixed(k_a[1], k_vp, 0.25f),
+                                        R::clip_from_fixed(k_a[2], k_vp, 0.25f)};
+    const std::vector<Vec4> near_colour = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 0, 1}, {0, 1, 1, 1}, {1, 0, 1, 1}};
+    const auto draw = [](const std::vector<Vec4>& pos, const std::vector<Vec4>& colour, DrawStats* stats) {
+        const auto shader = make_shader<4>(
+            [&](std::uint32_t i, Varyings<4>& out) {
+                out.set(0, colour[i]);
+                return pos[i];
+            },
+            [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+        Framebuffer fb(W, H);
+        fb.clear(k_clear, 1.0f);
+        DrawState state;
+        state.cull = CullMode::none;
+        const DrawStats s = Renderer({.threads = 2, .tile_size = 16}).draw(fb, state, DrawInput{static_cast<std::uint32_t>(pos.size()), {}}, shader);
+        if (stats) *stats = s;
+        return fb;
+    };
+    // Far triangles, the near one as triangle 2,100 (in the second of 4 chunks of 2,050 at 2 threads),
+    // far ones again, the nearer one last.
+    std::vector<Vec4> pos, colour;
+    const std::size_t split = 3 * 2100;
+    for (std::size_t i = 0; i < far_pos.size(); ++i) {
+        if (i == split) {
+            pos.insert(pos.end(), near_pos.begin(), near_pos.begin() + 3);
+            colour.insert(colour.end(), near_colour.begin(), near_colour.begin() + 3);
+        }
+        pos.push_back(far_pos[i]);
+        colour.push_back(far_colour[i]);
+    }
+    pos.insert(pos.end(), near_pos.begin() + 3, near_pos.end());
+    colour.insert(colour.end(), near_colour.begin() + 3, near_colour.end());
+    DrawStats stats;
+    const Framebuffer all = draw(pos, colour, &stats);
+    const Framebuffer alone = draw(near_pos, near_colour, nullptr);
+    EXPECT_EQ(stats.triangles_clipped, 1u);
+    int nearer = 0;
+    for (int i = 0; i < W * H; ++i) {
+        ASSERT_EQ(all.colour_data()[i], alone.colour_data()[i]) << "pixel " << i;
+        ASSERT_EQ(all.depth_data()[i], alone.depth_data()[i]) << "pixel " << i;
+        nearer += alone.depth_data()[i] == 0.25f;
+    }
+    EXPECT_GT(nearer, 500);
+    EXPECT_LT(nearer, W * H - 500);
+}
+
 // Discard: a fragment function returning std::optional<Vec4> with nullopt leaves colour and depth
 // exactly as they were (depth test passing, depth writes on, with and without blending).
 TEST(DepthTest, DiscardLeavesColourAndDepthUntouched) {

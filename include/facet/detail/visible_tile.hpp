@@ -73,8 +73,9 @@ struct VisibleTile {
     std::uint32_t count;  // triangles listed: every owner is below it
     // triangles[id]: the triangle's set-up record (its depth plane; fragment_at's inputs).
     const TriangleSetup* const* triangles;
-    // records + id * record_stride: the triangle's shading record (ShadingHead), written while its
-    // vertices were still in the caches, so the shading pass reads one contiguous record per triangle.
+    // records + id * record_stride: the shading record (ShadingHead) of a triangle that owns a pixel,
+    // copied from its vertices so the shading pass reads one contiguous record per triangle. (Listed
+    // triangles that later ones hid everywhere may have none: only owners' records are read.)
     const float* records;
     int record_stride;  // shading_record_floats(varyings)
     // The idle work of this worker: rows of empty tiles that the draw clears, written with streaming
