@@ -742,12 +742,19 @@ private:
             if (++in_batch == k_batch) flush();
         }
         flush();
+        end_triangle_run(mesh, taken, largest, false);
+        return line;
+    }
+
+    // What a run of `taken` triangles adds to the mesh's and the model's counts (their corners'
+    // texture coordinate indices too when `uvs`), once at the run's end.
+    void end_triangle_run(ObjMesh& mesh, std::size_t taken, std::uint32_t largest, bool uvs) {
         mesh.faces += taken;
         mesh.triangles += taken;
         mesh.corners += 3 * taken;
+        if (uvs) mesh.uv_count += 3 * taken;
         model_.total_triangles += taken;
         model_.largest_vertex = largest;
-        return line;
     }
 
     // A run of "f a/b/c a/b/c a/b/c" lines (plain_face_with_attributes's lists, three each, as
@@ -780,12 +787,7 @@ private:
             if (++in_batch == k_batch) flush();
         }
         flush();
-        mesh.faces += taken;
-        mesh.triangles += taken;
-        mesh.corners += 3 * taken;
-        mesh.uv_count += 3 * taken;
-        model_.total_triangles += taken;
-        model_.largest_vertex = largest;
+        end_triangle_run(mesh, taken, largest, true);
         return line;
     }
 
