@@ -1,10 +1,14 @@
 // facet exec: large scratch arrays in pages fresh from the system (zero already), of 2 MB where the
 // system grants them. Used by the stages that fill tens of megabytes once (creased normals, the OBJ
-// reader's copy of its file); not an allocator for small or long-lived data.
+// reader's copy of its file); not an allocator for small or long-lived data. And the heap's free top
+// faulted in ahead of the stages that will carve it (populate_heap_top).
 #pragma once
 
+#include <malloc.h>
 #include <sys/mman.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -84,6 +88,34 @@ template <class Vector>
 void reserve_in_huge_pages(Vector& v, std::size_t n) {
     v.reserve(n);
     advise_huge_pages(v.data(), v.capacity() * sizeof(*v.data()));
+}
+
+// Faults in the first `max_bytes` of the heap's free top (glibc's top chunk, where the next blocks
+// are carved), a 2 MiB page at a time while go_on(), for a thread that would otherwise wait: the
+// stages after it then find their memory mapped and cleared. MADV_POPULATE_WRITE writes nothing,
+// so other threads may allocate from the heap meanwhile. Returns the bytes populated. Nothing where
+// the kernel (before Linux 5.14) or the allocator (a sanitizer's) does not take part.
+template <class GoOn>
+std::size_t populate_heap_top(std::size_t max_bytes, const GoOn& go_on) {
+    std::size_t done = 0;
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+    constexpr std::uintptr_t page = 4096, huge = 2 << 20;
+    const auto end = reinterpret_cast<std::uintptr_t>(sbrk(0));
+    const std::size_t free_top = mallinfo2().keepcost;
+    if (free_top > end) return 0;
+    const std::uintptr_t first = (end - free_top) & ~(page - 1);
+    const std::uintptr_t last = first + std::min<std::size_t>(max_bytes, end - first);
+    for (std::uintptr_t at = first; at < last && go_on();) {
+        const std::uintptr_t next = std::min(last, (at + huge) & ~(huge - 1));
+        if (madvise(reinterpret_cast<void*>(at), next - at, MADV_POPULATE_WRITE) != 0) break;
+        done += next - at;
+        at = next;
+    }
+#else
+    (void)max_bytes;
+    (void)go_on;
+#endif
+    return done;
 }
 
 }  // namespace facet::detail

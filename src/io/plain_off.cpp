@@ -17,10 +17,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
 
+#include "exec/fresh_pages.hpp"
 #include "facet/detail/thread_pool.hpp"
 #include "io/assimp_text.hpp"
 #include "io/assimp_triangulate.hpp"
@@ -38,6 +40,10 @@ constexpr std::ptrdiff_t k_max_line = 4000;
 // read knowing their numbers. The mesh does not depend on where the pieces are cut, nor on the
 // threads; one thread reads the body as one piece.
 constexpr std::size_t k_piece_bytes = 64 * 1024;
+
+// While one thread joins the vertices, another faults in up to this much of the heap's free top,
+// where the normals and the first frame then allocate (the bunny's take ~20 MB): the join ends it.
+constexpr std::size_t k_populate_bytes = 32 << 20;
 
 // Where the next line after `c` begins (or `end`): past the rest of the line and the line ends.
 const char* next_line_start(const char* c, const char* end) {
@@ -340,9 +346,24 @@ std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, co
     const auto kept = [faces = indices.size() / 3](const std::vector<OffPolygon>& p) { return !p.empty() && p.front().face < faces; };
     if (std::any_of(polygons.begin(), polygons.end(), kept))
         if (!triangulate(positions, polygons, indices)) return std::nullopt;
-    // The join stays on this thread: shared, its five short loops cost the bunny 4-6 ms more CPU
-    // (the pool's spins between them) for no wall time that showed (docs/BENCHMARKS.md).
-    std::optional<PlainOffMesh> mesh = join_identical_vertices(positions, indices);
+    // The join stays on one thread: shared, its five short loops cost the bunny 4-6 ms more CPU
+    // (the pool's spins between them) for no wall time that showed (docs/BENCHMARKS.md). The other
+    // thread meanwhile faults in the memory the next stages will take; it stops when the join is
+    // done (a thread that takes the task only then returns at once).
+    std::optional<PlainOffMesh> mesh;
+    if (pool) {
+        std::atomic<bool> joined{false};
+        pool->parallel_for(2, [&](std::size_t task) {
+            if (task == 0) {
+                mesh = join_identical_vertices(positions, indices);
+                joined.store(true, std::memory_order_relaxed);
+            } else {
+                detail::populate_heap_top(k_populate_bytes, [&] { return !joined.load(std::memory_order_relaxed); });
+            }
+        });
+    } else {
+        mesh = join_identical_vertices(positions, indices);
+    }
     if (mesh) mesh->dropped_faces = dropped, mesh->faces_missing = faces_missing;
     if (mesh && plain->colours) {
         mesh->colours.reserve(mesh->source.size());

@@ -1,9 +1,12 @@
-// The thread pool and renderer configuration.
+// The thread pool, the renderer's configuration, and the heap's populating (exec/fresh_pages.hpp).
 #include <gtest/gtest.h>
 
+#include <malloc.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <latch>
 #include <stdexcept>
@@ -11,8 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "exec/fresh_pages.hpp"
 #include "facet/detail/thread_pool.hpp"
 #include "facet/renderer.hpp"
+#include "facet/sandbox.hpp"
 
 namespace {
 
@@ -91,6 +96,47 @@ TEST(ThreadPool, AForkedChildStartsThreadsOfItsOwn) {
 TEST(ThreadPool, ZeroMeansOnePerCore) {
     detail::ThreadPool pool(0);
     EXPECT_GE(pool.size(), 1);
+}
+
+// Whether every page of [begin, begin + bytes) is in memory.
+bool resident(std::uintptr_t begin, std::size_t bytes) {
+    const std::uintptr_t page = 4096, first = begin & ~(page - 1);
+    std::vector<unsigned char> in((begin + bytes - first + page - 1) / page);
+    if (mincore(reinterpret_cast<void*>(first), begin + bytes - first, in.data()) != 0) return false;
+    for (const unsigned char p : in)
+        if (!(p & 1)) return false;
+    return true;
+}
+
+TEST(FreshPages, PopulatingTheHeapTopFaultsItInAndChangesNoBlock) {
+    if (sanitizer_build()) GTEST_SKIP() << "a sanitizer's allocator has no heap top";
+    // A heap top of fresh pages: the heap grows by 4 MiB more than a block larger than its free top
+    // (from the heap, not mapped on its own).
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TOP_PAD, 4 << 20);
+    const std::size_t size = mallinfo2().keepcost + 4096;
+    auto* block = static_cast<unsigned char*>(std::malloc(size));
+    mallopt(M_TOP_PAD, 128 << 10);
+    mallopt(M_MMAP_THRESHOLD, 128 << 10);
+    ASSERT_NE(block, nullptr);
+    for (std::size_t i = 0; i < size; ++i) block[i] = static_cast<unsigned char>(i * 7);
+    const auto end = reinterpret_cast<std::uintptr_t>(sbrk(0));
+    const std::uintptr_t top = end - mallinfo2().keepcost;
+    ASSERT_GE(end - top, std::size_t{3} << 20);
+    if (resident(top + (1 << 20), 1 << 20)) GTEST_SKIP() << "the heap's new top is in memory already (huge pages always?)";
+
+    EXPECT_EQ(detail::populate_heap_top(2 << 20, [] { return false; }), 0u);  // go_on false: nothing
+    EXPECT_FALSE(resident(top + (1 << 20), 1 << 20));
+    // go_on is asked before each 2 MiB page: yes for the first (the part of one above the top) and
+    // the next, then no; at most 3 MiB.
+    const std::uintptr_t huge = 2 << 20, first = top & ~std::uintptr_t{4095};
+    const std::uintptr_t last = std::min({first + (3 << 20), ((first + huge) & ~(huge - 1)) + huge, end});
+    int asked = 0;
+    EXPECT_EQ(detail::populate_heap_top(3 << 20, [&] { return ++asked <= 2; }), last - first);
+    EXPECT_EQ(asked, last - first == 3u << 20 ? 2 : 3);
+    EXPECT_TRUE(resident(first, last - first));
+    for (std::size_t i = 0; i < size; ++i) ASSERT_EQ(block[i], static_cast<unsigned char>(i * 7)) << i;
+    std::free(block);
 }
 
 TEST(Renderer, RejectsBadConfigurationAndViewports) {
