@@ -202,6 +202,89 @@ TEST(CompiledVisiblePass, FlatMatchesTheSpecificationOnEveryIsa) {
     expect_every_isa_matches_the_specification<shaders::Flat>("Flat");
 }
 
+// The grey Lambert kernel (the lambert mode's) where a byte is most easily wrong: normals aimed so
+// that the specification's value lies within an ulp or two of where its byte changes, which random
+// normals almost never are (a shortcut that approximates normalize and checks its own error bound
+// too loosely passed LambertBaseColour's random cases above and failed here; docs/BENCHMARKS.md
+// "Small meshes, session 10"). The image is a grid of squares of 4x4 pixels (whole blocks), each
+// square's vertices sharing one normal: pairs of normals one float apart on either side of each
+// byte's edge, and every third square an ordinary one.
+std::vector<Vec3> normals_at_byte_edges(const ShadingUniforms& u) {
+    auto byte = [&](float t) {
+        const Vec3 n{t, 1.0f - t, 0.25f};
+        return to_rgba8(shaders::detail::shade(u.base_colour, shaders::detail::lambert_term(normalize(n), u))).r;
+    };
+    std::vector<Vec3> out;
+    constexpr int k_steps = 2048;
+    for (int i = 0; i < k_steps; ++i) {
+        float lo = -3.0f + 6.0f * static_cast<float>(i) / k_steps, hi = -3.0f + 6.0f * static_cast<float>(i + 1) / k_steps;
+        if (byte(lo) == byte(hi)) continue;
+        while (std::nextafter(lo, hi) != hi) {  // bisection down to two neighbouring floats
+            const float mid = lo + (hi - lo) / 2;
+            if (mid == lo || mid == hi) break;
+            (byte(mid) == byte(lo) ? lo : hi) = mid;
+        }
+        out.push_back({lo, 1.0f - lo, 0.25f});
+        out.push_back({hi, 1.0f - hi, 0.25f});
+    }
+    return out;
+}
+
+TEST(CompiledVisiblePass, LambertMatchesTheSpecificationAtByteEdges) {
+    constexpr int k_size = 128, k_squares = k_size / 4;
+    struct Case {
+        const char* name;
+        float key, base;
+    } cases[] = {{"white key", 1.0f, 0.8f}, {"dim key", 0.5f, 0.8f}, {"bright key, clamped", 1.2f, 0.95f}};
+    for (const Case& c : cases) {
+        ShadingUniforms u;  // positions are clip coordinates
+        u.key = {normalize(Vec3{0.3f, 0.8f, 0.6f}), {c.key, c.key, c.key}};
+        u.fill = {{0, 0, 1}, {0, 0, 0}};
+        u.base_colour = {c.base, c.base, c.base, 1.0f};
+        const std::vector<Vec3> edges = normals_at_byte_edges(u);
+        ASSERT_GE(edges.size(), 200u) << c.name << ": byte edges found";
+        Mesh mesh;
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> any(-1.0f, 1.0f);
+        for (int sq = 0; sq < k_squares * k_squares; ++sq) {
+            const float x = -1.0f + 2.0f * static_cast<float>(sq % k_squares) / k_squares, y = -1.0f + 2.0f * static_cast<float>(sq / k_squares) / k_squares;
+            const float side = 2.0f / k_squares;
+            const Vec3 n = sq % 3 == 2 ? Vec3{any(rng), any(rng), any(rng)} : edges[static_cast<std::size_t>(sq) % edges.size()];
+            const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+            for (const Vec3 p : {Vec3{x, y, 0.5f}, Vec3{x + side, y, 0.5f}, Vec3{x + side, y + side, 0.5f}, Vec3{x, y + side, 0.5f}}) {
+                mesh.positions.push_back(p);
+                mesh.normals.push_back(n);
+            }
+            for (const std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) mesh.indices.push_back(first + i);
+        }
+        const shaders::LambertBaseColour shader{MeshArrays::of(mesh), u};
+        auto draw = [&](int threads, int tile) {
+            Renderer renderer({.threads = threads, .tile_size = tile});
+            Framebuffer fb(k_size, k_size);
+            fb.clear(Vec4{0, 0, 0, 1}, 1.0f);
+            DrawState state;
+            state.cull = CullMode::none;
+            renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(mesh.positions.size()), mesh.indices}, shader);
+            return std::vector<Rgba8>(fb.colour_data(), fb.colour_data() + k_size * k_size);
+        };
+        facet_test::IsaGuard guard;
+        ASSERT_TRUE(select_isa("scalar"));
+        const std::vector<Rgba8> reference = draw(1, 64);
+        std::size_t drawn = 0;  // the squares cover the image (no pixel is lit below the ambient's 30)
+        for (const Rgba8 p : reference) drawn += p.r > 0;
+        EXPECT_EQ(drawn, static_cast<std::size_t>(k_size * k_size)) << c.name;
+        for (const std::string& isa : available_isas()) {
+            if (isa == "scalar") continue;
+            ASSERT_TRUE(select_isa(isa));
+            for (int tile : {16, 64}) {
+                const std::vector<Rgba8> out = draw(2, tile);
+                EXPECT_TRUE(out == reference) << c.name << " on " << isa << ", tile " << tile << ": "
+                                              << facet_test::first_difference(out, reference, k_size);
+            }
+        }
+    }
+}
+
 // The lit mode's maps: small textures with every texel value's range, alpha included.
 std::shared_ptr<const Texture> pattern(std::uint8_t seed) {
     Image img{13, 9, std::vector<Rgba8>(13 * 9)};
