@@ -82,9 +82,6 @@ using WorkerClock = std::chrono::steady_clock;
 struct Worker {
     pid_t pid = -1;
     int fd = -1;  // read end of the report pipe
-    // A one-job worker's pidfd (-1 where the system has none): readable once the worker has exited,
-    // so that its end is one wake-up (the pipe's close and then waitpid would be two).
-    int pid_fd = -1;
     std::optional<WorkerClock::time_point> deadline;
     std::string report;  // what it has written so far
     std::size_t tag = 0;  // the caller's: which job this is
@@ -100,10 +97,6 @@ struct Worker {
 // `outcome` says why and nothing is running.
 std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& limits, const std::vector<Worker>& others,
                                    WorkerOutcome& outcome);
-
-// Waits until at least one of `running` has ended or passed its deadline (killing it), removes
-// those from `running` and returns them with how they ended.
-std::vector<std::pair<Worker, WorkerOutcome>> wait_for_workers(std::vector<Worker>& running);
 
 // A worker that serves jobs one after another (facet thumbs: one process for several objects
 // that share a sandbox, so that each costs no fork, exit and fresh page faults): the parent sends a
@@ -138,7 +131,10 @@ struct JobEnd {
 // retire. Returns nothing if every worker ended without a job.
 std::vector<JobEnd> wait_for_jobs(std::vector<Worker>& running);
 
-// Runs one job in a worker and waits for it.
+// Runs one job in a worker and waits for it: for the status the job reports when it is done and
+// its output flushed (the worker's exit that follows is not waited for: the caller exits soon
+// after, and init reaps the worker), or, when none comes (a crash, sanitizer builds), for how
+// the worker ended.
 WorkerOutcome run_in_worker(const WorkerJob& job, const WorkerLimits& limits);
 
 // One line for a worker that did not end by itself: "<input>: the importer crashed (SIGSEGV:
@@ -149,11 +145,12 @@ std::string describe_abnormal_end(const WorkerOutcome& outcome, const std::strin
 // not starting at all).
 inline bool exited(const WorkerOutcome& o) { return o.end == WorkerOutcome::End::exited; }
 
-// TEST HOOKS, for the tests of --timeout and of crashes only: when FACET_TEST_SLEEP_ON is set to a
-// non-empty string, a worker whose input path contains it sleeps instead of working, as a file that
-// hangs a reader would, until it is killed; FACET_TEST_CRASH_ON likewise makes it abort (SIGABRT),
-// as a file that crashes a reader would. Without the variables (as always outside the tests) they
-// do nothing.
+// TEST HOOKS, for the tests of --timeout, of crashes and of the worker's exit only: when
+// FACET_TEST_SLEEP_ON is set to a non-empty string, a worker whose input path contains it sleeps
+// instead of working, as a file that hangs a reader would, until it is killed; FACET_TEST_CRASH_ON
+// likewise makes it abort (SIGABRT), as a file that crashes a reader would; FACET_TEST_LINGER_ON
+// makes it hang in its exit, after its job. Without the variables (as always outside the tests)
+// they do nothing.
 void test_hooks(const std::string& input);
 
 // Confines this worker before it reads its model (facet/sandbox.hpp): files are read only in the

@@ -126,6 +126,20 @@ TEST(RenderIsolation, AKilledWorkerLeavesNoTemporaryFiles) {
     EXPECT_EQ(files_in(dir / "out"), std::vector<std::string>{"o.png.tmp-not-ours"});
 }
 
+// The worker reports its job's status before it exits: facet returns with it (the worker's exit,
+// hung here by the test hook, is not waited for: it ends with facet, PR_SET_PDEATHSIG). Sanitizer
+// builds wait for the exit, whose status carries LeakSanitizer's reports.
+TEST(RenderIsolation, TheJobsStatusIsReturnedWithoutWaitingForTheWorkersExit) {
+    if (k_sanitized) GTEST_SKIP() << "sanitizer builds wait for the worker's exit";
+    const fs::path dir = facet_test::test_temp_dir("facet_isolation");
+    const std::string model = write_text(dir / "lingers.obj", k_box_obj);
+    const ScopedEnv hook("FACET_TEST_LINGER_ON", "lingers");
+    const CliRun r = run_facet({"render", model, "--size", "16x16", "-o", (dir / "o.png").string(), "--timeout", "20"});
+    EXPECT_EQ(r.exit_code, 0) << r.all();
+    const facet_test::DecodedPng png = facet_test::decode_png(dir / "o.png");
+    EXPECT_TRUE(png.ok()) << png.error;
+}
+
 // --no-isolation runs the job in facet's own process: the test hook, which lives in the worker,
 // does not fire, and the image is the same byte for byte.
 TEST(RenderIsolation, NoIsolationRendersTheSameImageInProcess) {
