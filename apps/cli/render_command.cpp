@@ -5,6 +5,7 @@
 // error naming the file and the reason, exit status 1 and no output file, instead of a crash of
 // facet. The worker inherits stdout and stderr, so its warnings, errors and the --benchmark line
 // reach the user as they are written, and its exit status is facet's.
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -160,6 +161,11 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
         return k_exit_failed;
     }
     report.phase(WorkerPhase::writing);
+    // The files the images replace, if there are, held (O_PATH: no access asked, none checked)
+    // until this process exits: their blocks are freed in its exit, after its status is reported
+    // (run_in_worker), not in the rename over them (0.3-0.6 ms on ext4 for the bunny's 57 KB PNG).
+    for (const std::string* replaced : {&r.output, &r.depth_out})
+        if (!replaced->empty()) (void)::open(replaced->c_str(), O_PATH | O_CLOEXEC);
     if (Status s = write_png(r.output, colour, {.threads = threads}); !s) {
         std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
         return k_exit_failed;
