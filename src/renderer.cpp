@@ -32,9 +32,11 @@ void ClipVertices::resize(std::size_t n, int stride_) {
 
 namespace {
 
-// Triangles per front-end task: enough work to amortize scheduling. The split does not change the
-// output (bins keep submission order), only the balance between threads.
-constexpr std::size_t k_min_chunk_triangles = 2048;
+// Triangles per front-end task: enough work to amortize scheduling, and few enough that a small mesh
+// (a few hundred triangles) is split between two threads rather than binned by one while the other
+// waits. The split does not change the output (bins keep submission order), only the balance between
+// threads.
+constexpr std::size_t k_min_chunk_triangles = 512;
 
 // Throws invalid_argument with message() unless ok. The message is built only on failure: draw()
 // checks its arguments every call, and must not allocate when they are fine.
