@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <string>
 
 #include "facet/shaders.hpp"
@@ -203,27 +206,60 @@ std::size_t object_count(std::span<const ObjectView> v) { return v.size(); }
 ObjectView object_at(const Scene& s, std::size_t i) { return view_of(s.objects[i]); }
 ObjectView object_at(std::span<const ObjectView> v, std::size_t i) { return v[i]; }
 
-// f(transform_point(model, p)) for each finite position p of the objects. With the identity (the
-// model of nearly every file read) that is p + 0 (the products by 0 and 1 are exact, and the last
-// term, +0, makes a -0 +0), without the twelve products.
-template <class Objects, class F>
-void for_each_placed_position(const Objects& objects, const F& f) {
-    for (std::size_t i = 0; i < object_count(objects); ++i) {
-        const ObjectView o = object_at(objects, i);
-        if (o.model == Mat4::identity()) {
-            for (std::uint32_t k = 0; k < o.vertex_count; ++k)
-                if (const Vec3 p = o.positions[k]; is_finite(p)) f(Vec3{p.x + 0.0f, p.y + 0.0f, p.z + 0.0f});
-        } else {
-            for (std::uint32_t k = 0; k < o.vertex_count; ++k)
-                if (is_finite(o.positions[k])) f(transform_point(o.model, o.positions[k]));
-        }
-    }
+// The scene's bounds and radius over each finite position p of the objects, placed by their models:
+// transform_point(model, p), which with the identity (the model of nearly every file read) is
+// p + 0 (the products by 0 and 1 are exact, and the last term, +0, makes a -0 +0). Those positions
+// are taken four at a time (the bunny's two passes took 0.27 ms, serial, before its first frame),
+// with the same results: each position's arithmetic is the same, the min and max of values that
+// are never NaN (not finite: left out) nor -0 do not depend on their order, and they join the
+// running ones as one value (the last of equal values taken, as Aabb::extend takes them).
+using Floats4 = float __attribute__((vector_size(16)));
+using Ints4 = std::int32_t __attribute__((vector_size(16)));
+
+// Positions 4k .. 4k + 3 of p as x, y and z of four positions, + 0.
+struct Four {
+    Floats4 x, y, z;
+    Ints4 finite() const { return (x - x == 0) & (y - y == 0) & (z - z == 0); }  // -1 where finite
+};
+Four four_at(const Vec3* p) {
+    static_assert(sizeof(Vec3) == 3 * sizeof(float));
+    Floats4 v[3];
+    std::memcpy(v, p, sizeof v);  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
+    const Floats4 x = __builtin_shuffle(__builtin_shuffle(v[0], v[1], Ints4{0, 3, 6, 0}), v[2], Ints4{0, 1, 2, 5});
+    const Floats4 y = __builtin_shuffle(__builtin_shuffle(v[0], v[1], Ints4{1, 4, 7, 0}), v[2], Ints4{0, 1, 2, 6});
+    const Floats4 z = __builtin_shuffle(__builtin_shuffle(v[0], v[1], Ints4{2, 5, 0, 0}), v[2], Ints4{0, 1, 4, 7});
+    return {x + 0.0f, y + 0.0f, z + 0.0f};
 }
+float lowest(Floats4 v) { return std::min(std::min(v[0], v[1]), std::min(v[2], v[3])); }
+float highest(Floats4 v) { return std::max(std::max(v[0], v[1]), std::max(v[2], v[3])); }
 
 template <class Objects>
 Aabb bounds_of(const Objects& objects) {
     Aabb box;
-    for_each_placed_position(objects, [&](Vec3 p) { box.extend(p); });
+    for (std::size_t i = 0; i < object_count(objects); ++i) {
+        const ObjectView o = object_at(objects, i);
+        const bool identity = o.model == Mat4::identity();
+        std::uint32_t k = 0;
+        if (identity && o.vertex_count >= 4) {
+            constexpr float inf = std::numeric_limits<float>::infinity();
+            Floats4 lo[3] = {Floats4{} + inf, Floats4{} + inf, Floats4{} + inf};
+            Floats4 hi[3] = {Floats4{} - inf, Floats4{} - inf, Floats4{} - inf};
+            for (; k + 4 <= o.vertex_count; k += 4) {
+                const Four f = four_at(o.positions + k);
+                const Ints4 finite = f.finite();
+                const Floats4 c[3] = {f.x, f.y, f.z};
+                for (int d = 0; d < 3; ++d) {
+                    lo[d] = finite & (c[d] < lo[d]) ? c[d] : lo[d];
+                    hi[d] = finite & (c[d] > hi[d]) ? c[d] : hi[d];
+                }
+            }
+            box.min = facet::min(box.min, Vec3{lowest(lo[0]), lowest(lo[1]), lowest(lo[2])});  // infinite: none
+            box.max = facet::max(box.max, Vec3{highest(hi[0]), highest(hi[1]), highest(hi[2])});
+        }
+        for (; k < o.vertex_count; ++k)
+            if (is_finite(o.positions[k]))
+                box.extend(identity ? o.positions[k] + Vec3{0, 0, 0} : transform_point(o.model, o.positions[k]));
+    }
     return box;
 }
 
@@ -232,7 +268,26 @@ Aabb bounds_of(const Objects& objects) {
 template <class Objects>
 float radius_of(const Objects& objects, Vec3 centre) {
     float r2 = 0;
-    for_each_placed_position(objects, [&](Vec3 p) { r2 = std::max(r2, dot(p - centre, p - centre)); });
+    for (std::size_t i = 0; i < object_count(objects); ++i) {
+        const ObjectView o = object_at(objects, i);
+        const bool identity = o.model == Mat4::identity();
+        std::uint32_t k = 0;
+        if (identity && o.vertex_count >= 4) {
+            Floats4 most{};
+            for (; k + 4 <= o.vertex_count; k += 4) {
+                const Four f = four_at(o.positions + k);
+                const Floats4 dx = f.x - centre.x, dy = f.y - centre.y, dz = f.z - centre.z;
+                const Floats4 d2 = dx * dx + dy * dy + dz * dz;  // dot's order
+                most = f.finite() & (most < d2) ? d2 : most;
+            }
+            r2 = std::max(r2, highest(most));
+        }
+        for (; k < o.vertex_count; ++k)
+            if (is_finite(o.positions[k])) {
+                const Vec3 p = identity ? o.positions[k] + Vec3{0, 0, 0} : transform_point(o.model, o.positions[k]);
+                r2 = std::max(r2, dot(p - centre, p - centre));
+            }
+    }
     return std::sqrt(r2);
 }
 

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <random>
 
 #include "facet/scene.hpp"
 
@@ -79,6 +80,59 @@ TEST(Scene, BoundsAndRadiusOfTheIdentityAreTransformPointsBits) {
     }
     EXPECT_FALSE(std::signbit(got.max.x));  // the largest x is a -0, +0 after the transform
     EXPECT_EQ(std::bit_cast<std::uint32_t>(scene.radius_about(centre)), std::bit_cast<std::uint32_t>(want_r));
+}
+
+// Bounds and radius take an identity object's positions four at a time: the same bits as one at a
+// time, whatever the count (the last 0-3 alone), where the special values fall among the four, and
+// with objects of other models between (the first one's a -0 that the identity's +0 replaces).
+TEST(Scene, BoundsAndRadiusFourAtATimeAreOneAtATimesBits) {
+    std::mt19937 rng(2611);
+    const float special[] = {-0.0f, 0.0f, 1e30f, -1e30f, 3e38f, std::nanf(""), INFINITY, -INFINITY, 1e-40f};
+    std::uniform_real_distribution<float> coordinate(-100.0f, 100.0f);
+    std::uniform_int_distribution<int> pick(0, 11);
+    for (std::size_t n : {0u, 1u, 3u, 4u, 5u, 7u, 8u, 9u, 13u, 1001u}) {
+        Scene scene;
+        // x' = -1 * 0 + 0 * -0 + 0 * -0 + -0 = -0: the running bounds hold a -0 before the identity's +0s.
+        Mat4 flip = scale(Vec3{-1, 1, 1});
+        flip(0, 3) = -0.0f;
+        Mesh zero;
+        zero.positions = {{0.0f, -0.0f, -0.0f}};
+        ASSERT_TRUE(std::signbit(transform_point(flip, zero.positions[0]).x));
+        scene.objects.push_back({zero, flip, Material{}});
+        if (n == 5) {  // the identity's smallest x a 0, which replaces the running -0 (a +0 after it)
+            Mesh ties;
+            ties.positions = {{3, 1, 1}, {-0.0f, 2, 2}, {4, 3, 3}, {0.0f, 1, 1}, {2, 2, 2}};
+            scene.objects.push_back({ties, Mat4::identity(), Material{}});
+        }
+        for (int object = 0; object < 3; ++object) {
+            Mesh m;
+            for (std::size_t k = 0; n != 5 && k < n + static_cast<std::size_t>(object); ++k) {
+                Vec3 p;
+                for (int axis = 0; axis < 3; ++axis) {
+                    const int s = pick(rng);
+                    p[static_cast<std::size_t>(axis)] = s < 9 && pick(rng) == 0 ? special[s] : coordinate(rng);
+                }
+                m.positions.push_back(p);
+            }
+            const Mat4 model = object == 1 ? translate({1.5f, -2, 0.25f}) : Mat4::identity();
+            scene.objects.push_back({m, model, Material{}});
+        }
+        Aabb want;
+        for (const SceneObject& o : scene.objects)
+            for (const Vec3& p : o.mesh.positions)
+                if (is_finite(p)) want.extend(transform_point(o.model, p));
+        const Aabb got = scene.bounds();
+        for (int axis = 0; axis < 3; ++axis) {
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(got.min[axis]), std::bit_cast<std::uint32_t>(want.min[axis])) << n;
+            EXPECT_EQ(std::bit_cast<std::uint32_t>(got.max[axis]), std::bit_cast<std::uint32_t>(want.max[axis])) << n;
+        }
+        const Vec3 centre = want.empty() ? Vec3{} : want.centre();
+        float want_r2 = 0;
+        for (const SceneObject& o : scene.objects)
+            for (const Vec3& p : o.mesh.positions)
+                if (is_finite(p)) want_r2 = std::max(want_r2, dot(transform_point(o.model, p) - centre, transform_point(o.model, p) - centre));
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(scene.radius_about(centre)), std::bit_cast<std::uint32_t>(std::sqrt(want_r2))) << n;
+    }
 }
 
 TEST(Scene, FramingAnEmptySceneIsFinite) {
