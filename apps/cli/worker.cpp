@@ -20,6 +20,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <new>
+#include <string_view>
 #include <thread>
 
 #include "facet/defaults.hpp"
@@ -128,14 +129,14 @@ int run_caught(const Job& job, const WorkerReport& report) {
     std::exit(status);
 }
 
-[[noreturn]] void run_worker(const WorkerJob& job, const WorkerLimits& limits, pid_t parent, int fd) {
+[[noreturn]] void run_worker(const WorkerJob& job, const WorkerLimits& limits, pid_t parent, int fd, bool report_end) {
     enter_worker(limits, parent);
     const WorkerReport report(fd);
     const int status = run_caught([&] { return job(report); }, report);
     // The job's output flushed, its status ends the report: the parent goes on at once (run_in_worker)
-    // while this process exits (its memory unmapped: ~0.5 ms for a render). Not in sanitizer builds,
-    // whose reports at exit (LeakSanitizer's) are the exit status the parent must see.
-    if (!sanitizer_build()) {
+    // while this process exits (its memory unmapped: ~0.5 ms for a render). Without the end, the
+    // parent waits for the exit and reaps this process.
+    if (report_end) {
         std::fflush(nullptr);
         const char end[3] = {k_end_mark, static_cast<char>(status), '.'};
         write_all(fd, end, sizeof end);
@@ -251,6 +252,13 @@ std::vector<pollfd> poll_workers(const std::vector<Worker>& running, short event
 
 bool memory_cap_supported() { return !sanitizer_build(); }
 
+bool orphans_are_reaped() {
+    // The initial PID namespace has a fixed inode (PROC_PID_INIT_INO); without /proc, assume not.
+    char link[64];
+    const ssize_t n = readlink("/proc/self/ns/pid", link, sizeof link);
+    return n > 0 && std::string_view(link, static_cast<std::size_t>(n)) == "pid:[4026531836]";
+}
+
 std::uint64_t default_max_memory_bytes() {
     const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     if (pages <= 0 || page <= 0) return 0;
@@ -324,7 +332,11 @@ std::optional<Worker> fork_worker(const Child& child, bool serving, const std::v
 std::optional<Worker> start_worker(const WorkerJob& job, const WorkerLimits& limits, const std::vector<Worker>& others,
                                    WorkerOutcome& outcome) {
     const pid_t parent = getpid();
-    std::optional<Worker> w = fork_worker([&](int fd, int) { run_worker(job, limits, parent, fd); }, false, others, outcome);
+    // Not in sanitizer builds either: their reports at exit (LeakSanitizer's) are the exit status
+    // the parent must see.
+    static const bool report_end = !sanitizer_build() && orphans_are_reaped();
+    std::optional<Worker> w =
+        fork_worker([&](int fd, int) { run_worker(job, limits, parent, fd, report_end); }, false, others, outcome);
     if (w) w->deadline = deadline_of(limits);
     return w;
 }

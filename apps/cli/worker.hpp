@@ -39,6 +39,12 @@ struct WorkerLimits {
     std::uint64_t max_memory_bytes = 0;  // the worker's RLIMIT_DATA; 0: no limit
 };
 
+// Whether this process's orphans are reaped: true in the initial PID namespace, whose init reaps
+// them as its work; false in a container's, where PID 1 may be any program that never waits
+// (`docker run image python gen.py`) and each worker left to it would stay a zombie. A one-job
+// worker lets facet return before its own exit only when this holds.
+bool orphans_are_reaped();
+
 // Whether --max-memory can be applied: not in sanitizer builds, whose shadow memory alone is
 // terabytes of writable mappings that RLIMIT_DATA counts (every allocation would fail).
 bool memory_cap_supported();

@@ -6,7 +6,12 @@
 // Debian's libassimp 5.2.5 itself; their names say the format and what assimp does with them
 // (segv, bus, double-free, out-of-memory, hang). They must never be given to load_model in the
 // test process.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sched.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -17,6 +22,7 @@
 
 #include "support/cli.hpp"
 #include "support/test_data.hpp"
+#include "worker.hpp"
 
 namespace {
 
@@ -131,6 +137,7 @@ TEST(RenderIsolation, AKilledWorkerLeavesNoTemporaryFiles) {
 // builds wait for the exit, whose status carries LeakSanitizer's reports.
 TEST(RenderIsolation, TheJobsStatusIsReturnedWithoutWaitingForTheWorkersExit) {
     if (k_sanitized) GTEST_SKIP() << "sanitizer builds wait for the worker's exit";
+    if (!facet::cli::orphans_are_reaped()) GTEST_SKIP() << "in a PID namespace of its own facet waits for the worker's exit";
     const fs::path dir = facet_test::test_temp_dir("facet_isolation");
     const std::string model = write_text(dir / "lingers.obj", k_box_obj);
     const ScopedEnv hook("FACET_TEST_LINGER_ON", "lingers");
@@ -138,6 +145,50 @@ TEST(RenderIsolation, TheJobsStatusIsReturnedWithoutWaitingForTheWorkersExit) {
     EXPECT_EQ(r.exit_code, 0) << r.all();
     const facet_test::DecodedPng png = facet_test::decode_png(dir / "o.png");
     EXPECT_TRUE(png.ok()) << png.error;
+}
+
+// In a PID namespace of its own (a container), PID 1 may be a program that never reaps the
+// processes it adopts: facet then reaps its worker itself before it exits, leaving PID 1 no child.
+// The test is that PID 1 (a forked child of this test, unshare(CLONE_NEWPID) needs root); it
+// runs facet, waits for facet alone, and then looks for any other child.
+TEST(RenderIsolation, InAPidNamespaceOfItsOwnFacetLeavesNoOrphanedWorker) {
+    const fs::path dir = facet_test::test_temp_dir("facet_isolation");
+    const std::string model = write_text(dir / "box.obj", k_box_obj);
+    const std::string out = (dir / "o.png").string();
+    std::vector<std::string> args{facet_test::facet_binary().string(), "render", model, "--size", "16x16", "-o", out};
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const pid_t outside = fork();
+    ASSERT_GE(outside, 0);
+    if (outside == 0) {
+        if (unshare(CLONE_NEWPID) != 0) _exit(77);
+        const pid_t init = fork();  // PID 1 of the new namespace
+        if (init < 0) _exit(3);
+        if (init == 0) {
+            posix_spawn_file_actions_t actions;
+            posix_spawn_file_actions_init(&actions);
+            posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+            posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+            pid_t facet = -1;
+            if (posix_spawn(&facet, argv[0], &actions, nullptr, argv.data(), environ) != 0) _exit(4);
+            int status = 0;
+            if (waitpid(facet, &status, 0) != facet || !WIFEXITED(status) || WEXITSTATUS(status) != 0) _exit(5);
+            siginfo_t any{};
+            const bool no_child = waitid(P_ALL, 0, &any, WEXITED | WNOHANG | WNOWAIT) != 0 && errno == ECHILD;
+            _exit(no_child ? 0 : 6);
+        }
+        int status = 0;
+        _exit(waitpid(init, &status, 0) == init && WIFEXITED(status) ? WEXITSTATUS(status) : 2);
+    }
+    int status = 0;
+    ASSERT_EQ(waitpid(outside, &status, 0), outside);
+    ASSERT_TRUE(WIFEXITED(status));
+    if (WEXITSTATUS(status) == 77) GTEST_SKIP() << "unshare(CLONE_NEWPID) is not permitted here";
+    EXPECT_NE(WEXITSTATUS(status), 5) << "facet render failed in the namespace";
+    EXPECT_NE(WEXITSTATUS(status), 6) << "facet's worker was left to PID 1";
+    EXPECT_EQ(WEXITSTATUS(status), 0);
+    EXPECT_TRUE(facet_test::decode_png(out).ok());
 }
 
 // --no-isolation runs the job in facet's own process: the test hook, which lives in the worker,
