@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <limits>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -46,7 +47,9 @@ class Emitter {
 public:
     // `primitives`: how many the chunk holds, for the bins' first allocations (first_bin_capacity).
     Emitter(const FrontEndParams& p, FrontEndChunk& out, std::size_t primitives)
-        : p_(p), out_(out), first_capacity_(first_bin_capacity(primitives, p)) {}
+        : p_(p), out_(out), first_capacity_(first_bin_capacity(primitives, p)), floors_(wants_floors(primitives, p)) {
+        lanes_.floors = floors_;
+    }
 
     // Triangle `triangle` of the draw, with every vertex inside all clip planes (most of them): set
     // up later with its batch.
@@ -86,7 +89,9 @@ public:
         ++set_up_;
         if (grid.one_tile(r.x0, max_x, r.y0, max_y)) {
             write_rect(r, c, ref, scratch_[0]);
-            stream_copy(scratch_[0], slot<false>(grid, grid.tile_of_pixel(r.x0, r.y0), primitive));
+            const std::size_t tile = grid.tile_of_pixel(r.x0, r.y0);
+            stream_copy(scratch_[0], slot<false>(grid, tile, primitive));
+            note_floor(grid, tile, scratch_[0]);
             streamed_ = true;
             return;
         }
@@ -200,6 +205,13 @@ private:
     struct TileSpan {
         int x0, x1, y0, y1;
     };
+    // Depth floors (FrontEndChunk::depth_floors) for a depth test that uses them, when the chunk's
+    // bins will hold 64 records a tile on average: below that a piece passed over saves less than
+    // finding the tile's largest depth costs.
+    static bool wants_floors(std::size_t primitives, const FrontEndParams& p) {
+        const std::size_t tiles = static_cast<std::size_t>(std::max(1, p.tiles_x)) * static_cast<std::size_t>(std::max(1, p.tiles_y));
+        return floors_for(p.state.depth_test) && primitives >= 64 * tiles;
+    }
     // A bin's first allocation: the chunk's primitives shared among the tiles (16 records at least,
     // 1024 at most), where std::vector's growth would start at 1 and double. A first frame grew each
     // of the bunny's bins 10 times or more, allocating, copying and faulting in about twice the
@@ -217,6 +229,7 @@ private:
         std::size_t tiles_x;
         TileBin* bins;
         std::vector<std::uint32_t>* primitives;  // with Primitives
+        std::vector<float>* floors;              // the chunk's depth_floors, or null (floors_for)
         std::size_t first_capacity;
         // Tile t's bin, with room for one more record.
         [[gnu::always_inline]] TileBin& bin(std::size_t t) const {
@@ -237,10 +250,21 @@ private:
     };
     BinGrid grid_of() const {
         return {std::countr_zero(static_cast<unsigned>(p_.tile_size)), static_cast<std::size_t>(p_.tiles_x),
-                out_.bins.data(), out_.primitives.data(), first_capacity_};
+                out_.bins.data(), out_.primitives.data(), floors_ ? out_.depth_floors.data() : nullptr, first_capacity_};
     }
     [[gnu::noinline]] static void grow(TileBin& bin, std::size_t first_capacity) {
         bin.reserve(std::max(2 * bin.capacity(), first_capacity));
+    }
+
+    // Record t, just added to the end of `tile`'s bin, lowers its piece's depth floor (with floors).
+    [[gnu::always_inline]] static void note_floor(const BinGrid& grid, std::size_t tile, const TriangleSetup& t) {
+        if (grid.floors) note_floor(grid, tile, lowest_depth(t));
+    }
+    [[gnu::always_inline]] static void note_floor(const BinGrid& grid, std::size_t tile, float low) {
+        if (!grid.floors) return;
+        std::vector<float>& f = grid.floors[tile];
+        if ((grid.bins[tile].size() - 1) % k_bin_piece == 0) f.push_back(low);
+        else f.back() = std::min(f.back(), low);
     }
 
     // Record i of `lanes` into the bin of every tile it reaches: a record that goes to one tile
@@ -249,7 +273,11 @@ private:
     [[gnu::always_inline]] void bin_lanes_record(const BinGrid& grid, const SetupLanes& lanes, int i, std::uint32_t primitive) {
         const std::int32_t* bounds = lanes.bounds(i);
         if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
-            TriangleSetup& t = slot<!Stream>(grid, grid.tile_of_pixel(bounds[0], bounds[1]), primitive);
+            const std::size_t tile = grid.tile_of_pixel(bounds[0], bounds[1]);
+            TriangleSetup& t = slot<!Stream>(grid, tile, primitive);
+            // Noted before the record's bytes are copied: the compiler takes those stores to change
+            // the bin's pointers.
+            note_floor(grid, tile, Stream ? -std::numeric_limits<float>::infinity() : lanes.floor[i]);  // Stream: segments
             if constexpr (Stream) stream_record(lanes, i, t);
             else write_record(lanes, i, t);
             return;
@@ -292,6 +320,7 @@ private:
             const std::size_t tile = grid.tile_of_pixel(t.min_x, t.min_y);
             grid.bin(tile).push_back(t);
             if constexpr (Primitives) grid.primitives[tile].push_back(primitive);
+            note_floor(grid, tile, t);
             return;
         }
         bin_across_tiles(t, grid.tiles_of(t.min_x, t.max_x, t.min_y, t.max_y), primitive);
@@ -302,12 +331,14 @@ private:
         if (t.segment) return bin_segment_across_tiles(t, span, primitive);
         const int s = p_.tile_size;
         const BinGrid grid = grid_of();
+        const float low = floors_ ? lowest_depth(t) : 0.0f;
         for (int ty = span.y0; ty <= span.y1; ++ty)
             for (int tx = span.x0; tx <= span.x1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
                 if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
                 grid.bin(grid.tile(tx, ty)).push_back(t);
                 if constexpr (Primitives) grid.primitives[grid.tile(tx, ty)].push_back(primitive);
+                note_floor(grid, grid.tile(tx, ty), low);
             }
     }
     // A segment's record likewise, stored by streaming stores as add_segments's are. Bounds that
@@ -322,6 +353,7 @@ private:
             for (int tx = span.x0; tx <= span.x1; ++tx) {
                 if (test && segment_rejects(t, PixelRect{tx * s, ty * s, tx * s + s, ty * s + s})) continue;
                 stream_copy(t, slot<false>(grid, grid.tile(tx, ty), primitive));
+                note_floor(grid, grid.tile(tx, ty), -std::numeric_limits<float>::infinity());
             }
         streamed_ = true;
     }
@@ -330,6 +362,7 @@ private:
     FrontEndChunk& out_;
     std::uint64_t set_up_ = 0, culled_ = 0;
     std::size_t first_capacity_;
+    bool floors_;
     bool streamed_ = false;
     SetupBatch batch_{};  // zeroed once: lanes past the count then always hold finite values
     SetupLanes lanes_;

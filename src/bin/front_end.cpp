@@ -80,6 +80,8 @@ void FrontEndChunk::reset(std::size_t tile_count, int stride, int pass_stride) {
     // colour and its passes at 1x) keeps the memory of both. The tiles read only the first tile_count.
     if (bins.size() < tile_count) bins.resize(tile_count);
     for (std::size_t t = 0; t < tile_count; ++t) bins[t].clear();
+    if (depth_floors.size() < tile_count) depth_floors.resize(tile_count);
+    for (std::size_t t = 0; t < tile_count; ++t) depth_floors[t].clear();
     pass_extras.varyings.clear();
     pass_extras.stride = pass_stride < 0 ? 0 : pass_stride;
     if (pass_stride >= 0) {

@@ -7,10 +7,13 @@
 // setup_triangles does the same for a batch of unclipped triangles at once (setup_simd.cpp, SIMD).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <optional>
 
+#include "facet/detail/fragment.hpp"
 #include "facet/detail/front_end.hpp"
 
 namespace facet::detail {
@@ -59,6 +62,20 @@ bool covers_no_centre_of_small_bounds(const TriangleSetup& t);
 SetupResult setup_triangle(const ScreenVertex (&v)[3], const std::uint32_t (&ref)[3], const FrontEndParams& params,
                            TriangleSetup& out);
 
+// The lowest value depth_at (fragment.hpp: the depth pass's depth, clamped) gives t at any pixel of its
+// bounds, or -infinity: the depth floor of a record (FrontEndChunk::depth_floors). Each operation of
+// depth_at rounds monotonically in x and in y, so that is its value at the corner of the bounds the
+// depth plane falls toward: exact, with no margin. -infinity for a segment's record (its depth is not
+// depth_at's) and for gradients so steep that a sum could reach infinity (inf - inf is not monotonic;
+// below 1e30, offsets under 2^15 pixels keep every term finite).
+inline float lowest_depth(const TriangleSetup& t) {
+    constexpr float k_none = -std::numeric_limits<float>::infinity(), k_steep = 1e30f;
+    if (t.segment || !(std::fabs(t.dzdx) < k_steep) || !(std::fabs(t.dzdy) < k_steep) || !(std::fabs(t.z0) < k_steep))
+        return k_none;
+    const float z = depth_at(t, t.dzdx < 0 ? t.max_x : t.min_x, t.dzdy < 0 ? t.max_y : t.min_y);
+    return z >= 0 ? z : k_none;
+}
+
 // Up to k_capacity triangles, in submission order, to be set up together. The vertices are stored per
 // corner (v[k][i] is corner k of triangle i) so that the kernel loads each corner of a group of
 // triangles with one deinterleaving load.
@@ -91,7 +108,9 @@ struct SetupLanes {
         std::uint32_t word[4];
     };
     Unit unit[k_units][n];
+    float floor[n];                      // lowest_depth of triangle i's record, when `floors`
     std::uint32_t keep = 0, culled = 0;  // bit i: triangle i
+    bool floors = true;                  // in: whether to set floor
     // The inclusive pixel bounds of triangle i (unit 3: min_x, min_y, max_x, max_y).
     const std::int32_t* bounds(int i) const { return reinterpret_cast<const std::int32_t*>(unit[3][i].word); }
 };

@@ -17,7 +17,9 @@
 // project builds with -ffp-contract=off and Highway's Mul, Sub and Div round separately), and the
 // conversions to float round to nearest as static_cast does. e0 is stored as the two words of an int64,
 // split exactly in double (int64_words).
+#include <bit>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "setup/setup.hpp"
@@ -239,6 +241,13 @@ bool SetUpGroupInDouble(const SetupBatch& batch, const FrontEndParams& p, SetupL
     store_unit(out, 5, i0, z.dfdy, zq0[1], q.dfdx, q.dfdy);
     store_unit(out, 6, i0, l1.dfdx, l1.dfdy, l2.dfdx, l2.dfdy);
     store_unit(out, 7, i0, r0, hn::IfThenElse(flip_u, r2, r1), hn::IfThenElse(flip_u, r1, r2), flags);
+    // Groups of large triangles are few: their floors from the records.
+    for (std::uint32_t bits = out.floors ? mask_bits(keep) : 0; bits != 0; bits &= bits - 1) {
+        const int i = i0 + std::countr_zero(bits);
+        TriangleSetup t;
+        write_record(out, i, t);
+        out.floor[i] = lowest_depth(t);
+    }
     return true;
 }
 
@@ -397,6 +406,22 @@ bool SetUpGroupIn32Bits(const SetupBatch& batch, const FrontEndParams& p, SetupL
     store_unit32(out, 4, i0, joined(0), joined(1), s0.z, joined(2));
     store_unit32(out, 5, i0, joined(3), s0.q, joined(4), joined(5));
     store_unit32(out, 6, i0, joined(6), joined(7), joined(8), joined(9));
+
+    if (!out.floors) return true;
+    // The floors (lowest_depth): depth_at's operations at the corner the plane falls toward.
+    const hn::Rebind<float, DI32> df;
+    const auto x0 = hn::BitCast(df, joined(0)), y0 = hn::BitCast(df, joined(1)), z0 = hn::BitCast(df, s0.z);
+    const auto gx = hn::BitCast(df, joined(2)), gy = hn::BitCast(df, joined(3));
+    const auto zero = hn::Zero(df), steep = hn::Set(df, 1e30f), centre = hn::Set(df, 0.5f);
+    const VI32 fx = hn::IfThenElse(hn::RebindMask(di, hn::Lt(gx, zero)), max_x, min_x);
+    const VI32 fy = hn::IfThenElse(hn::RebindMask(di, hn::Lt(gy, zero)), max_y, min_y);
+    const auto dx = hn::Sub(hn::Add(hn::ConvertTo(df, fx), centre), x0);
+    const auto dy = hn::Sub(hn::Add(hn::ConvertTo(df, fy), centre), y0);
+    const auto z = hn::Add(hn::Add(z0, hn::Mul(gx, dx)), hn::Mul(gy, dy));
+    // Where the three are below 1e30, z is finite: clamped as depth_at clamps it.
+    const auto finite = hn::And(hn::And(hn::Lt(hn::Abs(gx), steep), hn::Lt(hn::Abs(gy), steep)), hn::Lt(hn::Abs(z0), steep));
+    const auto clamped = hn::Min(hn::Max(z, zero), hn::Set(df, 1.0f));
+    hn::StoreU(hn::IfThenElse(finite, clamped, hn::Set(df, -std::numeric_limits<float>::infinity())), df, out.floor + i0);
     return true;
 }
 #endif

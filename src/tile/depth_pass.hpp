@@ -11,6 +11,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 #include "facet/detail/fragment.hpp"
 #include "tile/tile_buffers.hpp"
@@ -104,6 +105,22 @@ ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write);
 // Sets TileBuffers::covered and first_owner from the owners, with the ISA selected in facet/isa.hpp
 // (a SIMD kernel in depth_simd.cpp, or find_owned_pixels_reference).
 void find_owned_pixels(TileBuffers& buffers, PixelRect tile);
+
+// The largest depth of the tile's pixels in the depth pass, with the ISA selected in facet/isa.hpp (a
+// SIMD kernel in depth_simd.cpp, or tile_depth_ceiling_reference). No depth test passes against a NaN:
+// a kernel may leave NaN out or return it (then nothing is above it). -infinity for an empty tile.
+float tile_depth_ceiling(const TileBuffers& buffers, PixelRect tile);
+
+// The scalar specification of tile_depth_ceiling: NaN left out.
+inline float tile_depth_ceiling_reference(const TileBuffers& buffers, PixelRect tile) {
+    float ceiling = -std::numeric_limits<float>::infinity();
+    for (int row = 0; row < tile.y1 - tile.y0; ++row)
+        for (int i = 0; i < tile.x1 - tile.x0; ++i) {
+            const float d = buffers.depth[row * k_max_tile_size + i];
+            ceiling = d > ceiling ? d : ceiling;
+        }
+    return ceiling;
+}
 
 // The scalar specification of find_owned_pixels.
 inline void find_owned_pixels_reference(TileBuffers& buffers, PixelRect tile) {

@@ -18,6 +18,7 @@
 #include <bit>
 #include <cstddef>
 #include <cstring>
+#include <limits>
 #include <utility>
 
 #include "raster/segment.hpp"
@@ -773,6 +774,27 @@ void FindOwnedPixels(TileBuffers& buffers, PixelRect tile) {
     find_owned_pixels_of<false>(buffers, tile);
 }
 
+// The largest depth of the tile (tile_depth_ceiling): whole vectors of each row, the lanes past the
+// tile's width (which may hold anything) set to -infinity. Max may keep or drop a NaN: either is what
+// tile_depth_ceiling allows.
+float TileDepthCeiling(const TileBuffers& buffers, PixelRect tile) {
+    const hn::ScalableTag<float> df;
+    const int lanes = static_cast<int>(hn::Lanes(df));
+    const int width = tile.x1 - tile.x0, height = tile.y1 - tile.y0;
+    const auto none = hn::Set(df, -std::numeric_limits<float>::infinity());
+    auto m0 = none, m1 = none;  // two chains: a row of 64 is 4 vectors on AVX-512
+    for (int row = 0; row < height; ++row) {
+        const float* d = buffers.depth + row * k_max_tile_size;
+        int i = 0;
+        for (; i + 2 * lanes <= width; i += 2 * lanes) {
+            m0 = hn::Max(m0, hn::Load(df, d + i));
+            m1 = hn::Max(m1, hn::Load(df, d + i + lanes));
+        }
+        for (; i < width; i += lanes) m0 = hn::Max(m0, hn::IfThenElse(hn::FirstN(df, static_cast<std::size_t>(width - i)), hn::Load(df, d + i), none));
+    }
+    return hn::GetLane(hn::MaxOfLanes(df, hn::Max(m0, m1)));
+}
+
 // This target's kernels for a depth test and write flag (never, which no tile draws: ones that do nothing).
 ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
     ResolveTriangleKernel kernel = [](const DepthJob&) { return false; };
@@ -800,6 +822,11 @@ namespace facet::detail {
 HWY_EXPORT(ChooseResolveTriangle);
 HWY_EXPORT(ChooseResolveBin);
 HWY_EXPORT(FindOwnedPixels);
+HWY_EXPORT(TileDepthCeiling);
+float tile_depth_ceiling(const TileBuffers& buffers, PixelRect tile) {
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(TileDepthCeiling)(buffers, tile);
+    return tile_depth_ceiling_reference(buffers, tile);
+}
 void find_owned_pixels(TileBuffers& buffers, PixelRect tile) {
     if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(FindOwnedPixels)(buffers, tile);
     find_owned_pixels_reference(buffers, tile);

@@ -4,6 +4,7 @@
 #include "tile/tile_pass.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "tile/deferred_fills.hpp"
 #include "tile/depth_pass.hpp"
@@ -69,9 +70,6 @@ void for_each_bin(const TileBatch& batch, std::size_t tile, const Each& each) {
     }
 }
 
-// Records per piece of a bin in the depth pass (16 KB): see draw_visible_only.
-constexpr std::size_t k_bin_piece = 256;
-
 // The visible-only order: the depth pass of every bin, then the shader's pass over the VisibleTile
 // (and with render passes, theirs).
 void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJob& job, TargetView target,
@@ -79,11 +77,33 @@ void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJ
                        bool store_depth, const PassDraw* passes, PassRow* pass_rows) {
     const PixelRect tile = job.rect;
     buffers.begin(tile, shading.varyings, target, clear);
+    // Under a depth test less or lequal the tile's depth only falls, so its largest depth found once
+    // stays an upper bound: a piece whose floor (FrontEndChunk::depth_floors) is above it fails the
+    // test at every pixel, would list and write nothing, and is passed over unread (the far side of
+    // a closed mesh after its near side). The largest depth is found again only for a piece the last
+    // one found does not pass over, and only when a piece was drawn since.
+    const bool floors = floors_for(shading.depth_test);
+    float ceiling = clear ? clear->depth : std::numeric_limits<float>::infinity();  // a cleared tile's is known
+    bool ceiling_fresh = clear != nullptr;
     for_each_bin(batch, job.index, [&](const FrontEndChunk& chunk, const TileBin& bin) {
+        const float* floor = nullptr;
+        if (floors) {
+            const std::vector<float>& f = chunk.depth_floors[job.index];
+            if (f.size() == (bin.size() + k_bin_piece - 1) / k_bin_piece) floor = f.data();
+        }
         // A bin a piece at a time (the depth pass fetches records ahead past the piece it is given),
         // each piece's pass records written right after its depth pass, while its records are still
         // in L1. A triangle that passes nowhere now never owns a pixel: it is not listed.
         for (std::size_t at = 0; at < bin.size(); at += k_bin_piece) {
+            if (floor) {
+                const float low = floor[at / k_bin_piece];
+                if (!(low > ceiling) && !ceiling_fresh) {
+                    ceiling = tile_depth_ceiling(buffers, tile);
+                    ceiling_fresh = true;
+                }
+                if (low > ceiling) continue;
+                ceiling_fresh = false;
+            }
             const std::size_t first = buffers.triangles.size();
             resolve_bin(bin.data() + at, std::min(k_bin_piece, bin.size() - at), tile, buffers);
             if (passes) write_pass_records(buffers, first, *passes, chunk, bin, chunk.primitives[job.index]);

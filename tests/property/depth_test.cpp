@@ -286,6 +286,70 @@ TEST(DepthTest, TrianglesHiddenByLaterChunksLeaveTheNearOnesAsDrawnAlone) {
     EXPECT_LT(nearer, W * H - 500);
 }
 
+// A bin's pieces (k_bin_piece records) that lie behind the whole tile are passed over unread (their
+// depth floors above the tile's largest depth); a piece may be passed over only when none of its
+// triangles would pass anywhere. A near layer of half-pixel triangles at depth 0.5 over the whole
+// target, then a far layer at 0.75 into which a few tilted triangles are mixed: their first vertex at
+// 0.75 (the depth plane's origin), the others at 0.25, so that they reach in front of the near layer
+// near those. The image is the one the one-pass order draws (Blend::alpha with opaque colours: the
+// same bytes, and no pieces passed over): a piece passed over for a floor above a pixel it reaches
+// would show as a missing tilted triangle.
+TEST(DepthTest, PiecesBehindTheWholeTileAreDrawnAsIfDrawn) {
+    std::vector<Vec4> pos, colour, tilted_pos, tilted_colour;
+    for (int k = 0; k < 9; ++k) {  // 12 x 6 pixels each, spread over the tiles
+        const int x = 3 + (k % 3) * 21, y = 5 + (k / 3) * 21;
+        const R::Fixed c[3] = {{x * 256 + 40, y * 256 + 30}, {(x + 12) * 256 + 7, (y + 2) * 256 + 99}, {(x + 3) * 256 + 11, (y + 6) * 256 + 70}};
+        const float z[3] = {0.75f, 0.25f, 0.25f};
+        for (int v = 0; v < 3; ++v) {
+            tilted_pos.push_back(R::clip_from_fixed(c[v], k_vp, z[v]));
+            tilted_colour.push_back(Vec4{1, static_cast<float>(k) / 9, static_cast<float>(v) / 3, 1});
+        }
+    }
+    for (float z : {0.5f, 0.75f})
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                const R::Fixed c[4] = {{x * 256, y * 256}, {x * 256 + 256, y * 256}, {x * 256 + 256, y * 256 + 256}, {x * 256, y * 256 + 256}};
+                for (int k : {0, 1, 2, 0, 2, 3}) {
+                    pos.push_back(R::clip_from_fixed(c[k], k_vp, z));
+                    colour.push_back(Vec4{static_cast<float>(x) / W, static_cast<float>(y) / H, z, 1});
+                }
+                // The tilted triangles among the far layer, each just before the far one at its first pixel.
+                const int k = (x - 3) / 21 + (y - 5) / 21 * 3;
+                if (z == 0.75f && (x - 3) % 21 == 0 && (y - 5) % 21 == 0 && x >= 3 && y >= 5) {
+                    pos.insert(pos.end() - 6, tilted_pos.begin() + 3 * k, tilted_pos.begin() + 3 * k + 3);
+                    colour.insert(colour.end() - 6, tilted_colour.begin() + 3 * k, tilted_colour.begin() + 3 * k + 3);
+                }
+            }
+    ASSERT_EQ(pos.size(), 2u * W * H * 6 + tilted_pos.size());
+    const auto draw = [&](DepthTest test, Blend blend) {
+        const auto shader = make_shader<4>(
+            [&](std::uint32_t i, Varyings<4>& out) {
+                out.set(0, colour[i]);
+                return pos[i];
+            },
+            [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+        Framebuffer fb(W, H);
+        fb.clear(k_clear, 1.0f);
+        DrawState state;
+        state.cull = CullMode::none;
+        state.depth_test = test;
+        state.blend = blend;
+        Renderer({.threads = 1, .tile_size = 16}).draw(fb, state, DrawInput{static_cast<std::uint32_t>(pos.size()), {}}, shader);
+        return fb;
+    };
+    for (DepthTest test : {DepthTest::less, DepthTest::lequal}) {
+        const Framebuffer visible_only = draw(test, Blend::none);
+        const Framebuffer one_pass = draw(test, Blend::alpha);
+        int tilted = 0;
+        for (int i = 0; i < W * H; ++i) {
+            ASSERT_EQ(visible_only.colour_data()[i], one_pass.colour_data()[i]) << name(test) << " pixel " << i;
+            ASSERT_EQ(visible_only.depth_data()[i], one_pass.depth_data()[i]) << name(test) << " pixel " << i;
+            tilted += one_pass.depth_data()[i] < 0.5f;
+        }
+        EXPECT_GT(tilted, 200) << name(test);
+    }
+}
+
 // Discard: a fragment function returning std::optional<Vec4> with nullopt leaves colour and depth
 // exactly as they were (depth test passing, depth writes on, with and without blending).
 TEST(DepthTest, DiscardLeavesColourAndDepthUntouched) {

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -241,6 +242,51 @@ TEST(SetupBatch, EveryIsaWritesTheRecordsOfSetupTriangle) {
     }
 }
 
+// Each record's depth floor: every ISA's kernel gives lowest_depth of the record it writes, and that
+// is the lowest depth_at over the record's bounds, attained there (exactly: no margin), or -infinity.
+// Triangles of the generator's kinds with bounds up to 64 pixels, the depth checked at every pixel
+// of the bounds.
+TEST(SetupBatch, EachRecordsDepthFloorIsItsLowestDepthOverItsBounds) {
+    IsaGuard guard;
+    for (const std::string& isa : available_isas()) {
+        ASSERT_TRUE(select_isa(isa));
+        std::size_t checked = 0, sloped = 0;
+        Generator gen(4242);
+        SetupBatch batch{};
+        SetupLanes lanes;
+        for (int round = 0; round < 2000; ++round) {
+            const FrontEndParams p = gen.params();
+            batch.count = SetupBatch::k_capacity;
+            for (int i = 0; i < batch.count; ++i) {
+                ScreenVertex v[3];
+                if (round % 2) gen.small_triangle(v);
+                else gen.triangle(v);
+                for (int k = 0; k < 3; ++k) batch.v[k][i] = v[k], batch.ref[k][i] = gen.ref();
+            }
+            if (!setup_lanes(batch, p, lanes)) continue;  // the scalar ISA: records one by one
+            for (std::uint32_t keep = lanes.keep; keep != 0; keep &= keep - 1) {
+                const int i = std::countr_zero(keep);
+                TriangleSetup t;
+                write_record(lanes, i, t);
+                const float floor = lowest_depth(t);
+                ASSERT_TRUE(lanes.floor[i] == floor || (std::isnan(floor) && std::isnan(lanes.floor[i])))
+                    << isa << " round " << round << " lane " << i << ": " << lanes.floor[i] << " against " << floor;
+                if (t.max_x - t.min_x > 64 || t.max_y - t.min_y > 64) continue;
+                float lowest = std::numeric_limits<float>::infinity();
+                for (int y = t.min_y; y <= t.max_y; ++y)
+                    for (int x = t.min_x; x <= t.max_x; ++x) lowest = std::min(lowest, depth_at(t, x, y));
+                if (floor == -std::numeric_limits<float>::infinity()) continue;
+                ASSERT_EQ(floor, lowest) << isa << " round " << round << " lane " << i;
+                ++checked;
+                sloped += t.dzdx != 0 && t.dzdy != 0;
+            }
+        }
+        if (isa == "scalar") continue;  // set up one by one: the floors are lowest_depth's own
+        EXPECT_GT(checked, 2000u) << isa;
+        EXPECT_GT(sloped, 2000u) << isa;
+    }
+}
+
 // Triangles under 3 pixels across, whose bounds hold at most 3x3 pixel centres: setup_triangle
 // keeps exactly those that cover a centre by the reference rasterizer's rule (the others are empty:
 // never binned), and the batch kernels of every ISA keep the same ones.
@@ -340,7 +386,7 @@ TEST(SetupBatch, TheFrontEndGivesTheSameChunkOnEveryIsa) {
     EXPECT_GT(want.stats.triangles_clipped, 0u);
     EXPECT_GT(want.stats.triangles_culled, 0u);
     EXPECT_GT(want.stats.triangles_rasterized, 1000u);
-    std::size_t small = 0, large = 0;  // records of each kind compared
+    std::size_t small = 0, large = 0, pieces = 0;  // records of each kind, and pieces, compared
     for (const std::string& isa : available_isas()) {
         const FrontEndChunk got = run(isa);
         ASSERT_EQ(got.bins.size(), want.bins.size()) << isa;
@@ -356,6 +402,15 @@ TEST(SetupBatch, TheFrontEndGivesTheSameChunkOnEveryIsa) {
                 small += g.small_edges;
                 large += !g.small_edges;
             }
+            // The depth floors (a depth test less): per piece the lowest of its records' floors.
+            ASSERT_EQ(got.depth_floors[tile].size(), (want.bins[tile].size() + k_bin_piece - 1) / k_bin_piece) << isa;
+            for (std::size_t piece = 0; piece < got.depth_floors[tile].size(); ++piece) {
+                float lowest = std::numeric_limits<float>::infinity();
+                for (std::size_t i = piece * k_bin_piece; i < std::min(want.bins[tile].size(), (piece + 1) * k_bin_piece); ++i)
+                    lowest = std::min(lowest, lowest_depth(want.bins[tile][i]));
+                ASSERT_EQ(got.depth_floors[tile][piece], lowest) << isa << " tile " << tile << " piece " << piece;
+                pieces += 1;
+            }
         }
         EXPECT_EQ(got.stats.triangles_culled, want.stats.triangles_culled) << isa;
         EXPECT_EQ(got.stats.triangles_rasterized, want.stats.triangles_rasterized) << isa;
@@ -363,6 +418,7 @@ TEST(SetupBatch, TheFrontEndGivesTheSameChunkOnEveryIsa) {
     }
     EXPECT_GT(small, 1000u);
     EXPECT_GT(large, 10u);
+    EXPECT_GT(pieces, 300u);
 }
 
 }  // namespace

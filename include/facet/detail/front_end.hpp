@@ -30,6 +30,10 @@ struct FrontEndParams {
 // where the hardware prefetcher follows, rather than by index from anywhere in the chunk.
 using TileBin = std::vector<TriangleSetup, UninitialisedAllocator<TriangleSetup>>;
 
+// The tile pass hands the depth pass a bin this many records (32 KB) at a time; the front end keeps
+// the lowest depth of each such piece (FrontEndChunk::depth_floors).
+constexpr std::size_t k_bin_piece = 256;
+
 struct FrontEndChunk {
     std::vector<TileBin> bins;  // per tile, row-major
     ClipVertices extras;        // vertices made by clipping
@@ -39,10 +43,20 @@ struct FrontEndChunk {
     // nothing), and the pass varyings of the clip-made vertices (at the indices of `extras`).
     std::vector<std::vector<std::uint32_t>> primitives;
     ClipVertices pass_extras;
+    // Per tile, per piece of k_bin_piece records of bins[tile], the lowest depth any of them gives a
+    // pixel (lowest_depth, src/setup/setup.hpp), so that the tile pass can pass over a piece that lies
+    // behind every pixel of the tile without reading it: the far side of a closed mesh drawn after
+    // its near side. Only for a depth test less or lequal (floors_for) and chunks of 64 triangles a
+    // tile or more (Emitter::wants_floors); else each is left empty.
+    std::vector<std::vector<float>> depth_floors;
     DrawStats stats;
     // `pass_stride`: the pass varyings per vertex of a draw with render passes, or -1 without.
     void reset(std::size_t tile_count, int stride, int pass_stride = -1);
 };
+
+// Whether the front end keeps depth_floors for a draw with this depth test: a piece lying wholly at
+// or behind the tile's depth fails these tests everywhere.
+inline bool floors_for(DepthTest test) { return test == DepthTest::less || test == DepthTest::lequal; }
 
 // With `pass_vertices` (the pass vertex stage's output, for a draw with render passes) the chunk's
 // primitives and pass_extras are filled too.
