@@ -152,6 +152,9 @@ TEST(RenderIsolation, TheJobsStatusIsReturnedWithoutWaitingForTheWorkersExit) {
 // The test is that PID 1 (a forked child of this test, unshare(CLONE_NEWPID) needs root); it
 // runs facet, waits for facet alone, and then looks for any other child.
 TEST(RenderIsolation, InAPidNamespaceOfItsOwnFacetLeavesNoOrphanedWorker) {
+    // They always wait; and LeakSanitizer cannot stop facet's threads there (it finds them in this
+    // namespace's /proc and traces them by their IDs in the new one), so facet would fail at exit.
+    if (k_sanitized) GTEST_SKIP() << "sanitizer builds wait for the worker's exit";
     const fs::path dir = facet_test::test_temp_dir("facet_isolation");
     const std::string model = write_text(dir / "box.obj", k_box_obj);
     const std::string out = (dir / "o.png").string();
