@@ -225,9 +225,10 @@ Four four_at(const Vec3* p) {
     static_assert(sizeof(Vec3) == 3 * sizeof(float));
     Floats4 v[3];
     std::memcpy(v, p, sizeof v);  // x0 y0 z0 x1 | y1 z1 x2 y2 | z2 x3 y3 z3
-    const Floats4 x = __builtin_shuffle(__builtin_shuffle(v[0], v[1], Ints4{0, 3, 6, 0}), v[2], Ints4{0, 1, 2, 5});
-    const Floats4 y = __builtin_shuffle(__builtin_shuffle(v[0], v[1], Ints4{1, 4, 7, 0}), v[2], Ints4{0, 1, 2, 6});
-    const Floats4 z = __builtin_shuffle(__builtin_shuffle(v[0], v[1], Ints4{2, 5, 0, 0}), v[2], Ints4{0, 1, 4, 7});
+    // __builtin_shufflevector: GCC's (12 on) and clang's (the fuzz build) alike.
+    const Floats4 x = __builtin_shufflevector(__builtin_shufflevector(v[0], v[1], 0, 3, 6, 0), v[2], 0, 1, 2, 5);
+    const Floats4 y = __builtin_shufflevector(__builtin_shufflevector(v[0], v[1], 1, 4, 7, 0), v[2], 0, 1, 2, 6);
+    const Floats4 z = __builtin_shufflevector(__builtin_shufflevector(v[0], v[1], 2, 5, 0, 0), v[2], 0, 1, 4, 7);
     return {x + 0.0f, y + 0.0f, z + 0.0f};
 }
 float lowest(Floats4 v) { return std::min(std::min(v[0], v[1]), std::min(v[2], v[3])); }
@@ -249,8 +250,8 @@ Aabb bounds_of(const Objects& objects) {
                 const Ints4 finite = f.finite();
                 const Floats4 c[3] = {f.x, f.y, f.z};
                 for (int d = 0; d < 3; ++d) {
-                    lo[d] = finite & (c[d] < lo[d]) ? c[d] : lo[d];
-                    hi[d] = finite & (c[d] > hi[d]) ? c[d] : hi[d];
+                    lo[d] = (finite & (c[d] < lo[d])) ? c[d] : lo[d];
+                    hi[d] = (finite & (c[d] > hi[d])) ? c[d] : hi[d];
                 }
             }
             box.min = facet::min(box.min, Vec3{lowest(lo[0]), lowest(lo[1]), lowest(lo[2])});  // infinite: none
@@ -278,7 +279,7 @@ float radius_of(const Objects& objects, Vec3 centre) {
                 const Four f = four_at(o.positions + k);
                 const Floats4 dx = f.x - centre.x, dy = f.y - centre.y, dz = f.z - centre.z;
                 const Floats4 d2 = dx * dx + dy * dy + dz * dz;  // dot's order
-                most = f.finite() & (most < d2) ? d2 : most;
+                most = (f.finite() & (most < d2)) ? d2 : most;
             }
             r2 = std::max(r2, highest(most));
         }
