@@ -75,6 +75,24 @@ Framebuffer draw_pair(DepthTest test, bool write, float clear_depth, float za, f
     return fb;
 }
 
+// Triangles of per-vertex colours (pos in clip space) drawn over k_clear at depth 1, culling off.
+Framebuffer draw_coloured(const std::vector<Vec4>& pos, const std::vector<Vec4>& colour, DrawState state, int threads,
+                          DrawStats* stats = nullptr) {
+    const auto shader = make_shader<4>(
+        [&](std::uint32_t i, Varyings<4>& out) {
+            out.set(0, colour[i]);
+            return pos[i];
+        },
+        [](const FragmentIn<4>& in) { return in.v.vec4(0); });
+    Framebuffer fb(W, H);
+    fb.clear(k_clear, 1.0f);
+    state.cull = CullMode::none;
+    const DrawStats s = Renderer({.threads = threads, .tile_size = 16})
+                            .draw(fb, state, DrawInput{static_cast<std::uint32_t>(pos.size()), {}}, shader);
+    if (stats) *stats = s;
+    return fb;
+}
+
 struct Expected {
     std::vector<Rgba8> colour;
     std::vector<float> depth;
@@ -243,21 +261,6 @@ TEST(DepthTest, TrianglesHiddenByLaterChunksLeaveTheNearOnesAsDrawnAlone) {
                                         R::clip_from_fixed(k_a[0], k_vp, 0.25f), R::clip_from_fixed(k_a[1], k_vp, 0.25f),
                                         R::clip_from_fixed(k_a[2], k_vp, 0.25f)};
     const std::vector<Vec4> near_colour = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 0, 1}, {0, 1, 1, 1}, {1, 0, 1, 1}};
-    const auto draw = [](const std::vector<Vec4>& pos, const std::vector<Vec4>& colour, DrawStats* stats) {
-        const auto shader = make_shader<4>(
-            [&](std::uint32_t i, Varyings<4>& out) {
-                out.set(0, colour[i]);
-                return pos[i];
-            },
-            [](const FragmentIn<4>& in) { return in.v.vec4(0); });
-        Framebuffer fb(W, H);
-        fb.clear(k_clear, 1.0f);
-        DrawState state;
-        state.cull = CullMode::none;
-        const DrawStats s = Renderer({.threads = 2, .tile_size = 16}).draw(fb, state, DrawInput{static_cast<std::uint32_t>(pos.size()), {}}, shader);
-        if (stats) *stats = s;
-        return fb;
-    };
     // Far triangles, the near one as triangle 2,100 (in the second of 4 chunks of 2,050 at 2 threads),
     // far ones again, the nearer one last.
     std::vector<Vec4> pos, colour;
@@ -273,8 +276,8 @@ TEST(DepthTest, TrianglesHiddenByLaterChunksLeaveTheNearOnesAsDrawnAlone) {
     pos.insert(pos.end(), near_pos.begin() + 3, near_pos.end());
     colour.insert(colour.end(), near_colour.begin() + 3, near_colour.end());
     DrawStats stats;
-    const Framebuffer all = draw(pos, colour, &stats);
-    const Framebuffer alone = draw(near_pos, near_colour, nullptr);
+    const Framebuffer all = draw_coloured(pos, colour, DrawState{}, 2, &stats);
+    const Framebuffer alone = draw_coloured(near_pos, near_colour, DrawState{}, 2);
     EXPECT_EQ(stats.triangles_clipped, 1u);
     int nearer = 0;
     for (int i = 0; i < W * H; ++i) {
@@ -322,20 +325,10 @@ TEST(DepthTest, PiecesBehindTheWholeTileAreDrawnAsIfDrawn) {
             }
     ASSERT_EQ(pos.size(), 2u * W * H * 6 + tilted_pos.size());
     const auto draw = [&](DepthTest test, Blend blend) {
-        const auto shader = make_shader<4>(
-            [&](std::uint32_t i, Varyings<4>& out) {
-                out.set(0, colour[i]);
-                return pos[i];
-            },
-            [](const FragmentIn<4>& in) { return in.v.vec4(0); });
-        Framebuffer fb(W, H);
-        fb.clear(k_clear, 1.0f);
         DrawState state;
-        state.cull = CullMode::none;
         state.depth_test = test;
         state.blend = blend;
-        Renderer({.threads = 1, .tile_size = 16}).draw(fb, state, DrawInput{static_cast<std::uint32_t>(pos.size()), {}}, shader);
-        return fb;
+        return draw_coloured(pos, colour, state, 1);
     };
     for (DepthTest test : {DepthTest::less, DepthTest::lequal}) {
         const Framebuffer visible_only = draw(test, Blend::none);
