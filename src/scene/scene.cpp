@@ -234,33 +234,41 @@ Four four_at(const Vec3* p) {
 float lowest(Floats4 v) { return std::min(std::min(v[0], v[1]), std::min(v[2], v[3])); }
 float highest(Floats4 v) { return std::max(std::max(v[0], v[1]), std::max(v[2], v[3])); }
 
-template <class Objects>
-Aabb bounds_of(const Objects& objects) {
-    Aabb box;
+// four(f) for the positions of identity-placed objects four at a time (f.finite() marks the lanes
+// to keep), one(p) for each other finite placed position.
+template <class Objects, class FourAtATime, class OneAtATime>
+void for_each_placed_position(const Objects& objects, const FourAtATime& four, const OneAtATime& one) {
     for (std::size_t i = 0; i < object_count(objects); ++i) {
         const ObjectView o = object_at(objects, i);
         const bool identity = o.model == Mat4::identity();
         std::uint32_t k = 0;
-        if (identity && o.vertex_count >= 4) {
-            constexpr float inf = std::numeric_limits<float>::infinity();
-            Floats4 lo[3] = {Floats4{} + inf, Floats4{} + inf, Floats4{} + inf};
-            Floats4 hi[3] = {Floats4{} - inf, Floats4{} - inf, Floats4{} - inf};
-            for (; k + 4 <= o.vertex_count; k += 4) {
-                const Four f = four_at(o.positions + k);
-                const Ints4 finite = f.finite();
-                const Floats4 c[3] = {f.x, f.y, f.z};
-                for (int d = 0; d < 3; ++d) {
-                    lo[d] = (finite & (c[d] < lo[d])) ? c[d] : lo[d];
-                    hi[d] = (finite & (c[d] > hi[d])) ? c[d] : hi[d];
-                }
-            }
-            box.min = facet::min(box.min, Vec3{lowest(lo[0]), lowest(lo[1]), lowest(lo[2])});  // infinite: none
-            box.max = facet::max(box.max, Vec3{highest(hi[0]), highest(hi[1]), highest(hi[2])});
-        }
+        if (identity)
+            for (; k + 4 <= o.vertex_count; k += 4) four(four_at(o.positions + k));
         for (; k < o.vertex_count; ++k)
             if (is_finite(o.positions[k]))
-                box.extend(identity ? o.positions[k] + Vec3{0, 0, 0} : transform_point(o.model, o.positions[k]));
+                one(identity ? o.positions[k] + Vec3{0, 0, 0} : transform_point(o.model, o.positions[k]));
     }
+}
+
+template <class Objects>
+Aabb bounds_of(const Objects& objects) {
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    Floats4 lo[3] = {Floats4{} + inf, Floats4{} + inf, Floats4{} + inf};
+    Floats4 hi[3] = {Floats4{} - inf, Floats4{} - inf, Floats4{} - inf};
+    Aabb box;
+    for_each_placed_position(
+        objects,
+        [&](const Four& f) {
+            const Ints4 finite = f.finite();
+            const Floats4 c[3] = {f.x, f.y, f.z};
+            for (int d = 0; d < 3; ++d) {
+                lo[d] = (finite & (c[d] < lo[d])) ? c[d] : lo[d];
+                hi[d] = (finite & (c[d] > hi[d])) ? c[d] : hi[d];
+            }
+        },
+        [&](Vec3 p) { box.extend(p); });
+    box.min = facet::min(box.min, Vec3{lowest(lo[0]), lowest(lo[1]), lowest(lo[2])});  // infinite: none
+    box.max = facet::max(box.max, Vec3{highest(hi[0]), highest(hi[1]), highest(hi[2])});
     return box;
 }
 
@@ -268,28 +276,17 @@ Aabb bounds_of(const Objects& objects) {
 // sqrt is correctly rounded and so never decreasing (and a NaN is passed over by both).
 template <class Objects>
 float radius_of(const Objects& objects, Vec3 centre) {
+    Floats4 most{};
     float r2 = 0;
-    for (std::size_t i = 0; i < object_count(objects); ++i) {
-        const ObjectView o = object_at(objects, i);
-        const bool identity = o.model == Mat4::identity();
-        std::uint32_t k = 0;
-        if (identity && o.vertex_count >= 4) {
-            Floats4 most{};
-            for (; k + 4 <= o.vertex_count; k += 4) {
-                const Four f = four_at(o.positions + k);
-                const Floats4 dx = f.x - centre.x, dy = f.y - centre.y, dz = f.z - centre.z;
-                const Floats4 d2 = dx * dx + dy * dy + dz * dz;  // dot's order
-                most = (f.finite() & (most < d2)) ? d2 : most;
-            }
-            r2 = std::max(r2, highest(most));
-        }
-        for (; k < o.vertex_count; ++k)
-            if (is_finite(o.positions[k])) {
-                const Vec3 p = identity ? o.positions[k] + Vec3{0, 0, 0} : transform_point(o.model, o.positions[k]);
-                r2 = std::max(r2, dot(p - centre, p - centre));
-            }
-    }
-    return std::sqrt(r2);
+    for_each_placed_position(
+        objects,
+        [&](const Four& f) {
+            const Floats4 dx = f.x - centre.x, dy = f.y - centre.y, dz = f.z - centre.z;
+            const Floats4 d2 = dx * dx + dy * dy + dz * dz;  // dot's order
+            most = (f.finite() & (most < d2)) ? d2 : most;
+        },
+        [&](Vec3 p) { r2 = std::max(r2, dot(p - centre, p - centre)); });
+    return std::sqrt(std::max(r2, highest(most)));
 }
 
 }  // namespace
