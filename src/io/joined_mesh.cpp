@@ -83,12 +83,84 @@ std::optional<std::vector<std::uint32_t>> join_used_vertices(const std::vector<V
     return representative;
 }
 
+// True when no two of `positions` share a key (most files: a join that joins nothing). The table's
+// slots are fetched this many positions ahead, so that their misses overlap; each holds 32 bits of
+// its position's hash beside its index, so that a probe past another position rarely reads it.
+bool distinct_keys(const std::vector<Vec3>& positions) {
+    constexpr std::size_t ahead = 16;
+    const std::size_t n = positions.size();
+    const std::size_t capacity = std::bit_ceil(2 * n + 2);
+    std::vector<std::uint64_t> table(capacity, 0);  // the hash's top 32 bits << 32 | index + 1 (0: empty)
+    std::uint64_t* const slots = table.data();
+    const Vec3* const p = positions.data();
+    std::uint64_t ring[ahead];
+    for (std::size_t i = 0; i < std::min(n, ahead); ++i) {
+        ring[i] = position_hash(p[i]);
+        __builtin_prefetch(&slots[ring[i] & (capacity - 1)]);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint64_t h = ring[i % ahead];
+        if (i + ahead < n) {
+            ring[i % ahead] = position_hash(p[i + ahead]);
+            __builtin_prefetch(&slots[ring[i % ahead] & (capacity - 1)]);
+        }
+        const std::uint64_t tag = h >> 32 << 32;
+        for (std::size_t slot = h & (capacity - 1);; slot = (slot + 1) & (capacity - 1)) {
+            const std::uint64_t entry = slots[slot];
+            if (entry == 0) {
+                slots[slot] = tag | (i + 1);
+                break;
+            }
+            if ((entry & ~std::uint64_t{0xFFFFFFFF}) == tag && same_key(p[static_cast<std::uint32_t>(entry) - 1], p[i])) return false;
+        }
+    }
+    return true;
+}
+
+// The mesh of positions whose keys are all distinct: each group is one vertex, its own
+// representative, so the used vertices are numbered in order of first use, in one pass.
+JoinedMesh number_by_first_use(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& indices) {
+    JoinedMesh out;
+    out.indices.resize(indices.size());
+    out.source.resize(positions.size() + 1);  // written at `used` at every corner
+    std::vector<std::uint32_t> number(positions.size(), k_none);  // each used file vertex's
+    const std::uint32_t* const in = indices.data();
+    std::uint32_t* const to = out.indices.data();
+    std::uint32_t* const numbers = number.data();
+    std::uint32_t* const source = out.source.data();
+    std::uint32_t used = 0;
+    const auto number_of = [&](std::uint32_t v) {
+        // Without a branch: a vertex's first use comes every sixth corner or so, at no pattern.
+        const std::uint32_t n = numbers[v];
+        const bool first = n == k_none;
+        source[used] = v;
+        const std::uint32_t m = first ? used : n;
+        numbers[v] = m;
+        used += first;
+        return m;
+    };
+    const std::size_t triangles = indices.size() / 3;
+    std::size_t degenerate = 0;
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const std::uint32_t a = number_of(in[3 * t]), b = number_of(in[3 * t + 1]), c = number_of(in[3 * t + 2]);
+        to[3 * t] = a, to[3 * t + 1] = b, to[3 * t + 2] = c;
+        degenerate += a == b || b == c || c == a;
+    }
+    for (std::size_t c = 3 * triangles; c < indices.size(); ++c) to[c] = number_of(in[c]);
+    out.source.resize(used);
+    out.positions.resize(used);
+    for (std::size_t i = 0; i < used; ++i) out.positions[i] = positions[source[i]];
+    out.degenerate = degenerate;
+    return out;
+}
+
 }  // namespace
 
 std::optional<JoinedMesh> join_identical_vertices(const std::vector<Vec3>& file_positions,
                                                   const std::vector<std::uint32_t>& file_indices, detail::ThreadPool* pool) {
     // Threads share the work only where each has enough of it.
     const std::size_t parts = pool && file_indices.size() >= 3 * 8192 ? static_cast<std::size_t>(pool->size()) : 1;
+    if (parts == 1 && distinct_keys(file_positions)) return number_by_first_use(file_positions, file_indices);
     const std::optional<std::vector<std::uint32_t>> joined = join_used_vertices(file_positions, file_indices, pool, parts);
     if (!joined) return std::nullopt;
     const std::vector<std::uint32_t>& representative = *joined;
