@@ -61,15 +61,20 @@ struct ThreadPool::State {
     std::atomic<int> busy{0};                   // workers still inside the current loop
 
     ThreadPool::TaskRef task{};
+    ThreadPool::DoneRef done{};
     std::size_t count = 0;
     std::atomic<std::size_t> next{0};
     std::atomic<bool> failed{false};
     std::exception_ptr error;
 
+    // The loop's tasks this worker takes, then `done` if it took one.
     void run_tasks(int worker) {
-        for (;;) {
+        for (bool ran = false;; ran = true) {
             std::size_t i = next.fetch_add(1, std::memory_order_relaxed);
-            if (i >= count || failed.load(std::memory_order_relaxed)) return;
+            if (i >= count || failed.load(std::memory_order_relaxed)) {
+                if (ran) done(worker);
+                return;
+            }
             try {
                 task(i, worker);
             } catch (...) {
@@ -216,16 +221,21 @@ ThreadPool::~ThreadPool() {
 
 int ThreadPool::size() const { return state_->size; }
 
-void ThreadPool::run(std::size_t count, TaskRef task) {
+void ThreadPool::run(std::size_t count, TaskRef task, DoneRef done) {
     State& s = *state_;
     if (count == 0) return;
     if (s.size == 1 || count == 1) {
+        struct Done {  // also when a task throws
+            const DoneRef& done;
+            ~Done() { done(0); }
+        } at_end{done};
         for (std::size_t i = 0; i < count; ++i) task(i, 0);
         return;
     }
     {
         std::lock_guard lock(s.mutex);
         s.task = task;
+        s.done = done;
         s.count = count;
         s.next = 0;
         s.failed = false;
@@ -242,6 +252,7 @@ void ThreadPool::run(std::size_t count, TaskRef task) {
         s.finished.wait(lock, [&] { return s.busy.load(std::memory_order_acquire) == 0; });
         error = s.error;
         s.task = {};
+        s.done = {};
     }
     if (error) std::rethrow_exception(error);
 }

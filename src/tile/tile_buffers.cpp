@@ -118,19 +118,19 @@ void TileBuffers::write_shading_records(const ClipVertices& vertices) {
     }
 }
 
-void TileBuffers::end(PixelRect tile, TargetView target, bool depth_write, bool store_depth) {
+void TileBuffers::end(PixelRect tile, TargetView target, bool depth_write, bool store_depth, bool fence) {
     find_owned_pixels(*this, tile);
     if (store_depth && (depth_write || depth_cleared))
         store_tile_rows(depth, k_max_tile_size, target.depth + target.at(tile.x0, tile.y0), tile, target.stride,
-                        depth_cleared);
+                        depth_cleared, nullptr, 0, fence);
 }
 
-void TileBuffers::store_colour(PixelRect tile, TargetView target) const {
+void TileBuffers::store_colour(PixelRect tile, TargetView target, bool fence) const {
     if (!colour_cleared) return;
     std::uint32_t fill;
     std::memcpy(&fill, &clear_colour, sizeof(fill));
     store_tile_rows(colour, k_max_tile_size, target.colour + target.at(tile.x0, tile.y0), tile, target.stride, true,
-                    covered, fill);
+                    covered, fill, fence);
 }
 
 }  // namespace facet::detail

@@ -110,8 +110,9 @@ struct TileBuffers {
     }
     // Ends the depth pass: finds the covered pixels, and writes the tile's depth back to the target
     // when it changed (cleared by begin() or written by the depth pass, depth_write) and the draw
-    // stores its depth (store_depth).
-    void end(PixelRect tile, TargetView target, bool depth_write, bool store_depth = true);
+    // stores its depth (store_depth). Without `fence`, the caller fences the streamed rows
+    // (fence_streams) before the tile is reported done.
+    void end(PixelRect tile, TargetView target, bool depth_write, bool store_depth = true, bool fence = true);
     // After end(): the shading records of the listed triangles from first_owner on, their varyings in
     // `vertices` or in their bin's extras (end_bin).
     void write_shading_records(const ClipVertices& vertices);
@@ -125,8 +126,8 @@ struct TileBuffers {
         return colour_cleared ? TargetView{colour, nullptr, k_max_tile_size, tile.x0, tile.y0} : target;
     }
     // After the shading pass: the tile's own colour, if it has one, to the target, the clear colour
-    // where no pixel was covered.
-    void store_colour(PixelRect tile, TargetView target) const;
+    // where no pixel was covered; `fence` as in end().
+    void store_colour(PixelRect tile, TargetView target, bool fence = true) const;
 };
 
 }  // namespace facet::detail

@@ -23,8 +23,14 @@ struct TileJob {
     bool busy;          // rect is not empty and some triangle of the batch is binned to the tile
 };
 
-TileJob tile_job(std::size_t index, const TileBatch& batch, int width, int height) {
+// An entry of TilePass::order_: the tile's index, with k_busy_bit when some chunk binned a triangle to
+// it (order_tiles counts them anyway; asking every chunk's bin again per tile was 2% of a small mesh's
+// frame, its loads waiting on lines the tile pass had evicted since).
+constexpr std::uint32_t k_busy_bit = 1u << 31;
+
+TileJob tile_job(std::uint32_t entry, const TileBatch& batch, int width, int height) {
     const FrontEndParams& p = batch.params;
+    const std::size_t index = entry & ~k_busy_bit;
     const int tx = static_cast<int>(index % static_cast<std::size_t>(p.tiles_x));
     const int ty = static_cast<int>(index / static_cast<std::size_t>(p.tiles_x));
     TileJob job{index,
@@ -34,8 +40,7 @@ TileJob tile_job(std::size_t index, const TileBatch& batch, int width, int heigh
                 false};
     job.rect = {std::max(job.whole.x0, p.scissor.x0), std::max(job.whole.y0, p.scissor.y0),
                 std::min(job.whole.x1, p.scissor.x1), std::min(job.whole.y1, p.scissor.y1)};
-    if (job.rect.x0 < job.rect.x1 && job.rect.y0 < job.rect.y1)
-        for (std::size_t c = 0; c < batch.chunk_count && !job.busy; ++c) job.busy = !batch.chunks[c].bins[index].empty();
+    job.busy = (entry & k_busy_bit) != 0 && job.rect.x0 < job.rect.x1 && job.rect.y0 < job.rect.y1;
     return job;
 }
 
@@ -110,13 +115,13 @@ void draw_visible_only(TileBuffers& buffers, const TileBatch& batch, const TileJ
         }
         buffers.end_bin(chunk.extras);
     });
-    buffers.end(tile, target, shading.depth_write, store_depth);
+    // The tile's streamed rows are fenced once per worker at the end of the batch (TilePass::run).
+    buffers.end(tile, target, shading.depth_write, store_depth, false);
     buffers.write_shading_records(batch.vertices);
     const VisibleTile visible = buffers.visible(tile);
     shading.shade_visible(shading.shader, visible, buffers.colour_view(tile, target));
     if (passes) write_pass_pixels(visible, buffers.pass_records.data(), buffers.pass_stride, *passes, pass_rows);
-    buffers.store_colour(tile, target);
-    fence_fills(buffers.fills);
+    buffers.store_colour(tile, target, false);
 }
 
 // A tile's triangles share vertices with triangles anywhere in the mesh, so the hardware cannot guess
@@ -188,6 +193,14 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
             if (visible_only) b->fills.start(view, clear_to.colour, clear_to.depth, store_depth, order_.size());
         }
     }
+    // Streaming stores are weakly ordered: each worker's (its busy tiles' rows and the deferred fills
+    // it wrote between its blocks) are made visible before the loop returns, by one fence after its
+    // last tile. (A fence after every tile waited for that tile's lines to leave the core: 2% of a
+    // small mesh's frame.)
+    const auto fence = [&](int worker) {
+        fence_fills(buffers_[static_cast<std::size_t>(worker)]->fills);
+        fence_streams();
+    };
     pool.parallel_for(order_.size(), [&](std::size_t n, int worker) {
         const TileJob job = tile_job(order_[n], batch, target.width(), target.height());
         TileBuffers& buffers = *buffers_[static_cast<std::size_t>(worker)];
@@ -204,7 +217,7 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
                               how == TileClear::by_buffers ? &clear_to : nullptr, store_depth, passes, pass_rows);
         else
             draw_one_pass(buffers, batch, job, view, shading, passes, pass_rows);
-    });
+    }, fence);
     // The empty tiles the kernels did not get to, before the next batch reads the target.
     bool pending = false;
     for (const auto& b : buffers_) pending |= b->fills.pending();
@@ -224,7 +237,7 @@ std::size_t TilePass::order_tiles(const TileBatch& batch) {
         std::size_t n = 0;
         for (std::size_t c = 0; c < batch.chunk_count; ++c) n += batch.chunks[c].bins[tile].size();
         max_tile_triangles = std::max(max_tile_triangles, n);
-        if (n > 0) order[busy_count++] = static_cast<std::uint32_t>(tile);
+        if (n > 0) order[busy_count++] = static_cast<std::uint32_t>(tile) | k_busy_bit;
         else empty[empty_count++] = static_cast<std::uint32_t>(tile);
     }
     // Merged in place from the back: after busy tile k come the empty tiles up to

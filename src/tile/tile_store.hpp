@@ -19,8 +19,9 @@ namespace facet::detail {
 // first, nor kept in the caches; for tiles the draw cleared, which nothing reads again in this draw.
 // The others are copied. With `covered` (one 64-bit row mask per row, bit i for pixel tile.x0 + i),
 // a pixel whose bit is clear is written `fill` instead of its value in `rows`. Streaming stores are
-// fenced before it returns, unless `fence` is false: then the caller calls fence_streams() once
-// after its last store of the tile, before the tile is reported done.
+// fenced before it returns, unless `fence` is false: then the caller calls fence_streams() after its
+// last streaming store, before another thread may read what it wrote (the tile pass: once per worker
+// at the end of a batch).
 void store_tile_rows(const void* rows, int rows_stride, void* target_origin, PixelRect tile, int target_stride,
                      bool stream, const std::uint64_t* covered = nullptr, std::uint32_t fill = 0, bool fence = true);
 // Makes this thread's streaming stores visible to the others (store_tile_rows without its fence).

@@ -35,6 +35,47 @@ TEST(ThreadPool, RunsEveryTaskExactlyOnce) {
     }
 }
 
+// parallel_for's `done`: once per worker that ran tasks, on that worker, after its last task and
+// before the loop returns; not for a worker that ran none; also when a task threw.
+TEST(ThreadPool, DoneRunsOnceAfterTheLastTaskOfEachWorkerThatRanOne) {
+    for (int threads : {1, 2, 5}) {
+        detail::ThreadPool pool(threads);
+        for (std::size_t count : {0u, 1u, 7u, 1000u}) {
+            std::vector<std::atomic<int>> tasks(static_cast<std::size_t>(threads)), dones(tasks.size());
+            std::vector<int> tasks_at_done(tasks.size(), -1);
+            std::vector<std::thread::id> task_thread(tasks.size()), done_thread(tasks.size());
+            pool.parallel_for(
+                count,
+                [&](std::size_t, int worker) {
+                    const auto w = static_cast<std::size_t>(worker);
+                    tasks[w]++;
+                    task_thread[w] = std::this_thread::get_id();
+                },
+                [&](int worker) {
+                    const auto w = static_cast<std::size_t>(worker);
+                    dones[w]++;
+                    tasks_at_done[w] = tasks[w].load();
+                    done_thread[w] = std::this_thread::get_id();
+                });
+            int total = 0;
+            for (std::size_t w = 0; w < tasks.size(); ++w) {
+                total += tasks[w].load();
+                EXPECT_EQ(dones[w].load(), tasks[w].load() > 0 ? 1 : 0) << threads << " " << count << " " << w;
+                if (tasks[w].load() == 0) continue;
+                EXPECT_EQ(tasks_at_done[w], tasks[w].load()) << threads << " " << count << " " << w;
+                EXPECT_EQ(done_thread[w], task_thread[w]) << threads << " " << count << " " << w;
+            }
+            EXPECT_EQ(total, static_cast<int>(count));
+        }
+    }
+    detail::ThreadPool pool(2);
+    std::atomic<int> dones{0};
+    EXPECT_THROW(pool.parallel_for(
+                     4, [](std::size_t) { throw std::runtime_error("every task"); }, [&](int) { dones++; }),
+                 std::runtime_error);
+    EXPECT_GE(dones.load(), 1);
+}
+
 TEST(ThreadPool, ExceptionsReachTheCallerAndThePoolStaysUsable) {
     detail::ThreadPool pool(3);
     EXPECT_THROW(pool.parallel_for(100, [](std::size_t i) {

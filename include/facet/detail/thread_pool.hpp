@@ -29,12 +29,16 @@ public:
     // scratch memory indexed by it needs no lock.
     template <class F>
     void parallel_for(std::size_t count, const F& task) {
-        run(count, TaskRef{&task, [](const void* f, std::size_t i, int worker) {
-                if constexpr (std::is_invocable_v<const F&, std::size_t, int>)
-                    (*static_cast<const F*>(f))(i, worker);
-                else
-                    (*static_cast<const F*>(f))(i);
-            }});
+        run(count, task_ref(task), DoneRef{});
+    }
+
+    // parallel_for, and then each worker that ran some of its tasks calls done(worker) once, after its
+    // last one and before the loop returns (also when a task threw; done must not throw): for what a
+    // worker does once per loop rather than after every task (the tile pass fences its streaming
+    // stores there).
+    template <class F, class G>
+    void parallel_for(std::size_t count, const F& task, const G& done) {
+        run(count, task_ref(task), DoneRef{&done, [](const void* g, int worker) { (*static_cast<const G*>(g))(worker); }});
     }
 
     struct TaskRef {
@@ -42,9 +46,25 @@ public:
         void (*call)(const void* callable, std::size_t i, int worker);
         void operator()(std::size_t i, int worker) const { call(callable, i, worker); }
     };
+    struct DoneRef {
+        const void* callable = nullptr;
+        void (*call)(const void* callable, int worker) = nullptr;
+        void operator()(int worker) const {
+            if (call) call(callable, worker);
+        }
+    };
 
 private:
-    void run(std::size_t count, TaskRef task);
+    template <class F>
+    static TaskRef task_ref(const F& task) {
+        return {&task, [](const void* f, std::size_t i, int worker) {
+                    if constexpr (std::is_invocable_v<const F&, std::size_t, int>)
+                        (*static_cast<const F*>(f))(i, worker);
+                    else
+                        (*static_cast<const F*>(f))(i);
+                }};
+    }
+    void run(std::size_t count, TaskRef task, DoneRef done);
 
     struct State;
     std::unique_ptr<State> state_;
