@@ -40,7 +40,7 @@ constexpr std::size_t k_min_chunk_triangles = 512;
 // Front-end tasks per thread: two; with two threads or more, three for a batch of triangles of at
 // least this many a thread. The threads wait at the end of the front end for the last chunk, and
 // a chunk of a 1M-triangle batch takes milliseconds: a third of a thread's share instead of a half
-// shortens that wait (the 1M sphere's 2-thread frame 1-2% faster). The tiles of smaller batches,
+// shortens that wait (docs/BENCHMARKS.md, the 1M sphere, session 11). The tiles of smaller batches,
 // and of points' and lines' (whose front end is the cheaper part), pay more for the extra bins than
 // the shorter chunks save (homer's frame and 1M segments' 2% slower with three).
 constexpr std::size_t k_three_chunks_triangles = std::size_t{1} << 18;
@@ -143,9 +143,18 @@ void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t fir
     if (chunks_.size() < plan.chunk_count) chunks_.resize(plan.chunk_count);
     const std::size_t tiles = static_cast<std::size_t>(plan.params.tiles_x) * plan.params.tiles_y;
     const std::size_t per_chunk = (count + plan.chunk_count - 1) / plan.chunk_count;
+    // Where chunk c starts. With three chunks a thread, each round of chunks (one a thread, handed
+    // out in index order) is smaller than the one before, weights 3, 2, 1: the last round, whose
+    // chunks decide how long one thread waits for the other, is the shortest.
+    const auto chunk_start = [&](std::size_t c) {
+        if (!large) return std::min(end, first + c * per_chunk);
+        std::size_t before = 0;
+        for (std::size_t k = 0; k < c; ++k) before += per_thread - k / thread_count;
+        return first + count * before / (thread_count * per_thread * (per_thread + 1) / 2);
+    };
     pool_.parallel_for(plan.chunk_count, [&](std::size_t c) {
-        const std::size_t chunk_first = std::min(end, first + c * per_chunk);
-        const std::size_t chunk_end = std::min(end, chunk_first + per_chunk);
+        const std::size_t chunk_first = chunk_start(c);
+        const std::size_t chunk_end = chunk_start(c + 1);
         chunks_[c].reset(tiles, plan.stride, plan.passes ? passes_->draw.layout.count : -1);
         detail::run_front_end(vertices_, input, chunk_first, chunk_end, plan.params, chunks_[c],
                               plan.passes ? &passes_->vertices : nullptr);

@@ -141,6 +141,72 @@ TEST(Determinism, IdenticalBytesForEveryThreadCountAndTileSize) {
     EXPECT_TRUE(same_bytes(render(opaque, blended, {.threads = 3, .tile_size = 16}, 3), reference));
 }
 
+// A batch of 2^18 triangles a thread or more is split into three chunks a thread of decreasing size
+// (Renderer::run_front_end) rather than two equal ones: the same bytes as one thread's two chunks.
+// Random halves of the cells of three grids of vertices at three depths, split along either diagonal
+// (cells under half a pixel: most triangles cover no pixel centre, so few records), so that where
+// two overlapping halves in different colours cover a pixel at the nearest depth the first wins: the
+// chunks' order decides it. Each triangle is counted once (no gap or overlap between chunks).
+TEST(Determinism, LargeBatchesSplitUnevenlyDrawTheSameBytes) {
+    constexpr std::uint32_t k_triangles = (1u << 19) + 1001;  // three chunks a thread with two threads
+    constexpr int k_w = 96, k_h = 64, k_grid = 256;
+    std::uint32_t state = 44;
+    const auto next = [&] {  // xorshift32: cheap enough for half a million triangles
+        state ^= state << 13, state ^= state >> 17, state ^= state << 5;
+        return state;
+    };
+    Scene s;
+    for (int layer = 0; layer < 3; ++layer)
+        for (int j = 0; j < k_grid; ++j)
+            for (int i = 0; i < k_grid; ++i) {
+                const float step = 2.0f / (k_grid - 1);
+                s.pos.push_back(Vec4{-1.0f + step * static_cast<float>(i), -1.0f + step * static_cast<float>(j),
+                                     0.25f * static_cast<float>(1 + layer), 1.0f});
+                s.colour.push_back(Vec3{static_cast<float>(next() & 255) / 255.0f, static_cast<float>(next() & 255) / 255.0f,
+                                        static_cast<float>(next() & 255) / 255.0f});
+            }
+    std::vector<std::uint32_t> indices;
+    indices.reserve(3 * std::size_t{k_triangles});
+    for (std::uint32_t t = 0; t < k_triangles; ++t) {
+        const std::uint32_t r = next(), layer = t % 3, i = r % (k_grid - 1), j = (r >> 8) % (k_grid - 1);
+        const std::uint32_t v = layer * k_grid * k_grid + j * k_grid + i;
+        switch (r >> 30) {  // either half of either diagonal's split: halves of the two splits overlap
+            case 0: indices.insert(indices.end(), {v, v + 1, v + k_grid}); break;
+            case 1: indices.insert(indices.end(), {v + 1, v + k_grid + 1, v + k_grid}); break;
+            case 2: indices.insert(indices.end(), {v, v + 1, v + k_grid + 1}); break;
+            default: indices.insert(indices.end(), {v, v + k_grid + 1, v + k_grid}); break;
+        }
+    }
+    const auto draw = [&](int threads) {
+        Renderer renderer({.threads = threads, .tile_size = 32});
+        Framebuffer fb(k_w, k_h);
+        fb.clear(Vec4{0, 0, 0, 1}, 1.0f);
+        DrawState state;
+        state.cull = CullMode::none;
+        state.depth_test = DepthTest::less;
+        const auto shader = make_shader<3>(
+            [&](std::uint32_t i, Varyings<3>& out) {
+                out.set(0, s.colour[i]);
+                return s.pos[i];
+            },
+            [](const FragmentIn<3>& in) { return Vec4{in.v[0], in.v[1], in.v[2], 1.0f}; });
+        Output out;
+        out.opaque_stats = renderer.draw(fb, state, DrawInput{static_cast<std::uint32_t>(s.pos.size()), indices}, shader);
+        out.colour.assign(fb.colour_data(), fb.colour_data() + k_w * k_h);
+        out.depth.assign(fb.depth_data(), fb.depth_data() + k_w * k_h);
+        return out;
+    };
+    const Output reference = draw(1);
+    EXPECT_EQ(reference.opaque_stats.triangles_in, k_triangles);
+    int nearest = 0;
+    for (const float d : reference.depth) nearest += d == 0.25f;
+    EXPECT_GT(nearest, k_w * k_h / 2);  // most pixels drawn by the nearest layer
+    const Output two = draw(2);
+    EXPECT_EQ(two.opaque_stats.triangles_in, k_triangles);
+    EXPECT_EQ(two.opaque_stats.triangles_rasterized, reference.opaque_stats.triangles_rasterized);
+    EXPECT_TRUE(same_bytes(two, reference));
+}
+
 // The comparison can fail: submission order matters (coplanar duplicates, blending), so drawing the
 // same triangles in another order gives different bytes.
 TEST(Determinism, ComparisonSeesOrderChanges) {
