@@ -212,12 +212,13 @@ private:
         const std::size_t tiles = static_cast<std::size_t>(std::max(1, p.tiles_x)) * static_cast<std::size_t>(std::max(1, p.tiles_y));
         return floors_for(p.state.depth_test) && primitives >= 64 * tiles;
     }
-    // A bin's first allocation: the chunk's primitives shared among the tiles (16 records at least,
-    // 1024 at most), where std::vector's growth would start at 1 and double. A first frame grew each
-    // of the bunny's bins 10 times or more, allocating, copying and faulting in about twice the
-    // records' memory (1,250 allocations at 2 threads): its front end took 4 ms more than a warm
-    // frame's (docs/BENCHMARKS.md). Bins that get nothing allocate nothing; a renderer's bins keep
-    // their memory from one draw to the next.
+    // A bin's first allocation where the chunk's first draw did not size it (size_first_bins,
+    // front_end.cpp): the chunk's primitives shared among the tiles (16 records at least, 1024 at
+    // most), where std::vector's growth would start at 1 and double. A first frame grew each of the
+    // bunny's bins 10 times or more, allocating, copying and faulting in about twice the records'
+    // memory (1,250 allocations at 2 threads): its front end took 4 ms more than a warm frame's
+    // (docs/BENCHMARKS.md). Bins that get nothing allocate nothing; a renderer's bins keep their
+    // memory from one draw to the next.
     static std::size_t first_bin_capacity(std::size_t primitives, const FrontEndParams& p) {
         const std::size_t tiles = static_cast<std::size_t>(std::max(1, p.tiles_x)) * static_cast<std::size_t>(std::max(1, p.tiles_y));
         return std::clamp<std::size_t>(primitives / tiles, 16, 1024);
