@@ -1,11 +1,16 @@
-// facet benchmarks: model loading, facet's own readers against the assimp path, in one process and
-// alternating rounds (the machine's load hits both alike). Not a stage of the renderer.
+// facet benchmarks: model loading, facet's own readers against the assimp path, in alternating
+// rounds (the machine's load hits both alike). Not a stage of the renderer.
 // Usage: facet_bench_load FILE [ROUNDS] [THREADS]  (defaults 5 rounds, 1 thread)
 // Prints per path the median wall time of load_model (file to Scene, normals included) and the ratio,
-// and the same of the process's CPU time (user + system of all its threads: on a shared machine it
+// and the same of the loading process's CPU time (user + system of all its threads: on a shared machine it
 // moves far less with the load than wall time). FACET_BENCH_LOAD_OWN_ONLY=1 runs the own reader alone
-// (for profilers: callgrind, perf).
+// (for profilers: callgrind, perf; callgrind writes each round's child to a file of its own).
+// Each load runs in a child forked for it with the heap `facet render`'s worker sets up before it
+// loads (keep_freed_memory_for_reuse, and use_huge_pages_for_heap for the files that get it): a
+// user's load is one per fresh process, not a loop's later rounds reusing what an earlier one freed.
+#include <sys/wait.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +21,9 @@
 
 #include "facet/model.hpp"
 #include "io/load_paths.hpp"
+#if FACET_BENCH_LOAD_WORKER_HEAP  // without the command line's library (FACET_BUILD_APPS off): a plain heap
+#include "worker.hpp"
+#endif
 
 namespace {
 
@@ -30,6 +38,51 @@ double process_cpu_ms() {
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
     return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+struct Round {
+    double ms = 0, cpu_ms = 0;
+    std::size_t triangles = 0;
+    bool ok = false;
+};
+
+// One load in a child process set up as the worker is (apps/cli/render_command.cpp: the same for
+// both paths, which depends on the file's extension alone).
+Round load_in_child(const std::string& path, const facet::LoadOptions& options, bool own) {
+    Round round;
+    int fds[2];
+    if (pipe(fds) != 0) return round;
+    const pid_t pid = fork();
+    if (pid < 0) return round;
+    if (pid == 0) {
+        close(fds[0]);
+#if FACET_BENCH_LOAD_WORKER_HEAP
+        facet::cli::keep_freed_memory_for_reuse();
+        if (facet::cli::huge_pages_suit(path)) facet::cli::use_huge_pages_for_heap(0);
+#endif
+        const Clock::time_point start = Clock::now();
+        const double cpu_start = process_cpu_ms();
+        facet::Result<facet::LoadedModel> model =
+            own ? facet::load_model(path, options) : facet::io_detail::load_model_through_assimp(path, options);
+        Round r;
+        r.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        r.cpu_ms = process_cpu_ms() - cpu_start;
+        if (model) {
+            r.ok = true;
+            r.triangles = model->scene.triangle_count();
+        } else {
+            std::fprintf(stderr, "facet_bench_load: %s\n", model.error().message.c_str());
+        }
+        const bool written = write(fds[1], &r, sizeof r) == static_cast<ssize_t>(sizeof r);
+        _exit(written && r.ok ? 0 : 1);  // the model is not freed: a worker exits with it
+    }
+    close(fds[1]);
+    const bool read_all = read(fds[0], &round, sizeof round) == static_cast<ssize_t>(sizeof round);
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!read_all || !WIFEXITED(status) || WEXITSTATUS(status) != 0) round.ok = false;
+    return round;
 }
 
 }  // namespace
@@ -49,20 +102,17 @@ int main(int argc, char** argv) {
     std::size_t triangles = 0;
     const char* own_only_env = std::getenv("FACET_BENCH_LOAD_OWN_ONLY");
     const bool own_only = own_only_env && std::string(own_only_env) == "1";
+    // The readers' module opened before the children are forked, as `facet thumbs` does for its
+    // workers: the loads measure the readers, not the module's opening and relocation (the 1M sphere:
+    // 2-4 ms, paid once per `facet render` process).
+    (void)facet::open_model_reader_module();
     for (int r = 0; r < rounds; ++r) {
         for (int which = 0; which < (own_only ? 1 : 2); ++which) {
-            const Clock::time_point start = Clock::now();
-            const double cpu_start = process_cpu_ms();
-            facet::Result<facet::LoadedModel> model =
-                which == 0 ? facet::load_model(path, options) : facet::io_detail::load_model_through_assimp(path, options);
-            const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-            (which == 0 ? own_cpu : assimp_cpu).push_back(process_cpu_ms() - cpu_start);
-            if (!model) {
-                std::fprintf(stderr, "facet_bench_load: %s\n", model.error().message.c_str());
-                return 1;
-            }
-            triangles = model->scene.triangle_count();
-            (which == 0 ? own : assimp).push_back(ms);
+            const Round round = load_in_child(path, options, which == 0);
+            if (!round.ok) return 1;  // the child said why
+            triangles = round.triangles;
+            (which == 0 ? own : assimp).push_back(round.ms);
+            (which == 0 ? own_cpu : assimp_cpu).push_back(round.cpu_ms);
         }
     }
     if (own_only) {
