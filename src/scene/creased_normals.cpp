@@ -675,11 +675,14 @@ std::uint32_t first_side(const std::uint32_t* sides, std::uint32_t n, std::uint3
 #endif
 
 template <class Side>
-bool joined_by_sides(const Side* next, const Side* prev, std::uint32_t n) {
+bool joined_by_sides(const Side* next, const Side* prev, std::uint32_t n) {  // n <= k_max_edge_neighbours + 1
     // Closed: from each corner to the first whose previous side is its next side, back to the
-    // first corner after all of them (then each was reached once).
+    // first corner after all of them (then each was reached once). Each corner's successor is
+    // found first, every search independent of the others, then followed.
+    std::uint32_t successor[k_max_edge_neighbours + 1];
+    for (std::uint32_t i = 0; i < n; ++i) successor[i] = first_side(prev, n, next[i]);
     for (std::uint32_t at = 0, step = 1; step <= n; ++step) {
-        const std::uint32_t j = first_side(prev, n, next[at]);
+        const std::uint32_t j = successor[at];
         if (j == n) break;
         if ((at = j) == 0) {
             if (step == n) return true;
