@@ -89,6 +89,7 @@ Renderer::Plan Renderer::begin_draw(Framebuffer& target, const DrawState& state,
     p.tile_size = tile_size_;
     p.tiles_x = (target.width() + tile_size_ - 1) / tile_size_;
     p.tiles_y = (target.height() + tile_size_ - 1) / tile_size_;
+    p.shared_bins = pool_.size() > 1;
 
     const PrimitiveStyle& style = input.style;
     if (input.topology == Topology::points) {

@@ -328,19 +328,26 @@ private:
     }
 
     // Out of line: few triangles span tiles, and the batch loop stays small without this one.
+    // With shared bins (FrontEndParams::shared_bins), the copies are streaming stores: the bins' lines
+    // were last read by whichever thread drew their tiles in the previous draw, and an ordinary store
+    // first fetches its line from that core (homer at 2 threads: a tenth of its frame).
     [[gnu::noinline]] void bin_across_tiles(const TriangleSetup& t, TileSpan span, std::uint32_t primitive) {
         if (t.segment) return bin_segment_across_tiles(t, span, primitive);
         const int s = p_.tile_size;
         const BinGrid grid = grid_of();
         const float low = floors_ ? lowest_depth(t) : 0.0f;
+        const bool stream = p_.shared_bins;
         for (int ty = span.y0; ty <= span.y1; ++ty)
             for (int tx = span.x0; tx <= span.x1; ++tx) {
                 const PixelRect r{tx * s, ty * s, tx * s + s, ty * s + s};
                 if (edge_rejects(t, 0, r) || edge_rejects(t, 1, r) || edge_rejects(t, 2, r)) continue;
-                grid.bin(grid.tile(tx, ty)).push_back(t);
-                if constexpr (Primitives) grid.primitives[grid.tile(tx, ty)].push_back(primitive);
-                note_floor(grid, grid.tile(tx, ty), low);
+                const std::size_t tile = grid.tile(tx, ty);
+                TriangleSetup& to = slot<false>(grid, tile, primitive);
+                note_floor(grid, tile, low);  // before the copy, as in bin_lanes_record
+                if (stream) stream_copy(t, to);
+                else to = t;
             }
+        streamed_ |= stream;
     }
     // A segment's record likewise, stored by streaming stores as add_segments's are. Bounds that
     // reach two tiles (most of the segments that cross tiles) are not tested: they are the pixel

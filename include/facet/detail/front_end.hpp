@@ -23,6 +23,9 @@ struct FrontEndParams {
     float vp_x, vp_y, vp_w, vp_h;  // the viewport, in pixels
     int tile_size;
     int tiles_x, tiles_y;
+    // The tiles are drawn by more than one thread: a bin's records are read by whichever thread
+    // draws its tile, so the front end writes them past the caches (Emitter::bin_across_tiles).
+    bool shared_bins = false;
 };
 
 // A tile's set-up records in submission order. A record is stored in the bin of every tile it
