@@ -207,11 +207,11 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         m.positions.push_back({p.x, p.y, p.z});
     }
     if (in.colours) {
-        m.colours.reserve(kept);
+        detail::reserve_in_huge_pages(m.colours, kept);
         for (std::size_t k = 0; k < kept; ++k) m.colours.push_back(clamp_colour(in.colours[source(k)]));
     }
     if (in.uvs) {
-        m.uvs.reserve(kept);
+        detail::reserve_in_huge_pages(m.uvs, kept);
         for (std::size_t k = 0; k < kept; ++k) {
             const aiVector3D& t = in.uvs[source(k)];
             m.uvs.push_back({std::isfinite(t.x) ? t.x : 0.0f, std::isfinite(t.y) ? t.y : 0.0f});
@@ -222,7 +222,7 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
     bool normals_ok = use_file_normals && in.normals;
     for (std::size_t k = 0; normals_ok && k < kept; ++k) normals_ok = finite_and_nonzero(in.normals[source(k)]);
     if (normals_ok) {
-        m.normals.reserve(kept);
+        detail::reserve_in_huge_pages(m.normals, kept);
         for (std::size_t k = 0; k < kept; ++k) {
             const aiVector3D& n = in.normals[source(k)];
             m.normals.push_back(normalize(Vec3{n.x, n.y, n.z}));

@@ -33,7 +33,7 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
 // it cost as much as the read (2.6 MB for the bunny). Files of 32 MiB and more (which glibc maps
 // fresh anyway, past its largest mmap threshold) go into fresh pages of 2 MiB
 // (exec/fresh_pages.hpp): the 1M-triangle OBJ's 38 MB faulted in 19 times, not 9,200; smaller ones
-// take the heap's memory, which a worker reuses from file to file.
+// take the heap's memory, which a worker reuses from file to file, advised for 2 MiB pages too.
 class FileBytes {
 public:
     explicit FileBytes(std::size_t size) : size_(size) {
@@ -43,6 +43,7 @@ public:
         } else {
             bytes_ = std::make_unique_for_overwrite<char[]>(size + 1);
             data_ = bytes_.get();
+            detail::advise_huge_pages(data_, size + 1);  // a fresh process's read faults in 2 MiB at a time
             data_[size] = '\0';
         }
     }

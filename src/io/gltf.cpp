@@ -31,6 +31,7 @@
 #include <utility>
 #include <vector>
 
+#include "exec/fresh_pages.hpp"
 #include "io/assimp_join.hpp"
 #include "io/import_notes.hpp"
 #include "io/resources.hpp"
@@ -680,7 +681,9 @@ private:
 
     template <class T>
     static std::vector<T> extract(const Accessor& a) {
-        std::vector<T> out(a.count);  // value-initialised: components beyond the accessor's stay zero
+        std::vector<T> out;
+        detail::reserve_in_huge_pages(out, a.count);  // faulted in per 2 MiB, not 4 KiB (a process loads once)
+        out.resize(a.count);  // value-initialised: components beyond the accessor's stay zero
         for (std::size_t i = 0; i < a.count; ++i) std::memcpy(&out[i], a.data + i * a.stride, a.elem);
         return out;
     }
@@ -699,6 +702,8 @@ private:
                     float w;
                 };
                 const std::vector<Tangent> t = extract<Tangent>(*p.tangents);
+                detail::reserve_in_huge_pages(tangents, n);
+                detail::reserve_in_huge_pages(bitangents, n);
                 for (std::size_t i = 0; i < n; ++i) {
                     tangents.push_back(t[i].xyz);
                     bitangents.push_back((normals[i] ^ t[i].xyz) * t[i].w);
@@ -723,7 +728,9 @@ private:
         // ImportMeshes makes them: a list, a strip (every second triangle's first two corners
         // swapped) or a fan.
         const std::size_t count = p.indices ? p.indices->count : n;
-        std::vector<std::uint32_t> number(count);
+        std::vector<std::uint32_t> number;
+        detail::reserve_in_huge_pages(number, count);
+        number.resize(count);
         for (std::size_t i = 0; i < count; ++i) {
             std::uint32_t v = static_cast<std::uint32_t>(i);
             if (p.indices) std::memcpy(&v, p.indices->data + i * p.indices->stride, p.indices->elem);
@@ -732,10 +739,11 @@ private:
         }
         std::vector<std::uint32_t> corners;
         if (p.mode == 4) {
-            corners.assign(number.begin(), number.begin() + static_cast<std::ptrdiff_t>(count / 3 * 3));
+            corners = std::move(number);  // not read again
+            corners.resize(count / 3 * 3);
         } else {
             GLTF_REQUIRE(count >= 3);
-            corners.reserve(3 * (count - 2));
+            detail::reserve_in_huge_pages(corners, 3 * (count - 2));
             for (std::size_t i = 0; i + 2 < count; ++i) {
                 const bool strip = p.mode == 5, swap = strip && (i + 1) % 2 == 0;
                 const std::uint32_t a = strip ? number[swap ? i + 1 : i] : number[0];
@@ -753,6 +761,7 @@ private:
                               tangents.empty() ? zero : tangents[v], bitangents.empty() ? zero : bitangents[v]};
         };
         std::vector<std::uint32_t> used_list;
+        detail::reserve_in_huge_pages(used_list, n);
         for (std::size_t v = 0; v < n; ++v)
             if (used[v]) used_list.push_back(static_cast<std::uint32_t>(v));
         const auto item_value = [&](std::size_t i) { return value_of(used_list[i]); };
@@ -760,7 +769,9 @@ private:
         std::optional<Join> exact_join = join_as_assimp(used_list.size(), item_value, n, unique_positions);
         const bool exact = exact_join.has_value();
         Join join;
-        std::vector<std::uint32_t> unique_of(n, ~0u);
+        std::vector<std::uint32_t> unique_of;
+        detail::reserve_in_huge_pages(unique_of, n);
+        unique_of.assign(n, ~0u);
         if (exact) {
             join = std::move(*exact_join);
             for (std::size_t i = 0; i < used_list.size(); ++i) unique_of[used_list[i]] = join.unique[i];
@@ -772,6 +783,15 @@ private:
         OwnMesh out;
         out.material = p.material ? static_cast<unsigned>(material_slot_[*p.material]) : static_cast<unsigned>(material_order_.size());
         if (exact) out.positions = std::move(unique_positions);
+        const std::size_t joined = join.first.size();
+        if (!exact) detail::reserve_in_huge_pages(out.positions, joined);
+        if (!normals.empty()) detail::reserve_in_huge_pages(out.normals, joined);
+        if (!uvs.empty()) detail::reserve_in_huge_pages(out.uvs, joined);
+        if (!colours.empty()) detail::reserve_in_huge_pages(out.colours, joined);
+        if (!tangents.empty()) {
+            detail::reserve_in_huge_pages(out.tangents, joined);
+            detail::reserve_in_huge_pages(out.bitangents, joined);
+        }
         for (std::uint32_t v : join.first) {
             if (!exact) out.positions.push_back(positions[v]);
             if (!normals.empty()) out.normals.push_back(normals[v]);
@@ -779,7 +799,7 @@ private:
             if (!colours.empty()) out.colours.push_back(colours[v]);
             if (!tangents.empty()) out.tangents.push_back(tangents[v]), out.bitangents.push_back(bitangents[v]);
         }
-        out.triangles.reserve(corners.size());
+        detail::reserve_in_huge_pages(out.triangles, corners.size());
         for (std::uint32_t c : corners) out.triangles.push_back(unique_of[c]);
         return out;
     }
