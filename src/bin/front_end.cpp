@@ -95,16 +95,12 @@ void size_first_bins(const ClipVertices& vertices, std::size_t first, std::size_
         if (std::max({idx[0], idx[1], idx[2]}) >= vertex_count || (outcode[idx[0]] | outcode[idx[1]] | outcode[idx[2]]) != 0)
             continue;
         const ScreenVertex &a = screen[idx[0]], &b = screen[idx[1]], &c = screen[idx[2]];
-        const std::int64_t area = std::int64_t{b.x - a.x} * (c.y - a.y) - std::int64_t{c.x - a.x} * (b.y - a.y);
-        const bool front = (p.state.front_face == FrontFace::ccw) == (area < 0);
-        if (area == 0 || (p.state.cull == CullMode::back && !front) || (p.state.cull == CullMode::front && front)) continue;
-        const int x0 = std::max(first_centre(std::min({a.x, b.x, c.x})), p.scissor.x0);
-        const int x1 = std::min(last_centre(std::max({a.x, b.x, c.x})), p.scissor.x1 - 1);
-        const int y0 = std::max(first_centre(std::min({a.y, b.y, c.y})), p.scissor.y0);
-        const int y1 = std::min(last_centre(std::max({a.y, b.y, c.y})), p.scissor.y1 - 1);
-        if (x0 > x1 || y0 > y1) continue;
-        for (int ty = y0 >> shift; ty <= y1 >> shift; ++ty)
-            for (int tx = x0 >> shift; tx <= x1 >> shift; ++tx) ++count[static_cast<std::size_t>(ty) * static_cast<std::size_t>(p.tiles_x) + static_cast<std::size_t>(tx)];
+        bool front = false;
+        if (!kept_by_culling(twice_signed_area(a, b, c), p.state, front)) continue;
+        const CentreBounds r = centre_bounds(a, b, c, p.scissor);
+        if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+        for (int ty = r.y0 >> shift; ty <= r.y1 >> shift; ++ty)
+            for (int tx = r.x0 >> shift; tx <= r.x1 >> shift; ++tx) ++count[static_cast<std::size_t>(ty) * static_cast<std::size_t>(p.tiles_x) + static_cast<std::size_t>(tx)];
     }
     for (std::size_t t = 0; t < tiles; ++t) {
         if (count[t] == 0) continue;

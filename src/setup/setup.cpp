@@ -7,10 +7,6 @@
 namespace facet::detail {
 namespace {
 
-// Written as nested pairs: std::min of an initializer list compiles to branches, which mispredict.
-std::int32_t min3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::min(a, std::min(b, c)); }
-std::int32_t max3(std::int32_t a, std::int32_t b, std::int32_t c) { return std::max(a, std::max(b, c)); }
-
 // Needs t's bounds.
 void set_edge(TriangleSetup& t, int e, const ScreenVertex& a, const ScreenVertex& b) {
     const PixelEdge edge = pixel_edge(a.x, a.y, b.x, b.y, t.min_x, t.min_y);
@@ -67,15 +63,9 @@ bool covers_no_centre_of_small_bounds(const TriangleSetup& t) {
 
 SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&vertex_ref)[3],
                            const FrontEndParams& params, TriangleSetup& t) {
-    // Twice the signed area in fixed point. Screen y grows downward, so a positive area is a
-    // clockwise triangle to the viewer.
-    const std::int64_t signed_area = std::int64_t{sv[1].x - sv[0].x} * (sv[2].y - sv[0].y) -
-                                     std::int64_t{sv[2].x - sv[0].x} * (sv[1].y - sv[0].y);
-    if (signed_area == 0) return SetupResult::culled;
-    const bool viewer_ccw = signed_area < 0;
-    const bool front = (params.state.front_face == FrontFace::ccw) == viewer_ccw;
-    if ((params.state.cull == CullMode::back && !front) || (params.state.cull == CullMode::front && front))
-        return SetupResult::culled;
+    const std::int64_t signed_area = twice_signed_area(sv[0], sv[1], sv[2]);
+    bool front = false;
+    if (!kept_by_culling(signed_area, params.state, front)) return SetupResult::culled;
 
     // Orient so that the inside of every edge is where its function is positive. Left to a branch on
     // purpose: the windings that survive culling are almost always alike (all of them with back-face
@@ -87,10 +77,8 @@ SetupResult setup_triangle(const ScreenVertex (&sv)[3], const std::uint32_t (&ve
     const ScreenVertex& v2 = flip ? sv[1] : sv[2];
     const std::int64_t area = flip ? -signed_area : signed_area;
 
-    t.min_x = std::max(first_centre(min3(v0.x, v1.x, v2.x)), params.scissor.x0);
-    t.max_x = std::min(last_centre(max3(v0.x, v1.x, v2.x)), params.scissor.x1 - 1);
-    t.min_y = std::max(first_centre(min3(v0.y, v1.y, v2.y)), params.scissor.y0);
-    t.max_y = std::min(last_centre(max3(v0.y, v1.y, v2.y)), params.scissor.y1 - 1);
+    const CentreBounds bounds = centre_bounds(v0, v1, v2, params.scissor);
+    t.min_x = bounds.x0, t.max_x = bounds.x1, t.min_y = bounds.y0, t.max_y = bounds.y1;
     if (t.min_x > t.max_x || t.min_y > t.max_y) return SetupResult::empty;
 
     set_edge(t, 0, v0, v1);

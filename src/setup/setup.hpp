@@ -7,6 +7,7 @@
 // setup_triangles does the same for a batch of unclipped triangles at once (setup_simd.cpp, SIMD).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -24,6 +25,32 @@ enum class SetupResult { ok, culled, empty };
 // shift is floor division by the power of two k_subpixel_one.
 inline int first_centre(std::int32_t lo) { return -((k_subpixel_one / 2 - lo) >> k_subpixel_bits); }
 inline int last_centre(std::int32_t hi) { return (hi - k_subpixel_one / 2) >> k_subpixel_bits; }
+
+// Twice a screen triangle's signed area in fixed point; positive: clockwise to the viewer (screen y
+// grows downward).
+inline std::int64_t twice_signed_area(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c) {
+    return std::int64_t{b.x - a.x} * (c.y - a.y) - std::int64_t{c.x - a.x} * (b.y - a.y);
+}
+// Whether a triangle of that signed area is drawn under the state's culling (zero area never is);
+// `front` is set to the side it shows.
+inline bool kept_by_culling(std::int64_t signed_area, const DrawState& state, bool& front) {
+    if (signed_area == 0) return false;
+    front = (state.front_face == FrontFace::ccw) == (signed_area < 0);
+    return !((state.cull == CullMode::back && !front) || (state.cull == CullMode::front && front));
+}
+// The pixels whose centres the vertices' bounds reach, within the scissor, inclusive (empty when
+// x0 > x1 or y0 > y1): a triangle's record bounds. The minima and maxima are nested pairs: std::min of
+// an initializer list compiles to branches, which mispredict.
+struct CentreBounds {
+    int x0, y0, x1, y1;
+};
+inline CentreBounds centre_bounds(const ScreenVertex& a, const ScreenVertex& b, const ScreenVertex& c,
+                                  const PixelRect& scissor) {
+    return {std::max(first_centre(std::min(a.x, std::min(b.x, c.x))), scissor.x0),
+            std::max(first_centre(std::min(a.y, std::min(b.y, c.y))), scissor.y0),
+            std::min(last_centre(std::max(a.x, std::max(b.x, c.x))), scissor.x1 - 1),
+            std::min(last_centre(std::max(a.y, std::max(b.y, c.y))), scissor.y1 - 1)};
+}
 
 // The edge function of a -> b (snapped coordinates) in pixel units, the top-left rule folded in:
 // pixel (ix, iy) is on the inside (left of a -> b in screen coordinates, y down) when
