@@ -406,7 +406,17 @@ HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers
         return resolve_strip<D, DepthWrite, false>(nd, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
     }
     if constexpr (R::k_edges == 4) return resolve_wide_segment<D, DepthWrite>(t, tile, buffers, id, r);
-    else return resolve_strips<D, DepthWrite>(t, tile, buffers, id, r);
+    else {
+        // A triangle's rectangle no wider than a full vector but across two aligned runs of it (most
+        // of those 9-16 columns wide with 16 lanes: homer's): one unaligned full vector per row from
+        // its first column rather than two aligned strips (homer's frame 5-6% faster at 1 thread).
+        constexpr int full = static_cast<int>(hn::MaxLanes(df));
+        if (full > narrow && r.x1 - r.x0 < full && r.x1 >= tile.x0 + ((r.x0 - tile.x0) & -full) + full) {
+            const int start = std::min(r.x0, tile.x0 + k_max_tile_size - full);
+            return resolve_strip<D, DepthWrite, false>(df, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
+        }
+        return resolve_strips<D, DepthWrite>(t, tile, buffers, id, r);
+    }
 }
 
 // A segment's record (raster/segment.hpp), which only the bins of line draws hold.
