@@ -91,7 +91,8 @@ Status write_pass(const ViewImages& v, Pass p, const PassFileOptions& o, std::st
         file = file + ext;
         return (fs::path(o.folder) / file).string();
     };
-    if (p == Pass::colour) return write_png(to(".png"), Image{w, h, {v.colour.begin(), v.colour.end()}});
+    // By runs, as facet render's PNG: the colour pass of a view is that render's file, byte for byte.
+    if (p == Pass::colour) return write_png(to(".png"), Image{w, h, {v.colour.begin(), v.colour.end()}}, {.runs_only = true});
     if (p == Pass::alpha) {
         std::vector<std::uint8_t> bytes(n);
         for (std::size_t i = 0; i < n; ++i) bytes[i] = static_cast<std::uint8_t>(std::lround(v.alpha[i] * 255.0f));

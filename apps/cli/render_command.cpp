@@ -166,7 +166,9 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
     // (run_in_worker), not in the rename over them (0.3-0.6 ms on ext4 for the bunny's 57 KB PNG).
     for (const std::string* replaced : {&r.output, &r.depth_out})
         if (!replaced->empty()) (void)::open(replaced->c_str(), O_PATH | O_CLOEXEC);
-    if (Status s = write_png(r.output, colour, {.threads = threads}); !s) {
+    // Runs only (zlib's Z_RLE), as thumbs: a render's smooth shading on a plain background deflates
+    // in ~25% less time than at level 2, its file ~10% larger (docs/BENCHMARKS.md).
+    if (Status s = write_png(r.output, colour, {.threads = threads, .runs_only = true}); !s) {
         std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
         return k_exit_failed;
     }
