@@ -248,6 +248,9 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
     float* depth = buffers.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     std::uint32_t* owner = buffers.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     auto passed = hn::FirstN(df, 0);
+    // Row y's centre, float(y) + 0.5, counted rather than converted per row: the same bits (exact
+    // below 2^23).
+    float centre = static_cast<float>(r.y0) + 0.5f;
     for (int y = r.y0; y <= r.y1; y += k_row_group) {
         const VI rows_left = hn::Set(di, r.y1 - y + 1);
         HWY_UNROLL(2)  // k_row_group: straight-line code
@@ -257,7 +260,8 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
             const auto in_rect = g == 0 ? columns : hn::And(columns, hn::Lt(hn::Set(di, g), rows_left));
             const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
             for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b[k]);
-            const float dy = (static_cast<float>(y + g) + 0.5f) - t.y0;
+            const float dy = centre - t.y0;
+            centre += 1.0f;
             auto z = hn::Add(z_x, hn::Set(df, t.dzdy * dy));
             z = clamp_depth(df, z);
             const auto stored = load_row<Aligned>(df, depth);
@@ -311,6 +315,9 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
     float* depth = buffers.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     std::uint32_t* owner = buffers.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     __mmask16 passed = 0;
+    // Each lane's row centre, float(y + row) + 0.5, counted as in resolve_strip.
+    auto centres = hn::Add(hn::ConvertTo(df, hn::Add(row, hn::Set(di, r.y0))), half);
+    const auto two = hn::Set(df, 2.0f);
     for (int y = r.y0; y <= r.y1; y += 2 * k_pair_group) {
         const VI rows_left = hn::Set(di, r.y1 - y + 1);
         HWY_UNROLL(2)  // k_pair_group: straight-line code
@@ -320,7 +327,8 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
             const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
             for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b2[k]);
             // (y + row + 0.5) - y0 per lane: the float operations of resolve_strip's dy.
-            const auto dy = hn::Sub(hn::Add(hn::ConvertTo(df, hn::Add(row_g, hn::Set(di, y))), half), y0);
+            const auto dy = hn::Sub(centres, y0);
+            centres = hn::Add(centres, two);
             auto z = hn::Add(z_x, hn::Mul(dzdy, dy));
             z = clamp_depth(df, z);
             const auto stored =
