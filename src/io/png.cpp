@@ -16,6 +16,7 @@
 #include <random>
 #include <thread>
 
+#include "facet/detail/frame.hpp"
 #include "facet/detail/thread_pool.hpp"
 #include "facet/io.hpp"
 
@@ -48,6 +49,10 @@ constexpr std::size_t k_block_bytes = 128 * 1024;
 constexpr std::size_t k_run_block_bytes = 64 * 1024;
 constexpr std::size_t k_window = 32 * 1024;
 
+// Arrays written whole before they are read, so not zeroed first: the filtered rows (each thread
+// writes its blocks' rows) and each block's output.
+using Bytes = std::vector<unsigned char, detail::UninitialisedAllocator<unsigned char>>;
+
 void put_u32(std::vector<unsigned char>& out, std::uint32_t v) {
     for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<unsigned char>(v >> shift));
 }
@@ -63,7 +68,7 @@ void put_chunk(std::vector<unsigned char>& out, const char* type, const unsigned
 }
 
 struct DeflatedBlock {
-    std::vector<unsigned char> bytes;
+    Bytes bytes;
     uLong adler = 1;
     std::size_t raw = 0;  // filtered bytes in
     int error = Z_OK;
@@ -113,7 +118,7 @@ Result<std::vector<unsigned char>> encode(const std::string& path, const PngLayo
     const std::size_t height = layout.height;
     const std::size_t rows_per_block = std::max<std::size_t>(1, (options.runs_only ? k_run_block_bytes : k_block_bytes) / stride);
     const std::size_t blocks = (height + rows_per_block - 1) / rows_per_block;
-    std::vector<unsigned char> filtered(stride * height);
+    Bytes filtered(stride * height);
     std::vector<DeflatedBlock> deflated(blocks);
     const unsigned cores = options.threads > 0 ? static_cast<unsigned>(options.threads) : std::max(1u, std::thread::hardware_concurrency());
     detail::ThreadPool pool(static_cast<int>(std::min<std::size_t>(blocks, cores)));
