@@ -127,8 +127,8 @@ void Renderer::run_pass_vertex_stage(std::size_t begin, std::size_t end) {
     detail::run_pass_vertex_stage(*passes_->draw.passes, passes_->draw.layout, begin, end, passes_->vertices);
 }
 
-void Renderer::project_vertices(std::size_t begin, std::size_t end, const Plan& plan) {
-    detail::project_vertices(vertices_, begin, end, plan.params);
+void Renderer::project_vertices(const Vec4* pos, std::size_t begin, std::size_t end, const Plan& plan) {
+    detail::project_vertices(pos, vertices_, begin, end, plan.params);
 }
 
 void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end) {

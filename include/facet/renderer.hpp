@@ -81,8 +81,9 @@ private:
     void run_pass_vertex_stage(std::size_t begin, std::size_t end);
     template <class S>
     void run_vertex_stage(const S& shader, std::uint32_t vertex_count, const Plan& plan);
-    // The projection pass (src/geometry/project.hpp) over vertices [begin, end) of the vertex stage.
-    void project_vertices(std::size_t begin, std::size_t end, const Plan& plan);
+    // The projection pass (src/geometry/project.hpp) over vertices [begin, end) of the vertex stage,
+    // pos[j] the clip position of vertex begin + j.
+    void project_vertices(const Vec4* pos, std::size_t begin, std::size_t end, const Plan& plan);
     void run_front_end(const DrawInput& input, Plan& plan, std::size_t first, std::size_t end);
     // The tile pass (src/tile/) over the current batch's bins.
     void run_tiles(Framebuffer& target, Plan& plan, const detail::TileShading& shading);
@@ -102,6 +103,9 @@ private:
 namespace detail {
 // Vertices per task in the vertex stage: large enough to amortize scheduling, small enough to balance.
 constexpr std::size_t k_vertex_block = 4096;
+// Vertices per piece of a compiled vertex stage's block: their clip positions (4 KB) stay in L1
+// between the transform and the projection, and are never written to ClipVertices::pos.
+constexpr std::size_t k_vertex_piece = 256;
 
 // shader.vertex() for vertices [begin, end) into `vertices`. Flattened: GCC otherwise keeps some of the
 // shader's matrix products as calls, depending on what else the caller holds.
@@ -118,22 +122,35 @@ template <class S>
 }  // namespace detail
 
 // The vertex stage: shader.vertex() per vertex (or the shader's compiled vertex stage), in parallel
-// blocks, each block projected as soon as it is done, while it is in the caches.
+// blocks, each block projected as soon as it is done, while it is in the caches. A compiled stage
+// projects each piece of its block from a buffer on the stack and leaves ClipVertices::pos unwritten:
+// clipping, the only later reader, recomputes the few positions it needs (ClipVertices::recompute).
 template <class S>
 void Renderer::run_vertex_stage(const S& shader, std::uint32_t vertex_count, const Plan& plan) {
     constexpr int N = S::k_varyings;
+    using Compiled = detail::CompiledVertexStage<S>;
     vertices_.resize(vertex_count, N);
+    vertices_.recompute = nullptr;
+    if constexpr (Compiled::available) {
+        vertices_.recompute = [](const void* s, std::uint32_t i) { return Compiled::position(*static_cast<const S*>(s), i); };
+        vertices_.source = &shader;
+    }
     const std::size_t blocks = (vertex_count + detail::k_vertex_block - 1) / detail::k_vertex_block;
     pool_.parallel_for(blocks, [&](std::size_t block) {
         const std::size_t begin = block * detail::k_vertex_block;
         const std::size_t end = std::min<std::size_t>(vertex_count, begin + detail::k_vertex_block);
-        if constexpr (detail::CompiledVertexStage<S>::available)
-            detail::CompiledVertexStage<S>::run(shader, begin, end, vertices_.pos.data() + begin,
-                                                vertices_.varyings.data() + begin * N);
-        else
+        if constexpr (Compiled::available) {
+            alignas(64) Vec4 clip[detail::k_vertex_piece];
+            for (std::size_t first = begin; first < end; first += detail::k_vertex_piece) {
+                const std::size_t last = std::min(end, first + detail::k_vertex_piece);
+                Compiled::run(shader, first, last, clip, vertices_.varyings.data() + first * N);
+                project_vertices(clip, first, last, plan);
+            }
+        } else {
             detail::run_vertex_shader(shader, begin, end, vertices_);
+            project_vertices(vertices_.pos.data() + begin, begin, end, plan);
+        }
         if (plan.passes) run_pass_vertex_stage(begin, end);
-        project_vertices(begin, end, plan);
     });
 }
 

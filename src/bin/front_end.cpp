@@ -33,8 +33,8 @@ template <bool Primitives>
     }
     if (codes[0] & codes[1] & codes[2]) return;  // wholly outside one plane
     ++out.stats.triangles_clipped;
-    const ClipVertex tri[3] = {{vertices.pos[idx[0]], idx[0]}, {vertices.pos[idx[1]], idx[1]},
-                               {vertices.pos[idx[2]], idx[2]}};
+    const ClipVertex tri[3] = {{vertices.clip_position(idx[0]), idx[0]}, {vertices.clip_position(idx[1]), idx[1]},
+                               {vertices.clip_position(idx[2]), idx[2]}};
     ClipVertex poly[k_max_clip_polygon];
     const int n = clip_triangle(tri, codes[0] | codes[1] | codes[2], guard, vertices, out.extras, poly, passes);
     bool poly_finite = true;

@@ -430,7 +430,7 @@ void assemble_lines(const ClipVertices& vertices, const DrawInput& input, std::s
         } else {
             queue.flush();  // records keep submission order
             ++out.stats.triangles_clipped;
-            ClipVertex ca{vertices.pos[i0], i0}, cb{vertices.pos[i1], i1};
+            ClipVertex ca{vertices.clip_position(i0), i0}, cb{vertices.clip_position(i1), i1};
             if (!clip_segment(ca, cb, codes, guard, vertices, out.extras, passes)) continue;
             if (!is_finite(ca.pos) || !is_finite(cb.pos) || !(ca.pos.w > 0) || !(cb.pos.w > 0)) {
                 ++out.stats.segments_invalid;

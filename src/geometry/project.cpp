@@ -21,8 +21,7 @@ ScreenVertex project(Vec4 p, const FrontEndParams& v) {
             static_cast<std::int32_t>(std::lrint(sy * k_subpixel_one)), z, q};
 }
 
-void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p) {
-    const Vec4 pos = vertices.pos[i];
+void project_vertex(Vec4 pos, ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p) {
     const auto code = is_finite(pos) ? static_cast<std::uint8_t>(outcode(pos, guard)) : k_outcode_invalid;
     vertices.outcode[i] = code;
     // Zeros outside any plane or invalid, as the SIMD path stores: the array is not cleared first.

@@ -29,14 +29,20 @@ GuardBand guard_band(const FrontEndParams& p);
 // inside the guard band, so the division is safe and the result fits the fixed-point range.
 ScreenVertex project(Vec4 pos_clip, const FrontEndParams& params);
 
-// The specification of project_vertices for vertex i: outcode[i] (k_outcode_invalid for a
-// non-finite position) and, inside every plane, screen[i] = project(pos); zeros elsewhere (never read).
-void project_vertex(ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p);
+// The specification of project_vertices for vertex i at clip position pos: outcode[i]
+// (k_outcode_invalid for a non-finite position) and, inside every plane, screen[i] = project(pos);
+// zeros elsewhere (never read).
+void project_vertex(Vec4 pos, ClipVertices& vertices, std::size_t i, GuardBand guard, const FrontEndParams& p);
 
-// The projection pass: project_vertex for vertices [first, end), run after the vertex stage on each
-// of its blocks, so that every vertex is projected once rather than once per triangle that uses it.
-// A SIMD kernel with the ISA selected in facet/isa.hpp (project_simd.cpp), or project_vertex itself
-// when "scalar" is selected; the same bytes either way.
-void project_vertices(ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& params);
+// The projection pass: project_vertex for vertices [first, end), pos[j] the position of vertex
+// first + j, run after the vertex stage on each of its blocks, so that every vertex is projected once
+// rather than once per triangle that uses it. A SIMD kernel with the ISA selected in facet/isa.hpp
+// (project_simd.cpp), or project_vertex itself when "scalar" is selected; the same bytes either way.
+void project_vertices(const Vec4* pos, ClipVertices& vertices, std::size_t first, std::size_t end,
+                      const FrontEndParams& params);
+// The same with the positions in vertices.pos.
+inline void project_vertices(ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& params) {
+    project_vertices(vertices.pos.data() + first, vertices, first, end, params);
+}
 
 }  // namespace facet::detail

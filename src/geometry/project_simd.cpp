@@ -21,7 +21,7 @@ namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 // Vertices [first, end): whole vectors here, the rest (fewer than a vector) by project_vertex.
-void ProjectVertices(ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& p) {
+void ProjectVertices(const Vec4* pos, ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& p) {
     const hn::ScalableTag<float> df;
     const hn::RebindToSigned<decltype(df)> di;
     const hn::Rebind<std::uint8_t, decltype(di)> d8;
@@ -37,7 +37,7 @@ void ProjectVertices(ClipVertices& vertices, std::size_t first, std::size_t end,
     std::size_t i = first;
     for (; i + lanes <= end; i += lanes) {
         VF x, y, z, w;
-        hn::LoadInterleaved4(df, reinterpret_cast<const float*>(vertices.pos.data() + i), x, y, z, w);
+        hn::LoadInterleaved4(df, reinterpret_cast<const float*>(pos + (i - first)), x, y, z, w);
         // Finite: |v| < infinity is false for NaN and for either infinity.
         const auto finite = hn::And(hn::And(hn::Lt(hn::Abs(x), infinity), hn::Lt(hn::Abs(y), infinity)),
                                     hn::And(hn::Lt(hn::Abs(z), infinity), hn::Lt(hn::Abs(w), infinity)));
@@ -64,7 +64,7 @@ void ProjectVertices(ClipVertices& vertices, std::size_t first, std::size_t end,
         hn::StoreInterleaved4(hn::BitCast(df, ix), hn::BitCast(df, iy), hn::IfThenElseZero(inside, sz),
                               hn::IfThenElseZero(inside, q), df, reinterpret_cast<float*>(vertices.screen.data() + i));
     }
-    for (; i < end; ++i) project_vertex(vertices, i, g, p);
+    for (; i < end; ++i) project_vertex(pos[i - first], vertices, i, g, p);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE
@@ -77,10 +77,11 @@ namespace facet::detail {
 
 HWY_EXPORT(ProjectVertices);
 
-void project_vertices(ClipVertices& vertices, std::size_t first, std::size_t end, const FrontEndParams& params) {
-    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ProjectVertices)(vertices, first, end, params);
+void project_vertices(const Vec4* pos, ClipVertices& vertices, std::size_t first, std::size_t end,
+                      const FrontEndParams& params) {
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ProjectVertices)(pos, vertices, first, end, params);
     const GuardBand guard = guard_band(params);
-    for (std::size_t i = first; i < end; ++i) project_vertex(vertices, i, guard, params);
+    for (std::size_t i = first; i < end; ++i) project_vertex(pos[i - first], vertices, i, guard, params);
 }
 
 }  // namespace facet::detail

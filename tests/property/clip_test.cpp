@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <sstream>
@@ -20,6 +21,7 @@
 
 #include "facet/math/transform.hpp"
 #include "facet/renderer.hpp"
+#include "facet/shaders.hpp"
 #include "support/reference_raster.hpp"
 #include "support/test_data.hpp"
 
@@ -641,6 +643,65 @@ TEST(Clip, PerspectiveCorrectVaryingsFromACamera) {
         }
     EXPECT_GT(checked, 20000);
     EXPECT_GT(worst, 0.01) << "the comparison is not vacuous";
+}
+
+// The built-in shaders' compiled vertex stage keeps no array of clip positions: clipping recomputes
+// those of the triangles it cuts (ClipVertices::recompute). A ground grid through the near plane and
+// past the guard band, drawn by Lambert and by a type derived from it (which takes vertex() per vertex
+// and keeps the positions), gives the same bytes; one clipped triangle has corners in the first and
+// the last of the vertex stage's blocks.
+template <class S>
+struct ByVertex : S {};
+
+TEST(Clip, CompiledVertexStageClipsWhatVertexClips) {
+    const int W = 160, H = 120, n = 96;  // n x n vertices: more than one vertex block (4,096)
+    Mesh mesh;
+    std::mt19937 rng(2026112712);
+    std::uniform_real_distribution<float> tilt(-0.4f, 0.4f), unit(0.0f, 1.0f);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            // x far past the guard band at the sides, z from behind the eye to the distance.
+            mesh.positions.push_back({(i - n / 2) * 400.0f, unit(rng) * 0.2f, 40.0f - j * 2.0f});
+            mesh.normals.push_back(normalize(Vec3{tilt(rng), 1.0f, tilt(rng)}));
+            mesh.colours.push_back({unit(rng), unit(rng), unit(rng), 1.0f});
+        }
+    const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(j * n + i); };
+    for (int j = 0; j + 1 < n; ++j)
+        for (int i = 0; i + 1 < n; ++i)
+            for (std::uint32_t k : {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)})
+                mesh.indices.push_back(k);
+    // A triangle from the first row to the last: its corners in the first and the last vertex block.
+    for (std::uint32_t k : {at(n / 2, 0), at(n / 2 + 1, 0), at(n / 2, n - 1)}) mesh.indices.push_back(k);
+    const Vec3 eye{0, 1.5f, 0};
+    ShadingUniforms u;
+    u.clip_from_object = perspective_rh_zo(radians(70.0f), static_cast<float>(W) / H, 0.1f, 150.0f) *
+                         look_at_rh(eye, eye + Vec3{0, -0.3f, -1}, {0, 1, 0});
+    u.key = DirectionalLight{normalize(Vec3{0.3f, 1.0f, 0.2f}), {1, 1, 1}};
+    const DrawInput input{static_cast<std::uint32_t>(mesh.positions.size()), mesh.indices};
+    const auto draw = [&](const auto& shader, DrawStats& stats) {
+        Framebuffer fb(W, H);
+        fb.clear(Vec4{0, 0, 0, 1}, 1.0f);
+        stats = Renderer({.threads = 2, .tile_size = 16}).draw(fb, DrawState{}, input, shader);
+        return fb;
+    };
+    const MeshArrays arrays = MeshArrays::of(mesh);
+    const auto compare = [&](const auto& compiled, const auto& by_vertex) {
+        DrawStats a, b;
+        const Framebuffer fa = draw(compiled, a), fb = draw(by_vertex, b);
+        EXPECT_GT(a.triangles_clipped, 300u);
+        EXPECT_EQ(a.triangles_clipped, b.triangles_clipped);
+        EXPECT_EQ(a.triangles_rasterized, b.triangles_rasterized);
+        int drawn = 0;
+        for (int y = 0; y < H; ++y)
+            for (int x = 0; x < W; ++x) {
+                ASSERT_EQ(fa.colour(x, y), fb.colour(x, y)) << x << "," << y;
+                ASSERT_EQ(std::memcmp(&fa.depth_data()[y * W + x], &fb.depth_data()[y * W + x], sizeof(float)), 0) << x << "," << y;
+                drawn += fa.depth(x, y) < 1.0f;
+            }
+        EXPECT_GT(drawn, W * H / 3);
+    };
+    compare(shaders::Lambert{arrays, u}, ByVertex<shaders::Lambert>{{arrays, u}});
+    compare(shaders::LambertBaseColour{arrays, u}, ByVertex<shaders::LambertBaseColour>{{arrays, u}});
 }
 
 }  // namespace

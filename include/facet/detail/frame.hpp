@@ -70,7 +70,7 @@ using UninitialisedVector = std::vector<T, UninitialisedAllocator<T>>;
 // The projection pass adds outcode[i] and, for vertices inside every clip plane, screen[i]:
 // each vertex is projected once, not once per triangle that uses it.
 struct ClipVertices {
-    UninitialisedVector<Vec4> pos;  // written by the stages, never cleared first
+    UninitialisedVector<Vec4> pos;  // written by the stages, never cleared first (but see recompute)
     UninitialisedVector<float> varyings;
     UninitialisedVector<std::uint8_t> outcode;
     UninitialisedVector<ScreenVertex> screen;
@@ -81,6 +81,13 @@ struct ClipVertices {
     // from anywhere in the draw, one translation each in 4 KiB pages.
     void resize(std::size_t n, int stride_);
     const float* varyings_of(std::uint32_t i) const { return varyings.data() + static_cast<std::size_t>(i) * stride; }
+    // Set by a compiled vertex stage, which projects its positions from a buffer of its own and leaves
+    // pos unwritten (8 MB a frame for 500k vertices, read only by clipping): recompute(source, i) is
+    // then vertex i's clip position, the same bits. Null: pos holds them.
+    Vec4 (*recompute)(const void* source, std::uint32_t i) = nullptr;
+    const void* source = nullptr;
+    // Vertex i's clip position, for the few triangles and segments that need clipping.
+    Vec4 clip_position(std::uint32_t i) const { return recompute ? recompute(source, i) : pos[i]; }
 };
 
 // A triangle ready for rasterization. Edge i is e(ix, iy) = e0 + a*(ix - min_x) + b*(iy - min_y) in

@@ -1,7 +1,8 @@
 // facet internals: the hook by which a shader type brings a compiled vertex stage, and the SIMD
 // transforms it is made of. Renderer::draw calls vertex() once per vertex; a shader type for which
 // CompiledVertexStage is specialized with available = true computes a block of vertices with its
-// run() instead. The built-in shaders whose vertex() is a matrix times the position and the normal
+// run(shader, begin, end, clip, varyings) instead, and gives one vertex's clip position again, the
+// same bits, with position(shader, i) (clipping's; the stage keeps no array of them). The built-in shaders whose vertex() is a matrix times the position and the normal
 // (shaders.hpp) have one: the same bytes as vertex(), several vertices at a time.
 #pragma once
 
