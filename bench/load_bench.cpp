@@ -8,6 +8,10 @@
 // Each load runs in a child forked for it with the heap `facet render`'s worker sets up before it
 // loads (keep_freed_memory_for_reuse, and use_huge_pages_for_heap for the files that get it): a
 // user's load is one per fresh process, not a loop's later rounds reusing what an earlier one freed.
+// FACET_BENCH_LOAD_PAUSE_MS=N sleeps N ms before each child (memory freed seconds ago is slow to fault
+// in again on this VM: docs/BENCHMARKS.md "Loading OBJ, session 12"); FACET_BENCH_LOAD_ROUNDS=1 prints
+// each child's wall and CPU ms and page faults to stderr, and the median faults go into the JSON.
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -17,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "facet/model.hpp"
@@ -40,8 +45,14 @@ double median(std::vector<double> v) {
     return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
+long page_faults() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_minflt + usage.ru_majflt;
+}
+
 struct Round {
-    double ms = 0, cpu_ms = 0;
+    double ms = 0, cpu_ms = 0, faults = 0;
     std::size_t triangles = 0;
     bool ok = false;
 };
@@ -62,11 +73,13 @@ Round load_in_child(const std::string& path, const facet::LoadOptions& options, 
 #endif
         const Clock::time_point start = Clock::now();
         const double cpu_start = process_cpu_ms();
+        const long faults_start = page_faults();
         facet::Result<facet::LoadedModel> model =
             own ? facet::load_model(path, options) : facet::io_detail::load_model_through_assimp(path, options);
         Round r;
         r.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         r.cpu_ms = process_cpu_ms() - cpu_start;
+        r.faults = static_cast<double>(page_faults() - faults_start);
         if (model) {
             r.ok = true;
             r.triangles = model->scene.triangle_count();
@@ -98,31 +111,41 @@ int main(int argc, char** argv) {
     const int rounds = argc > 2 ? std::max(1, std::atoi(argv[2])) : 5;
     facet::LoadOptions options;
     options.threads = argc > 3 ? std::atoi(argv[3]) : 1;
-    std::vector<double> own, assimp, own_cpu, assimp_cpu;
+    std::vector<double> own, assimp, own_cpu, assimp_cpu, own_faults, assimp_faults;
     std::size_t triangles = 0;
     const char* own_only_env = std::getenv("FACET_BENCH_LOAD_OWN_ONLY");
     const bool own_only = own_only_env && std::string(own_only_env) == "1";
+    const char* pause_env = std::getenv("FACET_BENCH_LOAD_PAUSE_MS");
+    const int pause_ms = pause_env ? std::max(0, std::atoi(pause_env)) : 0;
+    const char* rounds_env = std::getenv("FACET_BENCH_LOAD_ROUNDS");
+    const bool print_rounds = rounds_env && std::string(rounds_env) == "1";
     // The readers' module opened before the children are forked, as `facet thumbs` does for its
     // workers: the loads measure the readers, not the module's opening and relocation (the 1M sphere:
     // 2-4 ms, paid once per `facet render` process).
     (void)facet::open_model_reader_module();
     for (int r = 0; r < rounds; ++r) {
         for (int which = 0; which < (own_only ? 1 : 2); ++which) {
+            if (pause_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(pause_ms));
             const Round round = load_in_child(path, options, which == 0);
             if (!round.ok) return 1;  // the child said why
             triangles = round.triangles;
             (which == 0 ? own : assimp).push_back(round.ms);
             (which == 0 ? own_cpu : assimp_cpu).push_back(round.cpu_ms);
+            (which == 0 ? own_faults : assimp_faults).push_back(round.faults);
+            if (print_rounds)
+                std::fprintf(stderr, "%s %d: %.1f ms, %.1f ms CPU, %.0f page faults\n", which == 0 ? "own" : "assimp", r, round.ms,
+                             round.cpu_ms, round.faults);
         }
     }
     if (own_only) {
-        std::printf("{\"file\":\"%s\",\"triangles\":%zu,\"threads\":%d,\"rounds\":%d,\"own_ms\":%.1f,\"own_cpu_ms\":%.1f}\n", path.c_str(),
-                    triangles, options.threads, rounds, median(own), median(own_cpu));
+        std::printf("{\"file\":\"%s\",\"triangles\":%zu,\"threads\":%d,\"rounds\":%d,\"own_ms\":%.1f,\"own_cpu_ms\":%.1f,\"own_faults\":%.0f}\n",
+                    path.c_str(), triangles, options.threads, rounds, median(own), median(own_cpu), median(own_faults));
         return 0;
     }
     const double a = median(assimp), o = median(own), a_cpu = median(assimp_cpu), o_cpu = median(own_cpu);
     std::printf("{\"file\":\"%s\",\"triangles\":%zu,\"threads\":%d,\"rounds\":%d,\"own_ms\":%.1f,\"assimp_ms\":%.1f,\"ratio\":%.2f,"
-                "\"own_cpu_ms\":%.1f,\"assimp_cpu_ms\":%.1f,\"cpu_ratio\":%.2f}\n",
-                path.c_str(), triangles, options.threads, rounds, o, a, a / o, o_cpu, a_cpu, a_cpu / o_cpu);
+                "\"own_cpu_ms\":%.1f,\"assimp_cpu_ms\":%.1f,\"cpu_ratio\":%.2f,\"own_faults\":%.0f,\"assimp_faults\":%.0f}\n",
+                path.c_str(), triangles, options.threads, rounds, o, a, a / o, o_cpu, a_cpu, a_cpu / o_cpu, median(own_faults),
+                median(assimp_faults));
     return 0;
 }

@@ -1504,12 +1504,13 @@ std::unique_ptr<aiMaterial> make_material(const ObjMaterial& m, ImportNotes& not
 }  // namespace
 
 std::optional<Result<OwnScene>> read_obj(const std::string& path, std::string_view bytes, const LoadOptions& options,
-                                         const ResourceRoots& roots, ImportNotes& notes) {
+                                         const ResourceRoots& roots, ImportNotes& notes, const std::function<void()>& bytes_read) {
     try {
         if (bytes.size() < k_min_obj_bytes) return std::nullopt;  // a NUL byte: declined by ObjReader::read
         if (path.find('\\') != std::string::npos) return std::nullopt;
         ObjReader reader(path, options, roots, notes);
         reader.read(bytes);
+        if (bytes_read) bytes_read();  // the model holds no views of them
         ObjModel& model = reader.model();
         if (model.total_triangles == 0) return std::nullopt;
         if (model.largest_vertex >= model.vertices.size()) return std::nullopt;  // assimp: "vertex index out of range"

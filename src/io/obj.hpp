@@ -11,6 +11,7 @@
 // attributes that assimp's join tolerance could merge although they differ.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -24,7 +25,10 @@ class ImportNotes;
 class ResourceRoots;
 
 // `bytes` is the whole file, followed by a NUL character (as std::string's data is).
+// `bytes_read` (if any) is called once they are no longer read, before the meshes are built: their
+// memory may then be freed, for the meshes' scratch arrays to take.
 std::optional<Result<OwnScene>> read_obj(const std::string& path, std::string_view bytes, const LoadOptions& options,
-                                 const ResourceRoots& roots, ImportNotes& notes);
+                                         const ResourceRoots& roots, ImportNotes& notes,
+                                         const std::function<void()>& bytes_read = {});
 
 }  // namespace facet::io_detail

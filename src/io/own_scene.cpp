@@ -6,6 +6,7 @@
 #include <string_view>
 #include <utility>
 
+#include "exec/fresh_pages.hpp"
 #include "io/assimp_scene.hpp"
 #include "io/fast_path.hpp"
 #include "io/gltf.hpp"
@@ -21,15 +22,18 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
     if (ext != "obj" && !gltf) return std::nullopt;
     const ResourceRoots roots(path, options.resource_dirs);
     ImportNotes notes;
+    // A large file's pages, freed once read, taken again by the scratch arrays after it (the OBJ
+    // join's table, the creased normals' sums) rather than mapped anew (fresh_pages.hpp).
+    const detail::RecycleFreshPages recycle;
     std::optional<Result<OwnScene>> scene;
     {
-        const std::optional<FileBytes> bytes = read_whole_file(path, size);
+        std::optional<FileBytes> bytes = read_whole_file(path, size);
         if (!bytes) return std::nullopt;
         if (!gltf)
-            scene = read_obj(path, *bytes, options, roots, notes);
+            scene = read_obj(path, *bytes, options, roots, notes, [&] { bytes.reset(); });
         else if (std::optional<OwnScene> s = read_gltf(path, *bytes, ext == "glb", options, roots, notes))
             scene = Result<OwnScene>(std::move(*s));
-    }  // the file's text is freed before the conversion allocates the Scene
+    }  // the file's text is freed before the conversion allocates the Scene (the OBJ's before its join)
     if (!scene) return std::nullopt;
     if (!*scene) return Result<LoadedModel>(scene->error());
     Result<LoadedModel> model = convert_scene(path, (*scene)->view(), options, roots);

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
+#include <cstring>
 #include <latch>
 #include <stdexcept>
 #include <thread>
@@ -178,6 +180,40 @@ TEST(FreshPages, PopulatingTheHeapTopFaultsItInAndChangesNoBlock) {
     EXPECT_TRUE(resident(first, last - first));
     for (std::size_t i = 0; i < size; ++i) ASSERT_EQ(block[i], static_cast<unsigned char>(i * 7)) << i;
     std::free(block);
+}
+
+TEST(FreshPages, ARecyclingScopeHandsAReleasedArrayOnClearedAndUnmapsItAtItsEnd) {
+    constexpr std::size_t n = std::size_t{6} << 20;  // 6 MiB: mapped, not calloc'd
+    const auto fill = [](const detail::ZeroedArray<std::uint8_t>& a, std::size_t count) {
+        std::memset(a.data(), 0xA5, count);
+    };
+    std::uint8_t* first = nullptr;
+    {
+        const detail::RecycleFreshPages scope;
+        {
+            detail::ZeroedArray<std::uint8_t> a(n);
+            first = a.data();
+            fill(a, n);
+        }
+        // A smaller array takes the kept mapping, cleared for its size; then a larger one than any
+        // kept gets one of its own.
+        detail::ZeroedArray<std::uint32_t> b(n / 8);
+        EXPECT_EQ(static_cast<void*>(b.data()), static_cast<void*>(first));
+        for (std::size_t i = 0; i < n / 8; ++i) ASSERT_EQ(b[i], 0u) << i;
+        detail::ZeroedArray<std::uint8_t> c(2 * n);
+        EXPECT_NE(c.data(), first);
+        for (std::size_t i = 0; i < 2 * n; i += 4096) ASSERT_EQ(c[i], 0u) << i;
+    }
+    // The scope's end unmapped what was kept (c's mapping, the larger): outside one, a released
+    // array's mapping is unmapped and the next one maps its own, zero.
+    EXPECT_EQ(detail::fresh_detail::recycled.raw, nullptr);
+    {
+        detail::ZeroedArray<std::uint8_t> d(n);
+        fill(d, n);
+    }
+    EXPECT_EQ(detail::fresh_detail::recycled.raw, nullptr);
+    const detail::ZeroedArray<std::uint8_t> e(n);
+    for (std::size_t i = 0; i < n; i += 4096) ASSERT_EQ(e[i], 0u) << i;
 }
 
 TEST(Renderer, RejectsBadConfigurationAndViewports) {
