@@ -30,10 +30,13 @@ struct JoinVertex {
     aiVector3D position, normal, uv, tangent, bitangent;
 };
 
-// A join as a numbering: each item's unique vertex, and each unique vertex's first item.
+// A join as a numbering: each item's unique vertex, and each unique vertex's first item; or, when
+// `identity` (join_as_assimp with the items' positions, no two items joined), neither: item i is
+// unique vertex i.
 struct Join {
     std::vector<std::uint32_t> unique;
     std::vector<std::uint32_t> first;
+    bool identity = false;
 };
 
 namespace join_detail {
@@ -104,19 +107,33 @@ inline bool same(const JoinVertex& a, const JoinVertex& b) {
 // vertices of a bucket meet in one probe sequence: the exact join and the check are one pass. It
 // holds each unique vertex (plus one: a slot of zeros is free) with its bucket, and a probe past
 // another bucket's vertex reads nothing more.
+// With `item_positions` (item i's position at item_positions[i]), nothing is written while no two
+// items have joined: a join of none comes back as `identity`, with `positions` empty (the items'
+// own are the unique ones), and no numbering or copy of positions is made (a file's vertices used
+// in the order listed, most of them distinct).
 template <class Value>
-std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t vertex_count, std::vector<aiVector3D>& positions) {
+std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t vertex_count, std::vector<aiVector3D>& positions,
+                                   const aiVector3D* item_positions = nullptr) {
     // The table is far larger than the caches and each item probes a random slot: the slots are
     // fetched this many items ahead (the buckets in a ring), so that the misses overlap.
     constexpr std::size_t ahead = 16;
     const std::uint64_t buckets = reserved_buckets(vertex_count);  // fewer than 2^32 (reserved for a mesh's vertices)
     Join out;
-    detail::reserve_in_huge_pages(out.unique, count);
-    out.unique.resize(count);
-    // At most one unique vertex per item: never grown and copied.
-    detail::reserve_in_huge_pages(out.first, count);
     positions.clear();
-    detail::reserve_in_huge_pages(positions, count);
+    // The numbering and the positions from `items` on (at most one unique vertex per item: never
+    // grown and copied); before it, item i is unique vertex i.
+    const auto number = [&](std::size_t items) {
+        detail::reserve_in_huge_pages(out.unique, count);
+        out.unique.resize(count);
+        detail::reserve_in_huge_pages(out.first, count);
+        detail::reserve_in_huge_pages(positions, count);
+        for (std::uint32_t i = 0; i < items; ++i) out.unique[i] = out.first.emplace_back(i);
+        positions.assign(item_positions, item_positions + items);
+    };
+    bool identity = item_positions != nullptr;
+    if (!identity) number(0);
+    const aiVector3D* unique_positions = identity ? item_positions : positions.data();  // positions: reserved, never moved
+    std::uint32_t uniques = 0;
     const std::size_t slots = std::bit_ceil(std::max<std::size_t>(16, 2 * count));
     const int shift = 64 - std::countr_zero(slots);
     const detail::ZeroedArray<std::uint64_t> table(slots);  // bucket << 32 | unique + 1; fresh 2 MB pages (random probes)
@@ -141,7 +158,7 @@ std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t
         // compared by position, which is fetched now (a random read of its own).
         if (i + ahead / 2 < count) {
             const std::uint64_t later = ring[(i + ahead / 2) % ahead], there = table[slot_of(later)];
-            if (there >> 32 == later && there != 0) __builtin_prefetch(positions.data() + static_cast<std::uint32_t>(there) - 1);
+            if (there >> 32 == later && there != 0) __builtin_prefetch(unique_positions + static_cast<std::uint32_t>(there) - 1);
         }
         std::size_t slot = slot_of(bucket);
         for (; table[slot] != 0; slot = (slot + 1) & mask) {
@@ -149,18 +166,27 @@ std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t
             const std::uint32_t u = static_cast<std::uint32_t>(table[slot]) - 1;
             // Far apart positions compare unequal whatever the rest (assimp_equal): only near ones
             // read the rest of the unique vertex.
-            if ((positions[u] - v.position).SquareLength() > 2e-10f) continue;
-            const JoinVertex w = value(out.first[u]);
+            if ((unique_positions[u] - v.position).SquareLength() > 2e-10f) continue;
+            const JoinVertex w = value(identity ? u : out.first[u]);
             if (join_detail::same(w, v)) break;
             if (assimp_equal(w, v, 2e-10f)) return std::nullopt;
         }
         if (table[slot] == 0) {
-            out.first.push_back(static_cast<std::uint32_t>(i));
-            positions.push_back(v.position);
-            table[slot] = bucket << 32 | out.first.size();
+            ++uniques;
+            if (!identity) {
+                out.first.push_back(static_cast<std::uint32_t>(i));
+                positions.push_back(v.position);
+            }
+            table[slot] = bucket << 32 | uniques;
+        } else if (identity) {
+            // The first item joined to an earlier one: the numbering of the items before it made.
+            number(i);
+            identity = false;
+            unique_positions = positions.data();
         }
-        out.unique[i] = static_cast<std::uint32_t>(table[slot]) - 1;
+        if (!identity) out.unique[i] = static_cast<std::uint32_t>(table[slot]) - 1;
     }
+    out.identity = identity;
     return out;
 }
 

@@ -165,7 +165,11 @@ struct ObjModel {
     // Per face corner, all meshes': its vertex, and (for the corners of a mesh some face of which
     // has them) its texture coordinate and normal or k_absent; per face its corner count.
     std::vector<std::uint32_t> corner_v, corner_vt, corner_vn;
-    std::vector<std::uint16_t> face_corners;  // at most 0x7fff
+    // Per face its corner count (at most 0x7fff), from the first face that is not a triangle on:
+    // the `leading_triangles` faces before it are not listed (a file of triangles lists none).
+    std::vector<std::uint16_t> face_corners;
+    std::size_t leading_triangles = 0;
+    std::size_t announced_faces = 0;  // the "f" lines counted before reading: face_corners' reserve
     unsigned texcoord_dim = 0;
     std::vector<ObjMesh> meshes;
     std::vector<ObjObject> objects;
@@ -197,7 +201,7 @@ struct ObjModel {
         meshes.push_back({});
         meshes.back().name = name;
         meshes.back().first_corner = corner_v.size();
-        meshes.back().first_face = face_corners.size();
+        meshes.back().first_face = face_count();
         current_mesh = static_cast<int>(meshes.size() - 1);
         if (current_object >= 0)
             objects[static_cast<std::size_t>(current_object)].meshes.push_back(static_cast<unsigned>(current_mesh));
@@ -210,6 +214,20 @@ struct ObjModel {
         current_object = static_cast<int>(objects.size() - 1);
         create_mesh(name, notes);
         if (current_material) meshes[static_cast<std::size_t>(current_mesh)].material = material_index(current_material->name);
+    }
+
+    std::size_t face_count() const { return leading_triangles + face_corners.size(); }
+    std::uint32_t corners_of(std::size_t face) const { return face < leading_triangles ? 3 : face_corners[face - leading_triangles]; }
+    void add_triangles(std::size_t n) {
+        if (face_corners.empty())
+            leading_triangles += n;
+        else
+            face_corners.insert(face_corners.end(), n, std::uint16_t{3});
+    }
+    void add_face_corners(std::uint16_t n) {
+        if (n == 3) return add_triangles(1);
+        if (face_corners.empty()) detail::reserve_in_huge_pages(face_corners, announced_faces - std::min(announced_faces, leading_triangles));
+        face_corners.push_back(n);
     }
 
     // ObjFileParser::needsNewMesh.
@@ -576,7 +594,7 @@ private:
         f = std::min(f, options_.max_triangles);
         detail::reserve_in_huge_pages(model_.vertices, v);
         detail::reserve_in_huge_pages(model_.corner_v, 3 * f);
-        detail::reserve_in_huge_pages(model_.face_corners, f);
+        model_.announced_faces = f;
         return backslash;
     }
 
@@ -723,7 +741,7 @@ private:
         std::size_t in_batch = 0, taken = 0;
         const auto flush = [&] {
             model_.corner_v.insert(model_.corner_v.end(), batch, batch + 3 * in_batch);
-            model_.face_corners.insert(model_.face_corners.end(), in_batch, std::uint16_t{3});
+            model_.add_triangles(in_batch);
             taken += in_batch;
             in_batch = 0;
         };
@@ -769,7 +787,7 @@ private:
             model_.corner_v.insert(model_.corner_v.end(), batch[0], batch[0] + 3 * in_batch);
             model_.corner_vt.insert(model_.corner_vt.end(), batch[1], batch[1] + 3 * in_batch);
             model_.corner_vn.insert(model_.corner_vn.end(), batch[2], batch[2] + 3 * in_batch);
-            model_.face_corners.insert(model_.face_corners.end(), in_batch, std::uint16_t{3});
+            model_.add_triangles(in_batch);
             taken += in_batch;
             in_batch = 0;
         };
@@ -1087,7 +1105,7 @@ private:
         ++model_.total_triangles;
         mesh.corners += 3;
         model_.largest_vertex = std::max(model_.largest_vertex, std::max(v[0], std::max(v[1], v[2])));
-        model_.face_corners.push_back(3);
+        model_.add_triangles(1);
         model_.corner_v.insert(model_.corner_v.end(), v, v + 3);
         return true;
     }
@@ -1113,7 +1131,7 @@ private:
         model_.largest_vertex = largest;
         if (model_.total_triangles > options_.max_triangles) model_.counting_only = true;
         if (model_.counting_only) return;
-        model_.face_corners.push_back(static_cast<std::uint16_t>(corners));
+        model_.add_face_corners(static_cast<std::uint16_t>(corners));
         const std::size_t before = model_.corner_v.size();
         for (std::size_t k = 0; k < corners; ++k) model_.corner_v.push_back(v[k]);
         mesh.corners += corners;
@@ -1280,20 +1298,17 @@ public:
         // Without texture coordinates and normals a group is a vertex, its number by_vertex_'s head
         // (no array per corner).
         const bool by_vertex = !with_vt && !with_vn;
-        std::vector<std::uint32_t> group_of(by_vertex ? 0 : corners), group_corner;
-        detail::reserve_in_huge_pages(group_corner, by_vertex ? std::min(corners, model_.vertices.size()) : corners);
         // Most files use their vertices in the order they list them: then vertex v is group v, found
-        // by one sequential pass (and no stamps written at random).
+        // by one sequential pass (no stamps written at random, no list of groups' first corners).
         bool in_order = by_vertex;
-        for (std::uint32_t c = 0, next = 0; in_order && c < corners; ++c) {
+        std::uint32_t in_order_groups = 0;
+        for (std::uint32_t c = 0; in_order && c < corners; ++c) {
             const std::uint32_t v = mesh_v[c];
-            if (v == next) {
-                group_corner.push_back(c);
-                ++next;
-            }
-            in_order = v < next;
+            in_order_groups += v == in_order_groups;
+            in_order = v < in_order_groups;
         }
-        if (!in_order) group_corner.clear();
+        std::vector<std::uint32_t> group_of(by_vertex ? 0 : corners), group_corner;
+        if (!in_order) detail::reserve_in_huge_pages(group_corner, by_vertex ? std::min(corners, model_.vertices.size()) : corners);
         if (!in_order && by_vertex_.empty()) by_vertex_.resize(model_.vertices.size());
         ++stamp_;
         indices_.clear();
@@ -1318,36 +1333,54 @@ public:
             group_of[c] = indices_[e].group;
         }
         const auto group_value = [&](std::size_t g) { return value_of(group_corner[g]); };
+        const std::size_t groups = in_order ? in_order_groups : group_corner.size();
         OwnMesh out;
         out.material = material;
-        // (Group g in order is vertex g, read without its first corner.)
+        // (Group g in order is vertex g, read without its first corner; unjoined, they are the
+        // unique vertices as they are.)
         std::optional<Join> exact_join =
-            in_order ? join_as_assimp(group_corner.size(), [&](std::size_t g) { return JoinVertex{model_.vertices[g], {}, {}, {}, {}}; },
-                                      corners, out.positions)
-                     : join_as_assimp(group_corner.size(), group_value, corners, out.positions);
+            in_order ? join_as_assimp(groups, [&](std::size_t g) { return JoinVertex{model_.vertices[g], {}, {}, {}, {}}; }, corners,
+                                      out.positions, model_.vertices.data())
+                     : join_as_assimp(groups, group_value, corners, out.positions);
         const bool exact = exact_join.has_value();
         Join join;
         std::vector<std::uint32_t> unique_of_corner = std::move(group_of);
         if (exact) {
             join = std::move(*exact_join);
-            for (std::uint32_t& f : join.first) f = group_corner[f];
-            for (std::uint32_t& u : unique_of_corner) u = join.unique[u];
+            if (!in_order) {
+                for (std::uint32_t& f : join.first) f = group_corner[f];
+                for (std::uint32_t& u : unique_of_corner) u = join.unique[u];
+            }
         } else {
             join = assimp_join(corners, value_of, [](std::size_t) { return true; });
             unique_of_corner = join.unique;
             out.positions.clear();
             for (std::uint32_t c : join.first) out.positions.push_back(model_.vertices[mesh_v[c]]);
         }
+        // A unique vertex's first corner; in order, its vertex (by vertex, colours are all it has).
+        const std::size_t unique_count = join.identity ? groups : join.first.size();
+        const auto first_of = [&](std::size_t u) { return join.identity ? static_cast<std::uint32_t>(u) : join.first[u]; };
 
-        if (normals) out.normals.reserve(join.first.size());
-        if (uvs) out.uvs.reserve(join.first.size());
-        if (colours) out.colours.reserve(join.first.size());
-        for (std::size_t u = 0; (normals || uvs || colours) && u < join.first.size(); ++u) {
+        if (normals) out.normals.reserve(unique_count);
+        if (uvs) out.uvs.reserve(unique_count);
+        if (colours) out.colours.reserve(unique_count);
+        for (std::size_t u = 0; in_order && colours && u < unique_count; ++u) out.colours.push_back(colour_of(first_of(u)));
+        for (std::size_t u = 0; !in_order && (normals || uvs || colours) && u < unique_count; ++u) {
             const std::uint32_t c = join.first[u];
             const JoinVertex v = value_of(c);
             if (normals) out.normals.push_back(v.normal);
             if (uvs) out.uvs.push_back(v.uv);
             if (colours) out.colours.push_back(colour_of(mesh_v[c]));
+        }
+        // Unjoined vertices in order are the first `groups` vertices: taken when this mesh, of
+        // triangles alone, uses every vertex and every corner (nothing reads them after it), else copied.
+        if (join.identity) {
+            if (mesh.first_corner == 0 && corners == model_.corner_v.size() && groups == model_.vertices.size() && 3 * mesh.triangles == corners) {
+                out.positions = std::move(model_.vertices);
+            } else {
+                detail::reserve_in_huge_pages(out.positions, groups);
+                out.positions.assign(model_.vertices.begin(), model_.vertices.begin() + static_cast<std::ptrdiff_t>(groups));
+            }
         }
         // Joined by position alone: no two positions are the same (the creased normals need not weld).
         out.distinct_positions = by_vertex;
@@ -1357,7 +1390,7 @@ public:
             out.triangles = std::move(model_.corner_v);  // mesh_v still points at them
         if (exact && in_order) {
             // Vertex v is group v: with no two groups joined, each corner's unique vertex is its vertex.
-            const bool joined = join.first.size() != group_corner.size();
+            const bool joined = !join.identity;
             if (joined || out.triangles.data() != mesh_v || 3 * mesh.triangles != corners)
                 triangulate(mesh, mesh_v, [&](std::uint32_t c) { return joined ? join.unique[mesh_v[c]] : mesh_v[c]; }, out.triangles);
             out.numbered = 3 * mesh.triangles == corners;
@@ -1410,7 +1443,7 @@ private:
         };
         std::uint32_t c = 0;
         for (std::size_t face = mesh.first_face; face < mesh.first_face + mesh.faces; ++face) {
-            const std::uint32_t n = model_.face_corners[face];
+            const std::uint32_t n = model_.corners_of(face);
             const auto corner = [c](std::uint32_t k) { return c + k; };
             const auto position = [&](std::uint32_t k) -> const aiVector3D& { return model_.vertices[mesh_v[c + k]]; };
             if (!triangulator_.face(n, corner, position, emit))
