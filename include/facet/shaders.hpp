@@ -529,15 +529,16 @@ struct CompiledBlendPass<shaders::PbrUnlitBlended> {
                     std::uint32_t id);
 };
 
-// The built-in shaders whose vertex() is the clip position plus the world normal and/or the vertex
-// colour: their vertex stage in SIMD (src/vertex/transform_simd.cpp), the same bytes as vertex().
-// Vertices [begin, end): clip[j] and varyings[j * N ..] belong to vertex begin + j.
 // Vertex i's clip position as run_vertex_stage computes it (transform_points: the same bits).
 inline Vec4 clip_position(const MeshArrays& mesh, const ShadingUniforms& u, std::uint32_t i) {
     Vec4 out;
     transform_points(u.clip_from_object, mesh.positions + i, 1, &out);
     return out;
 }
+
+// The built-in shaders whose vertex() is the clip position plus the world normal and/or the vertex
+// colour: their vertex stage in SIMD (src/vertex/transform_simd.cpp), the same bytes as vertex().
+// Vertices [begin, end): clip[j] and varyings[j * N ..] belong to vertex begin + j.
 template <class Layout>
 void run_vertex_stage(const MeshArrays& mesh, const ShadingUniforms& u, std::size_t begin, std::size_t end,
                       Vec4* clip, float* varyings) {

@@ -204,7 +204,7 @@ enum class State { unread, reading, read };
 class GltfReader {
 public:
     GltfReader(const std::string& path, const LoadOptions& options, const ResourceRoots& roots, ImportNotes& notes)
-        : path_(path), options_(options), roots_(roots), notes_(notes) {
+        : options_(options), roots_(roots), notes_(notes) {
         // assimp's mCurrentAssetDir: the path up to its last separator.
         const std::size_t slash = path.find_last_of('/');
         dir_ = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
@@ -876,7 +876,6 @@ private:
         return true;
     }
 
-    const std::string& path_;
     const LoadOptions& options_;
     const ResourceRoots& roots_;
     ImportNotes& notes_;
