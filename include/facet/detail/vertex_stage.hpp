@@ -2,8 +2,9 @@
 // transforms it is made of. Renderer::draw calls vertex() once per vertex; a shader type for which
 // CompiledVertexStage is specialized with available = true computes a block of vertices with its
 // run(shader, begin, end, clip, varyings) instead, and gives one vertex's clip position again, the
-// same bits, with position(shader, i) (clipping's; the stage keeps no array of them). The built-in shaders whose vertex() is a matrix times the position and the normal
-// (shaders.hpp) have one: the same bytes as vertex(), several vertices at a time.
+// same bits, with position(shader, i) (clipping's; the stage keeps no array of them). The built-in
+// shaders whose vertex() is a matrix times the position and the normal (shaders.hpp) have one: the
+// same bytes as vertex(), several vertices at a time.
 #pragma once
 
 #include <cstddef>
