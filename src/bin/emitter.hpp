@@ -157,9 +157,21 @@ private:
         // A local copy: the record copies below may write any byte, so what a member holds would be
         // read again from memory for every triangle.
         const BinGrid grid = grid_of();
-        for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
-            const int i = std::countr_zero(keep);
-            bin_lanes_record(grid, lanes_, i, Primitives ? primitive_[i] : 0);
+        // With shared bins, streaming stores as in bin_across_tiles: an ordinary store would first
+        // fetch its line from the core whose tile pass read it last frame (the 1M sphere at 2 threads:
+        // a tenth of its frame). One thread keeps ordinary stores: it owns its lines already, and its
+        // streaming stores write slower (docs/BENCHMARKS.md, session 13).
+        if (p_.shared_bins) {
+            for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
+                const int i = std::countr_zero(keep);
+                bin_lanes_record<true, false>(grid, lanes_, i, Primitives ? primitive_[i] : 0);
+            }
+            streamed_ = true;
+        } else {
+            for (std::uint32_t keep = lanes_.keep; keep != 0; keep &= keep - 1) {
+                const int i = std::countr_zero(keep);
+                bin_lanes_record(grid, lanes_, i, Primitives ? primitive_[i] : 0);
+            }
         }
         batch_.count = 0;
     }
@@ -270,7 +282,7 @@ private:
 
     // Record i of `lanes` into the bin of every tile it reaches: a record that goes to one tile
     // (most) is written straight into its bin (with Stream, by streaming stores).
-    template <bool Stream = false>
+    template <bool Stream = false, bool Segment = Stream>
     [[gnu::always_inline]] void bin_lanes_record(const BinGrid& grid, const SetupLanes& lanes, int i, std::uint32_t primitive) {
         const std::int32_t* bounds = lanes.bounds(i);
         if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
@@ -278,7 +290,7 @@ private:
             TriangleSetup& t = slot<!Stream>(grid, tile, primitive);
             // Noted before the record's bytes are copied: the compiler takes those stores to change
             // the bin's pointers.
-            note_floor(grid, tile, Stream ? -std::numeric_limits<float>::infinity() : lanes.floor[i]);  // Stream: segments
+            note_floor(grid, tile, Segment ? -std::numeric_limits<float>::infinity() : lanes.floor[i]);
             if constexpr (Stream) stream_record(lanes, i, t);
             else write_record(lanes, i, t);
             return;
