@@ -51,16 +51,17 @@ public:
         lanes_.floors = floors_;
     }
 
-    // Triangle `triangle` of the draw, with every vertex inside all clip planes (most of them): set
-    // up later with its batch.
-    void add_unclipped(const ClipVertices& vertices, const std::uint32_t (&idx)[3], std::uint32_t triangle) {
+    // Triangle `triangle` of the draw, vertices i0, i1, i2 of `screen`, each inside all clip planes
+    // (most triangles): set up later with its batch. The count is stored, not incremented in place:
+    // the vertices' stores could change it, so `++count` read it back from memory.
+    void add_unclipped(const ScreenVertex* screen, std::uint32_t i0, std::uint32_t i1, std::uint32_t i2,
+                       std::uint32_t triangle) {
         const int i = batch_.count;
-        for (int k = 0; k < 3; ++k) {
-            batch_.v[k][i] = vertices.screen[idx[k]];
-            batch_.ref[k][i] = idx[k];
-        }
+        batch_.v[0][i] = screen[i0], batch_.v[1][i] = screen[i1], batch_.v[2][i] = screen[i2];
+        batch_.ref[0][i] = i0, batch_.ref[1][i] = i1, batch_.ref[2][i] = i2;
         if constexpr (Primitives) primitive_[i] = triangle;
-        if (++batch_.count == SetupBatch::k_capacity) flush();
+        batch_.count = i + 1;
+        if (i + 1 == SetupBatch::k_capacity) flush();
     }
 
     // A projected, snapped triangle made from primitive `primitive` (a quad's half of a point or a line

@@ -61,13 +61,17 @@ void assemble(const ClipVertices& vertices, std::size_t first, std::size_t end, 
               const ClipPassVaryings* passes) {
     const std::size_t vertex_count = vertices.pos.size();
     const std::uint8_t* outcode = vertices.outcode.data();
+    const ScreenVertex* screen = vertices.screen.data();
     for (std::size_t t = first; t < end; ++t) {
-        const std::uint32_t idx[3] = {index_of(t, 0), index_of(t, 1), index_of(t, 2)};
-        if (std::max({idx[0], idx[1], idx[2]}) < vertex_count &&
-            (outcode[idx[0]] | outcode[idx[1]] | outcode[idx[2]]) == 0) {
-            emitter.add_unclipped(vertices, idx, static_cast<std::uint32_t>(t));
+        // Scalars, and the array only on the rare path: an array passed by reference was stored
+        // to the stack for every triangle (and `screen` a local: through `vertices` its address was
+        // loaded again after each of the batch's stores).
+        const std::uint32_t i0 = index_of(t, 0), i1 = index_of(t, 1), i2 = index_of(t, 2);
+        if (std::max({i0, i1, i2}) < vertex_count && (outcode[i0] | outcode[i1] | outcode[i2]) == 0) {
+            emitter.add_unclipped(screen, i0, i1, i2, static_cast<std::uint32_t>(t));
             continue;
         }
+        const std::uint32_t idx[3] = {i0, i1, i2};
         assemble_other(vertices, idx, static_cast<std::uint32_t>(t), guard, p, emitter, out, passes);
     }
 }
