@@ -206,6 +206,8 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
         const aiVector3D& p = in.positions[source(k)];
         m.positions.push_back({p.x, p.y, p.z});
     }
+    // Read no more (the checks above were the last): freed, for the normals below to take their pages.
+    if (in.positions_owner) std::vector<aiVector3D>().swap(*in.positions_owner);
     if (in.colours) {
         detail::reserve_in_huge_pages(m.colours, kept);
         for (std::size_t k = 0; k < kept; ++k) m.colours.push_back(clamp_colour(in.colours[source(k)]));
@@ -228,6 +230,8 @@ ConvertedMesh convert_mesh(const SourceMesh& in, bool use_file_normals, float cr
             m.normals.push_back(normalize(Vec3{n.x, n.y, n.z}));
         }
     } else if (!m.indices.empty()) {
+        // Reserved before the normals' scratch arrays: the freed positions' pages, where they fit.
+        detail::reserve_in_huge_pages(m.normals, kept);
         // Positions known distinct (and so the used ones, renumbered): no welding.
         detail::compute_creased_normals_with(m, crease_angle_radians, threads, in.distinct_positions);
     }
@@ -599,6 +603,7 @@ SourceScene OwnScene::view() {
         s.triangles = m.triangles.data();
         s.triangle_count = m.triangles.size() / 3;
         s.triangles_owner = &m.triangles;
+        s.positions_owner = &m.positions;
         s.distinct_positions = m.distinct_positions;
         s.numbered = m.numbered;
         s.drawn_mesh = s.triangle_count > 0;

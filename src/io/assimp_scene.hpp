@@ -49,6 +49,11 @@ struct SourceMesh {
     // The vector that holds `triangles`, which the conversion may take as the Mesh's indices
     // instead of copying them (the array stays where it is); null for assimp's meshes.
     std::vector<std::uint32_t>* triangles_owner = nullptr;
+    // The vector that holds `positions`, which the conversion frees once it has copied them, before
+    // the normals are made (facet's readers'; null for assimp's): the heap then gives its pages to
+    // the normals, of the same size, rather than fresh ones (docs/BENCHMARKS.md "Loading OBJ,
+    // session 13").
+    std::vector<aiVector3D>* positions_owner = nullptr;
     bool distinct_positions = false;  // facet's readers': positions pairwise distinct (creased normals need not weld)
     bool numbered = false;  // facet's readers': as kept_as_numbered finds (every vertex used, in order of first use; finite)
 };
@@ -94,7 +99,7 @@ struct OwnScene {
     std::map<std::string, std::string_view, std::less<>> embedded;  // views of data the reader keeps
     std::vector<std::string> kept;                                  // such data
 
-    SourceScene view();  // the meshes' triangles may be taken by the conversion
+    SourceScene view();  // the meshes' triangles may be taken, their positions freed, by the conversion
 };
 
 // The source of an aiScene (views of its arrays; the aiScene must outlive it).
