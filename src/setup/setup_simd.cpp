@@ -325,9 +325,27 @@ HWY_INLINE Edge32 set_edge32(const Corner32& a, const Corner32& b, VI32 cx, VI32
 }
 
 HWY_INLINE void store_unit32(SetupLanes& out, int g, int i0, VI32 w0, VI32 w1, VI32 w2, VI32 w3) {
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+    // Two rounds of two-source permutes (8) where StoreInterleaved4 takes 16 shuffles: words 0-1 and
+    // 2-3 of triangles paired, then the pairs joined into each triangle's unit.
+    const __m512i pair_lo = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
+    const __m512i pair_hi = _mm512_setr_epi32(8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13, 29, 14, 30, 15, 31);
+    const __m512i join_lo = _mm512_setr_epi32(0, 1, 16, 17, 2, 3, 18, 19, 4, 5, 20, 21, 6, 7, 22, 23);
+    const __m512i join_hi = _mm512_setr_epi32(8, 9, 24, 25, 10, 11, 26, 27, 12, 13, 28, 29, 14, 15, 30, 31);
+    const __m512i a_lo = _mm512_permutex2var_epi32(w0.raw, pair_lo, w1.raw);
+    const __m512i a_hi = _mm512_permutex2var_epi32(w0.raw, pair_hi, w1.raw);
+    const __m512i b_lo = _mm512_permutex2var_epi32(w2.raw, pair_lo, w3.raw);
+    const __m512i b_hi = _mm512_permutex2var_epi32(w2.raw, pair_hi, w3.raw);
+    auto* to = reinterpret_cast<__m512i*>(out.unit[g][i0].word);
+    _mm512_storeu_si512(to + 0, _mm512_permutex2var_epi32(a_lo, join_lo, b_lo));
+    _mm512_storeu_si512(to + 1, _mm512_permutex2var_epi32(a_lo, join_hi, b_lo));
+    _mm512_storeu_si512(to + 2, _mm512_permutex2var_epi32(a_hi, join_lo, b_hi));
+    _mm512_storeu_si512(to + 3, _mm512_permutex2var_epi32(a_hi, join_hi, b_hi));
+#else
     const DU32 du;
     hn::StoreInterleaved4(hn::BitCast(du, w0), hn::BitCast(du, w1), hn::BitCast(du, w2), hn::BitCast(du, w3), du,
                           out.unit[g][i0].word);
+#endif
 }
 
 bool SetUpGroupIn32Bits(const SetupBatch& batch, const FrontEndParams& p, SetupLanes& out, int i0) {
