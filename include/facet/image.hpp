@@ -56,12 +56,40 @@ struct CacheLineAllocator {
     void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, k_alignment); }
     friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) { return true; }
 };
+
+// The same, but resize leaves new elements default-initialized (a float's value undefined): for an
+// array that a draw writes before anything reads it, not written twice.
+template <class T>
+struct UninitializedCacheLineAllocator : CacheLineAllocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitializedCacheLineAllocator<U>;
+    };
+    UninitializedCacheLineAllocator() = default;
+    template <class U>
+    UninitializedCacheLineAllocator(const UninitializedCacheLineAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(static_cast<Args&&>(args)...);
+    }
+};
 }  // namespace detail
 
 class Framebuffer {
 public:
-    // Throws FacetError unless 1 <= width, height <= k_max_target_size.
+    // Throws FacetError unless 1 <= width, height <= k_max_target_size. The colour starts at 0, the
+    // depth at 1.
     Framebuffer(int width, int height);
+    // Draws into width * height Rgba8 of the caller's memory from the start, as use_colour_memory
+    // after the constructor above, but without making an array of its own and clearing anything:
+    // the colour is the caller's memory as it is, the depth undefined until a clear (render_scene
+    // and a draw with DrawState::clear clear both). For a target that is drawn into at once.
+    // nullptr: memory of its own.
+    Framebuffer(int width, int height, Rgba8* colour);
 
     int width() const { return width_; }
     int height() const { return height_; }
@@ -93,7 +121,7 @@ private:
     int width_, height_;
     std::vector<Rgba8, detail::CacheLineAllocator<Rgba8>> colour_;
     Rgba8* external_colour_ = nullptr;  // use_colour_memory's; colour_ is empty then
-    std::vector<float, detail::CacheLineAllocator<float>> depth_;
+    std::vector<float, detail::UninitializedCacheLineAllocator<float>> depth_;
 };
 
 }  // namespace facet

@@ -18,14 +18,27 @@ const char* to_string(ErrorCode code) {
     return "error";
 }
 
-Framebuffer::Framebuffer(int width, int height) : width_(width), height_(height) {
+namespace {
+
+void check_size(int width, int height) {
     if (width < 1 || height < 1 || width > k_max_target_size || height > k_max_target_size)
         throw FacetError(Error{ErrorCode::invalid_argument,
                                "Framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                                    " is outside 1.." + std::to_string(k_max_target_size)});
-    const std::size_t n = static_cast<std::size_t>(width) * height;
-    colour_.resize(n);
-    depth_.assign(n, 1.0f);
+}
+
+}  // namespace
+
+Framebuffer::Framebuffer(int width, int height) : width_(width), height_(height) {
+    check_size(width, height);
+    colour_.resize(pixel_count());
+    depth_.assign(pixel_count(), 1.0f);
+}
+
+Framebuffer::Framebuffer(int width, int height, Rgba8* colour) : width_(width), height_(height), external_colour_(colour) {
+    check_size(width, height);
+    if (!colour) colour_.resize(pixel_count());
+    depth_.resize(pixel_count());  // left as the memory holds it: the first draw's clear writes it
 }
 
 void Framebuffer::clear(Vec4 colour, float depth) {

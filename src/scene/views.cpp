@@ -161,6 +161,14 @@ Framebuffer& sized(std::optional<Framebuffer>& fb, int w, int h) {
     return *fb;
 }
 
+// One drawing into `colour`; made so at first, without an array of its own (and nothing cleared:
+// the draw clears both arrays).
+Framebuffer& sized(std::optional<Framebuffer>& fb, int w, int h, Rgba8* colour) {
+    if (!fb || fb->width() != w || fb->height() != h) fb.emplace(w, h, colour);
+    else fb->use_colour_memory(colour);
+    return *fb;
+}
+
 }  // namespace
 
 void ViewRenderer::prepare(std::span<const ObjectView> objects, const ViewRequest& r) {
@@ -250,8 +258,7 @@ DrawStats ViewRenderer::render_view(std::span<const ObjectView> objects, const C
     if (r.ssaa == 1 && r.aa == 1) {
         // One draw per object for everything, colour straight into the caller's image. (direct_ keeps
         // pointing there afterwards: going back to memory of its own would allocate at every view.)
-        Framebuffer& fb = colour ? sized(direct_, r.width, r.height) : sized(target_, r.width, r.height);
-        if (colour) fb.use_colour_memory(colour);
+        Framebuffer& fb = colour ? sized(direct_, r.width, r.height, colour) : sized(target_, r.width, r.height);
         t.alpha = alpha;
         const DrawStats stats = passes.needs_surface() || alpha
                                     ? detail::render_scene_passes(renderer_, fb, drawn, camera, r.settings, surface)

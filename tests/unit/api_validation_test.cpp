@@ -80,6 +80,10 @@ TEST(ApiValidation, FramebufferSizesOutsideTheRangeThrowInvalidArgument) {
     for (auto [w, h] : {std::pair{0, 1}, {1, 0}, {-1, 5}, {5, -1}, {k_max_target_size + 1, 1}, {1, k_max_target_size + 1},
                         {std::numeric_limits<int>::min(), 1}, {std::numeric_limits<int>::max(), 1}})
         EXPECT_EQ(code_thrown_by([&] { Framebuffer{w, h}; }), ErrorCode::invalid_argument) << w << "x" << h;
+    for (auto [w, h] : {std::pair{0, 1}, {1, k_max_target_size + 1}}) {
+        Rgba8 pixel;
+        EXPECT_EQ(code_thrown_by([&] { Framebuffer(w, h, &pixel); }), ErrorCode::invalid_argument) << w << "x" << h;
+    }
     EXPECT_NO_THROW(Framebuffer(1, 1));
     EXPECT_NO_THROW(Framebuffer(k_max_target_size, 1));
 }

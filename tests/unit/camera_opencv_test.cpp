@@ -344,7 +344,7 @@ TEST(SceneViews, RenderTheSameBytesAsTheScene) {
 
 // A framebuffer drawing into caller memory draws the bytes it draws into its own, at any
 // alignment of that memory (rows that are not whole cache lines take the plain stores), and goes
-// back to memory of its own on nullptr.
+// back to memory of its own on nullptr; and one made on caller memory draws the same.
 TEST(SceneViews, FramebufferDrawsIntoCallerMemory) {
     const Scene scene = mixed_scene();
     Renderer renderer({.threads = 2});
@@ -368,6 +368,14 @@ TEST(SceneViews, FramebufferDrawsIntoCallerMemory) {
             EXPECT_NE(fb.colour_data(), pixels);
             render_scene(renderer, fb, scene, camera, RenderSettings{});
             EXPECT_EQ(std::memcmp(fb.colour_data(), own.colour_data(), static_cast<std::size_t>(w) * h * 4), 0);
+            // Made on the caller's memory: nothing cleared before the draw, which clears both arrays.
+            std::memset(pixels, 0xab, static_cast<std::size_t>(w) * h * 4);
+            Framebuffer made(w, h, pixels);
+            EXPECT_EQ(made.colour_data(), pixels);
+            EXPECT_EQ(made.colour(0, 0), (Rgba8{0xab, 0xab, 0xab, 0xab}));
+            render_scene(renderer, made, scene, camera, RenderSettings{});
+            EXPECT_EQ(std::memcmp(pixels, own.colour_data(), static_cast<std::size_t>(w) * h * 4), 0) << w << " " << offset;
+            EXPECT_EQ(std::memcmp(made.depth_data(), own.depth_data(), static_cast<std::size_t>(w) * h * 4), 0);
         }
     }
 }
