@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <string_view>
 
+#include "facet/sandbox.hpp"
 #include "options.hpp"
 
 namespace {
@@ -29,6 +31,16 @@ constexpr std::string_view k_subcommands[] = {"render", "thumbs", "thumbnail", "
 bool options_wanted(std::string_view subcommand, int argc, char** argv) {
     const std::string_view first = argc > 1 ? argv[1] : "";
     return first == subcommand || std::find(std::begin(k_subcommands), std::end(k_subcommands), first) == std::end(k_subcommands);
+}
+
+// `facet render`'s end, its files complete and its messages written: stdio flushed, the process
+// ends without destroying the options (CLI11's App: ~0.1 ms of frees) or running static
+// destructors, which release nothing the exit does not. Sanitizer builds return from main as
+// usual: LeakSanitizer checks at exit.
+int end_render(int status) {
+    if (facet::sanitizer_build()) return status;
+    std::fflush(nullptr);
+    std::_Exit(status);
 }
 }  // namespace
 
@@ -131,8 +143,8 @@ int main(int argc, char** argv) {
                                      "--no-isolation does without\n");
                 return k_exit_usage;
             }
-            return run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render), reference,
-                              render->count("--output") > 0, render->count("--size") > 0);
+            return end_render(run_render(model, output, depth_out, benchmark, render_options, has_camera_options(*render),
+                                         reference, render->count("--output") > 0, render->count("--size") > 0));
         }
         if (thumbs->parsed()) return run_thumbs(inputs, out_dir, thumbs_options, collection);
         if (thumbnail->parsed()) return run_thumbnail(thumbnail_input, thumbnail_output, thumbnail_size, thumbnail_options);
