@@ -577,12 +577,30 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                 auto field = [&](int j) { return hn::Set(df, record[j]); };
                 interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
             } else {
-                auto field = [&](int j) {
-                    VF v = hn::Set(df, run_record[0][j]);
-                    for (int r = 1; r < runs; ++r) v = hn::IfThenElse(run_mask[r], hn::Set(df, run_record[r][j]), v);
-                    return v;
+                // Two to four runs (most shared blocks) with the count known at compile time: the
+                // masks and records stay in registers and no field's blend tests the count.
+                auto blend = [&]<int R>() {
+                    MF mask[R];
+                    const float* record[R];
+                    for (int r = 0; r < R; ++r) mask[r] = run_mask[r], record[r] = run_record[r];
+                    auto field = [&](int j) {
+                        VF v = hn::Set(df, record[0][j]);
+                        for (int r = 1; r < R; ++r) v = hn::IfThenElse(mask[r], hn::Set(df, record[r][j]), v);
+                        return v;
+                    };
+                    interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
                 };
-                interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
+                if (runs == 2) blend.template operator()<2>();
+                else if (runs == 3) blend.template operator()<3>();
+                else if (runs == 4) blend.template operator()<4>();
+                else {
+                    auto field = [&](int j) {
+                        VF v = hn::Set(df, run_record[0][j]);
+                        for (int r = 1; r < runs; ++r) v = hn::IfThenElse(run_mask[r], hn::Set(df, run_record[r][j]), v);
+                        return v;
+                    };
+                    interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
+                }
             }
         }
         for (int b = 0; b < count; ++b) {
