@@ -4,7 +4,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "facet/api.hpp"
@@ -57,26 +60,32 @@ struct CacheLineAllocator {
     friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) { return true; }
 };
 
-// The same, but resize leaves new elements default-initialized (a float's value undefined): for an
-// array that a draw writes before anything reads it, not written twice.
-template <class T>
-struct UninitializedCacheLineAllocator : CacheLineAllocator<T> {
+// An allocator like Base<T> whose resize() leaves new elements as the memory holds them, so that
+// an array can be sized ahead and each element written once, in place, by the stage that fills it.
+// For trivial types that is not even a member's default initialiser (Vec4's zeros): the storage is
+// the object.
+template <template <class> class Base, class T>
+struct LeftUninitialised : Base<T> {
     template <class U>
     struct rebind {
-        using other = UninitializedCacheLineAllocator<U>;
+        using other = LeftUninitialised<Base, U>;
     };
-    UninitializedCacheLineAllocator() = default;
+    LeftUninitialised() = default;
     template <class U>
-    UninitializedCacheLineAllocator(const UninitializedCacheLineAllocator<U>&) noexcept {}
+    LeftUninitialised(const LeftUninitialised<Base, U>&) noexcept {}
     template <class U>
-    void construct(U* p) {
-        ::new (static_cast<void*>(p)) U;
+    void construct(U* p) noexcept {
+        if constexpr (!(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>)) ::new (static_cast<void*>(p)) U;
     }
     template <class U, class... Args>
     void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(static_cast<Args&&>(args)...);
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
     }
 };
+template <class T>
+using UninitialisedAllocator = LeftUninitialised<std::allocator, T>;
+template <class T>
+using UninitialisedCacheLineAllocator = LeftUninitialised<CacheLineAllocator, T>;
 }  // namespace detail
 
 class Framebuffer {
@@ -121,7 +130,7 @@ private:
     int width_, height_;
     std::vector<Rgba8, detail::CacheLineAllocator<Rgba8>> colour_;
     Rgba8* external_colour_ = nullptr;  // use_colour_memory's; colour_ is empty then
-    std::vector<float, detail::UninitializedCacheLineAllocator<float>> depth_;
+    std::vector<float, detail::UninitialisedCacheLineAllocator<float>> depth_;
 };
 
 }  // namespace facet

@@ -3,6 +3,7 @@
 // into caller memory (Framebuffer::use_colour_memory): what the Python package is built on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -369,7 +370,7 @@ TEST(SceneViews, FramebufferDrawsIntoCallerMemory) {
             render_scene(renderer, fb, scene, camera, RenderSettings{});
             EXPECT_EQ(std::memcmp(fb.colour_data(), own.colour_data(), static_cast<std::size_t>(w) * h * 4), 0);
             // Made on the caller's memory: nothing cleared before the draw, which clears both arrays.
-            std::memset(pixels, 0xab, static_cast<std::size_t>(w) * h * 4);
+            std::fill_n(pixels, static_cast<std::size_t>(w) * h, Rgba8{0xab, 0xab, 0xab, 0xab});
             Framebuffer made(w, h, pixels);
             EXPECT_EQ(made.colour_data(), pixels);
             EXPECT_EQ(made.colour(0, 0), (Rgba8{0xab, 0xab, 0xab, 0xab}));

@@ -40,29 +40,7 @@ struct ScreenVertex {
 // Outcode bit for a vertex with a NaN or infinite coordinate (the clip planes use bits 0-6).
 constexpr std::uint8_t k_outcode_invalid = 0x80;
 
-// An allocator whose resize() leaves new elements as the memory holds them, so that an array can be
-// sized ahead and each element written once, in place, by the stage that fills it. For trivial types
-// that is not even a member's default initialiser (Vec4's zeros): the storage is the object.
-template <class T>
-struct UninitialisedAllocator : std::allocator<T> {
-    template <class U>
-    struct rebind {
-        using other = UninitialisedAllocator<U>;
-    };
-    UninitialisedAllocator() = default;
-    template <class U>
-    UninitialisedAllocator(const UninitialisedAllocator<U>&) noexcept {}
-    template <class U>
-    void construct(U* p) noexcept {
-        if constexpr (!(std::is_trivially_copyable_v<U> && std::is_trivially_destructible_v<U>)) ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... Args>
-    void construct(U* p, Args&&... args) {
-        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-    }
-};
-
-// A vector of the above: resize() writes nothing.
+// A vector of UninitialisedAllocator (facet/image.hpp): resize() writes nothing.
 template <class T>
 using UninitialisedVector = std::vector<T, UninitialisedAllocator<T>>;
 
