@@ -155,9 +155,9 @@ HWY_INLINE hn::Mask<Tag> small_and_empty(Tag t, const hn::Vec<Tag> (&e0)[3], con
     static_assert(k_small_bounds == 3, "two steps per axis");
     using VT = hn::Vec<Tag>;
     constexpr bool k_integer = std::is_integral_v<hn::TFromD<Tag>>;
-    const auto negative = [t](VT v) {  // sign bit set where v < 0
+    const auto negative = [](VT v) {  // sign bit set where v < 0
         if constexpr (std::is_integral_v<hn::TFromD<Tag>>) return v;
-        else return hn::VecFromMask(t, hn::Lt(v, hn::Zero(t)));
+        else return hn::VecFromMask(Tag(), hn::Lt(v, hn::Zero(Tag())));
     };
     const VT zero = hn::Zero(t), one = hn::Set(t, 1);
     const auto w1 = hn::Gt(w, zero), w2 = hn::Gt(w, one), h1 = hn::Gt(h, zero), h2 = hn::Gt(h, one);

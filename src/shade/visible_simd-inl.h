@@ -436,8 +436,10 @@ HWY_INLINE void store_block(D d, hn::Vec<D> v, T* p, int stride) {
 
 // GCC 12 cannot see that the runs found from the leaders' bits fill run_record[0, runs) before the
 // blends read it, and warns; the entries read are exactly those written.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 template <class S, class Lanes>
 void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile& vis, TargetView target) {
     // A copy of the shader's lanes on the stack, whose address does not escape: the stores to the
@@ -626,7 +628,9 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
     for (int r = 0; r < height; ++r)
         if (redo[r]) shade_visible_pixels(shader, vis, target, tile.y0 + r, redo[r]);
 }
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 
 }  // namespace facet::detail::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
