@@ -281,7 +281,25 @@ struct Corner32 {
 
 HWY_INLINE Corner32 load_corner32(const ScreenVertex* v) {
     Corner32 c;
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+    // As store_unit32, two rounds of two-source permutes (8) where LoadInterleaved4 takes 16
+    // shuffles: x and y, z and q of vertices 0-7 and 8-15 paired, then the pairs' halves joined.
+    const __m512i take_xy = _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 1, 5, 9, 13, 17, 21, 25, 29);
+    const __m512i take_zq = _mm512_setr_epi32(2, 6, 10, 14, 18, 22, 26, 30, 3, 7, 11, 15, 19, 23, 27, 31);
+    const __m512i lower = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23);
+    const __m512i upper = _mm512_setr_epi32(8, 9, 10, 11, 12, 13, 14, 15, 24, 25, 26, 27, 28, 29, 30, 31);
+    const auto* from = reinterpret_cast<const __m512i*>(v);
+    const __m512i v0 = _mm512_loadu_si512(from + 0), v1 = _mm512_loadu_si512(from + 1);
+    const __m512i v2 = _mm512_loadu_si512(from + 2), v3 = _mm512_loadu_si512(from + 3);
+    const __m512i xy_lo = _mm512_permutex2var_epi32(v0, take_xy, v1), zq_lo = _mm512_permutex2var_epi32(v0, take_zq, v1);
+    const __m512i xy_hi = _mm512_permutex2var_epi32(v2, take_xy, v3), zq_hi = _mm512_permutex2var_epi32(v2, take_zq, v3);
+    c.x = VI32{_mm512_permutex2var_epi32(xy_lo, lower, xy_hi)};
+    c.y = VI32{_mm512_permutex2var_epi32(xy_lo, upper, xy_hi)};
+    c.z = VI32{_mm512_permutex2var_epi32(zq_lo, lower, zq_hi)};
+    c.q = VI32{_mm512_permutex2var_epi32(zq_lo, upper, zq_hi)};
+#else
     hn::LoadInterleaved4(DI32(), reinterpret_cast<const std::int32_t*>(v), c.x, c.y, c.z, c.q);
+#endif
     return c;
 }
 
