@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 
+#include "add_option.hpp"
 #include "facet/sandbox.hpp"
 #include "options.hpp"
 
@@ -56,20 +57,20 @@ int main(int argc, char** argv) {
     ReferenceCheck reference;
     CLI::App* render = app.add_subcommand("render", "Render a model file (or, with none, the built-in default scene) to a PNG");
     if (options_wanted("render", argc, argv)) {
-        render->add_option("model", model, "Model file: OBJ, STL, PLY, OFF, glTF/GLB, FBX, 3MF, DAE, 3DS, ...");
-        render->add_option("-o,--output", output,
-                           "Output PNG (written atomically); with --views or --passes, the folder to write into")
+        add_option(*render, "model", model, "Model file: OBJ, STL, PLY, OFF, glTF/GLB, FBX, 3MF, DAE, 3DS, ...");
+        add_option(*render, "-o,--output", output,
+                   "Output PNG (written atomically); with --views or --passes, the folder to write into")
             ->capture_default_str();
-        render->add_option("--depth-out", depth_out, "Also write window depth as a 16-bit grayscale PNG");
-        render->add_option("--benchmark", benchmark, "Render N timed frames after a warm-up; print one JSON line");
+        add_option(*render, "--depth-out", depth_out, "Also write window depth as a 16-bit grayscale PNG");
+        add_option(*render, "--benchmark", benchmark, "Render N timed frames after a warm-up; print one JSON line");
         add_render_options(*render, render_options);
         add_views_options(*render, render_options);
         add_worker_options(*render, render_options, /*in_process_option=*/true);
-        render->add_option("--reference", reference.reference,
-                           "Compare the output with this PNG: exit 1 and write OUTPUT.diff.png when they differ");
-        render->add_option("--threshold", reference.threshold, k_threshold_help);
-        render->add_flag("--update-reference", reference.update,
-                         "Write the --reference PNG when it is missing or differs (and say so) instead of failing");
+        add_option(*render, "--reference", reference.reference,
+                   "Compare the output with this PNG: exit 1 and write OUTPUT.diff.png when they differ");
+        add_option(*render, "--threshold", reference.threshold, k_threshold_help);
+        add_flag(*render, "--update-reference", reference.update,
+                 "Write the --reference PNG when it is missing or differs (and say so) instead of failing");
     }
 
     RenderOptions thumbs_options = thumbnail_options();
@@ -78,26 +79,26 @@ int main(int argc, char** argv) {
     CollectionOptions collection;
     CLI::App* thumbs = app.add_subcommand("thumbs", "Render a thumbnail PNG of every model in files and directories");
     if (options_wanted("thumbs", argc, argv)) {
-        thumbs->add_option("inputs", inputs, "Model files and directories (searched recursively); or give --manifest");
-        thumbs->add_option("-o,--output", out_dir, "Output directory")->required();
-        thumbs->add_option("--manifest", collection.manifest,
-                           "Objects from this file ('-': stdin): a path per line, or JSON Lines with \"path\", \"id\" and "
-                           "per-object \"size\", \"up_axis\", \"views\", \"passes\"; outputs are named by the id");
-        thumbs->add_option("--shard", collection.shard,
-                           "K/N: only the objects whose id hashes into shard K of N (0 <= K < N), the same on every machine");
-        thumbs->add_option("--log", collection.log,
-                           "Append one JSON line per finished object to this file (id, status, error, times, outputs, "
-                           "options hash)");
-        thumbs->add_option("--manifest-lines", collection.manifest_lines,
-                           "Only these lines of the --manifest file, as OFFSET:LINE pairs (byte offset of the line's start, "
-                           "line number), comma-separated: a task of a few objects that need not read the whole manifest "
-                           "(facet.distributed's tasks; temporaries of killed runs are then left to the caller)");
-        thumbs->add_flag("--resume", collection.resume,
-                         "Skip the objects the --log has done with the same options whose outputs exist; redo the rest");
-        thumbs->add_option("--worker-sharing", collection.worker_sharing,
-                           "folder: a worker process serves files of one folder only; batch: the next objects of the run "
-                           "whatever their folders, its sandbox opened to those folders (default: batch with --manifest, "
-                           "folder otherwise)")
+        add_option(*thumbs, "inputs", inputs, "Model files and directories (searched recursively); or give --manifest");
+        add_option(*thumbs, "-o,--output", out_dir, "Output directory")->required();
+        add_option(*thumbs, "--manifest", collection.manifest,
+                   "Objects from this file ('-': stdin): a path per line, or JSON Lines with \"path\", \"id\" and "
+                   "per-object \"size\", \"up_axis\", \"views\", \"passes\"; outputs are named by the id");
+        add_option(*thumbs, "--shard", collection.shard,
+                   "K/N: only the objects whose id hashes into shard K of N (0 <= K < N), the same on every machine");
+        add_option(*thumbs, "--log", collection.log,
+                   "Append one JSON line per finished object to this file (id, status, error, times, outputs, "
+                   "options hash)");
+        add_option(*thumbs, "--manifest-lines", collection.manifest_lines,
+                   "Only these lines of the --manifest file, as OFFSET:LINE pairs (byte offset of the line's start, "
+                   "line number), comma-separated: a task of a few objects that need not read the whole manifest "
+                   "(facet.distributed's tasks; temporaries of killed runs are then left to the caller)");
+        add_flag(*thumbs, "--resume", collection.resume,
+                 "Skip the objects the --log has done with the same options whose outputs exist; redo the rest");
+        add_option(*thumbs, "--worker-sharing", collection.worker_sharing,
+                   "folder: a worker process serves files of one folder only; batch: the next objects of the run "
+                   "whatever their folders, its sandbox opened to those folders (default: batch with --manifest, "
+                   "folder otherwise)")
             ->check(CLI::IsMember({"folder", "batch"}));
         add_render_options(*thumbs, thumbs_options);
         thumbs->get_option("--size")->description("Thumbnail size N (square) or WxH");
@@ -111,12 +112,12 @@ int main(int argc, char** argv) {
         "thumbnail", "One thumbnail for a file manager (the freedesktop thumbnailer entry runs it): a PNG of SIZE x SIZE "
                      "on a transparent background; exit 0 only when it is written");
     if (options_wanted("thumbnail", argc, argv)) {
-        thumbnail->add_option("input", thumbnail_input, "Model file: a path or a file:// URI")->required();
-        thumbnail->add_option("output", thumbnail_output, "Output PNG (written atomically; none when the model fails)")->required();
+        add_option(*thumbnail, "input", thumbnail_input, "Model file: a path or a file:// URI")->required();
+        add_option(*thumbnail, "output", thumbnail_output, "Output PNG (written atomically; none when the model fails)")->required();
         add_render_options(*thumbnail, thumbnail_options);
         thumbnail->remove_option(thumbnail->get_option("--size"));
         thumbnail->remove_option(thumbnail->get_option("--threads"));  // one file: one worker, one thread
-        thumbnail->add_option("-s,--size", thumbnail_size, "Thumbnail size N for N x N (the file manager's %s)")
+        add_option(*thumbnail, "-s,--size", thumbnail_size, "Thumbnail size N for N x N (the file manager's %s)")
             ->capture_default_str();
         add_worker_options(*thumbnail, thumbnail_options, /*in_process_option=*/false);
     }
@@ -128,11 +129,11 @@ int main(int argc, char** argv) {
     DiffOptions diff_options;
     CLI::App* diff = app.add_subcommand("diff", "Compare two PNG images: exit 0 when within the thresholds, 1 when not, 2 on an error");
     if (options_wanted("diff", argc, argv)) {
-        diff->add_option("a", diff_a, "First image (the diff image dims a copy of it)")->required();
-        diff->add_option("b", diff_b, "Second image")->required();
-        diff->add_option("--threshold", diff_options.threshold, k_threshold_help);
-        diff->add_option("--diff-image", diff_options.diff_image, "Write where they differ (red) over a dimmed copy of A to this PNG");
-        diff->add_flag("--json", diff_options.json, "Print the comparison as one JSON object instead of the summary line");
+        add_option(*diff, "a", diff_a, "First image (the diff image dims a copy of it)")->required();
+        add_option(*diff, "b", diff_b, "Second image")->required();
+        add_option(*diff, "--threshold", diff_options.threshold, k_threshold_help);
+        add_option(*diff, "--diff-image", diff_options.diff_image, "Write where they differ (red) over a dimmed copy of A to this PNG");
+        add_flag(*diff, "--json", diff_options.json, "Print the comparison as one JSON object instead of the summary line");
     }
 
     if (const std::optional<int> done = parse_command_line(app, argc, argv)) return *done;

@@ -16,6 +16,7 @@
 #include <system_error>
 #include <tuple>
 
+#include "add_option.hpp"
 #include "facet/isa.hpp"
 #include "views_output.hpp"
 
@@ -96,83 +97,83 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     // should hear about it instead of getting the automatic camera.
     const CLI::Validator non_empty([](std::string& v) { return v.empty() ? std::string("must not be empty") : std::string(); },
                                    "");
-    c.add_option("--size", o.size, "Image size WxH")->capture_default_str();
-    c.add_option("--azimuth", o.azimuth, "Orbit azimuth in degrees, about +Y from +Z toward +X")->capture_default_str();
-    c.add_option("--elevation", o.elevation, "Orbit elevation in degrees above the XZ plane")->capture_default_str();
-    c.add_option("--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
-    c.add_option("--eye", o.eye, "Explicit camera position X,Y,Z (replaces automatic framing)")->check(non_empty);
-    c.add_option("--target", o.target, "Point the explicit camera looks at X,Y,Z (default: model centre)")->check(non_empty);
-    c.add_option("--up", o.up, "Camera up vector X,Y,Z (default 0,1,0)")->check(non_empty);
-    c.add_option("--near", o.near, "Near clip plane distance");
-    c.add_option("--far", o.far, "Far clip plane distance");
-    c.add_option("--up-axis", o.up_axis, "Which model axis is up: y or z (CAD and STL files are often Z-up)")
+    add_option(c, "--size", o.size, "Image size WxH")->capture_default_str();
+    add_option(c, "--azimuth", o.azimuth, "Orbit azimuth in degrees, about +Y from +Z toward +X")->capture_default_str();
+    add_option(c, "--elevation", o.elevation, "Orbit elevation in degrees above the XZ plane")->capture_default_str();
+    add_option(c, "--fov", o.fov, "Vertical field of view in degrees")->capture_default_str();
+    add_option(c, "--eye", o.eye, "Explicit camera position X,Y,Z (replaces automatic framing)")->check(non_empty);
+    add_option(c, "--target", o.target, "Point the explicit camera looks at X,Y,Z (default: model centre)")->check(non_empty);
+    add_option(c, "--up", o.up, "Camera up vector X,Y,Z (default 0,1,0)")->check(non_empty);
+    add_option(c, "--near", o.near, "Near clip plane distance");
+    add_option(c, "--far", o.far, "Far clip plane distance");
+    add_option(c, "--up-axis", o.up_axis, "Which model axis is up: y or z (CAD and STL files are often Z-up)")
         ->check(CLI::IsMember({"y", "z"}))
         ->capture_default_str();
-    c.add_flag("--ortho", o.ortho, "Orthographic projection");
-    c.add_option("--shading", o.shading, "lit | lambert | flat | normals | mask | vertex-color | texture")
+    add_flag(c, "--ortho", o.ortho, "Orthographic projection");
+    add_option(c, "--shading", o.shading, "lit | lambert | flat | normals | mask | vertex-color | texture")
         ->capture_default_str();
-    c.add_option("--background", o.background, "R,G,B[,A]: R,G,B in 0..1, or 0..255 if any is above 1; A in 0..1, or 0..255 if above 1; or 'transparent'")->check(non_empty);
-    c.add_option("--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
-    c.add_option("--aa", o.aa,
-                 "Anti-aliasing by N jittered frames averaged (1, 2, 4 or 8; MSAA's sample positions), N times a frame's cost")
+    add_option(c, "--background", o.background, "R,G,B[,A]: R,G,B in 0..1, or 0..255 if any is above 1; A in 0..1, or 0..255 if above 1; or 'transparent'")->check(non_empty);
+    add_option(c, "--ssaa", o.ssaa, "Anti-aliasing by NxN supersampling (1..8)")->capture_default_str();
+    add_option(c, "--aa", o.aa,
+               "Anti-aliasing by N jittered frames averaged (1, 2, 4 or 8; MSAA's sample positions), N times a frame's cost")
         ->capture_default_str();
-    c.add_option("--contact-shadow", o.contact_shadow,
-                 "Lit mode: opacity (0..1) of a soft shadow on the ground under the model; 0: none")
+    add_option(c, "--contact-shadow", o.contact_shadow,
+               "Lit mode: opacity (0..1) of a soft shadow on the ground under the model; 0: none")
         ->capture_default_str();
-    c.add_option("--environment", o.environment,
-                 "Lit mode: the environment light, a Radiance .hdr image (equirectangular, +Y up; default: the built-in "
-                 "neutral studio)")
+    add_option(c, "--environment", o.environment,
+               "Lit mode: the environment light, a Radiance .hdr image (equirectangular, +Y up; default: the built-in "
+               "neutral studio)")
         ->check(non_empty);
-    c.add_option("--exposure", o.exposure, "Lit mode: linear exposure factor applied before tone mapping")
+    add_option(c, "--exposure", o.exposure, "Lit mode: linear exposure factor applied before tone mapping")
         ->capture_default_str();
-    c.add_option("--tone-mapping", o.tone_mapping, "Lit mode: neutral (Khronos PBR Neutral) | aces | linear (clamp)")
+    add_option(c, "--tone-mapping", o.tone_mapping, "Lit mode: neutral (Khronos PBR Neutral) | aces | linear (clamp)")
         ->capture_default_str();
-    c.add_option("--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
-    c.add_option("--isa", o.isa, "SIMD instruction set: best, or one of " + isa_list() +
-                                     " (same image on every one; lower ones for comparison)")
+    add_option(c, "--threads", o.threads, "Worker threads (0: all cores)")->capture_default_str();
+    add_option(c, "--isa", o.isa, "SIMD instruction set: best, or one of " + isa_list() +
+               " (same image on every one; lower ones for comparison)")
         ->capture_default_str();
-    c.add_option("--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")
+    add_option(c, "--crease-angle", o.crease_angle, "Degrees; computed normals split at sharper edges")
         ->capture_default_str();
-    c.add_option("--point-size", o.point_size, "Points' diameter in pixels of the output image (0 < PX <= 256 / ssaa)")
+    add_option(c, "--point-size", o.point_size, "Points' diameter in pixels of the output image (0 < PX <= 256 / ssaa)")
         ->capture_default_str();
-    c.add_option("--point-world-size", o.point_world_size,
-                 "Points' diameter in model units instead, perspective-scaled (at most 256 pixels / ssaa)");
-    c.add_option("--point-shape", o.point_shape, "round | square")->check(CLI::IsMember({"round", "square"}))->capture_default_str();
-    c.add_option("--line-width", o.line_width, "Lines' width in pixels of the output image (0 < PX <= 256 / ssaa)")
+    add_option(c, "--point-world-size", o.point_world_size,
+               "Points' diameter in model units instead, perspective-scaled (at most 256 pixels / ssaa)");
+    add_option(c, "--point-shape", o.point_shape, "round | square")->check(CLI::IsMember({"round", "square"}))->capture_default_str();
+    add_option(c, "--line-width", o.line_width, "Lines' width in pixels of the output image (0 < PX <= 256 / ssaa)")
         ->capture_default_str();
-    c.add_flag("--line-aa", o.line_aa, "Anti-aliased lines: blended by their coverage of each pixel, writing no depth");
-    c.add_option("--max-triangles", o.max_triangles, "Refuse models with more triangles (points and segments count too), before loading them")
+    add_flag(c, "--line-aa", o.line_aa, "Anti-aliased lines: blended by their coverage of each pixel, writing no depth");
+    add_option(c, "--max-triangles", o.max_triangles, "Refuse models with more triangles (points and segments count too), before loading them")
         ->capture_default_str();
-    c.add_option("--max-texture-size", o.max_texture_size,
-                 "Largest texture side in pixels (and at most N*N, 64 Mpixels by default); larger ones are not used")
+    add_option(c, "--max-texture-size", o.max_texture_size,
+               "Largest texture side in pixels (and at most N*N, 64 Mpixels by default); larger ones are not used")
         ->capture_default_str();
-    c.add_option("--resource-dir", o.resource_dirs,
-                 "A folder whose files models may read besides their own folder (textures, MTL files, glTF buffers); "
-                 "repeatable. References elsewhere are refused with a warning")
+    add_option(c, "--resource-dir", o.resource_dirs,
+               "A folder whose files models may read besides their own folder (textures, MTL files, glTF buffers); "
+               "repeatable. References elsewhere are refused with a warning")
         ->expected(1)
         ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-    c.add_flag("--print-config", o.print_config,
-               "Print the settings this run would use, every default resolved, as 'key = value' lines, and exit "
-               "without rendering");
+    add_flag(c, "--print-config", o.print_config,
+             "Print the settings this run would use, every default resolved, as 'key = value' lines, and exit "
+             "without rendering");
 }
 
 void add_views_options(CLI::App& c, RenderOptions& o) {
-    c.add_option("--passes", o.passes,
-                 "Render passes to write, comma-separated: color, alpha, depth, range, normal, instance, material, "
-                 "primitive, uv (-o is then a folder)");
-    c.add_option("--views", o.views,
-                 "Camera rig: orbit:N[:ELEVATION], sphere:N, random:N:SEED or file:CAMERAS.json (-o is then a folder)");
-    c.add_option("--float-format", o.float_format,
-                 "How depth, range, normal and uv are written: npy (float32 .npy files), exr (one OpenEXR file per "
-                 "view with every pass but color) or png (16-bit depth and range, 8-bit normals, 16-bit uv)")
+    add_option(c, "--passes", o.passes,
+               "Render passes to write, comma-separated: color, alpha, depth, range, normal, instance, material, "
+               "primitive, uv (-o is then a folder)");
+    add_option(c, "--views", o.views,
+               "Camera rig: orbit:N[:ELEVATION], sphere:N, random:N:SEED or file:CAMERAS.json (-o is then a folder)");
+    add_option(c, "--float-format", o.float_format,
+               "How depth, range, normal and uv are written: npy (float32 .npy files), exr (one OpenEXR file per "
+               "view with every pass but color) or png (16-bit depth and range, 8-bit normals, 16-bit uv)")
         ->check(CLI::IsMember({"npy", "exr", "png"}))
         ->capture_default_str();
-    c.add_option("--normal-space", o.normal_space, "Space of the normal pass: world, or camera (x right, y up, z toward the viewer)")
+    add_option(c, "--normal-space", o.normal_space, "Space of the normal pass: world, or camera (x right, y up, z toward the viewer)")
         ->check(CLI::IsMember({"world", "camera"}))
         ->capture_default_str();
-    c.add_option("--depth-scale", o.depth_scale,
-                 "--float-format png: model units per step of the 16-bit depth and range (default: the farthest far "
-                 "plane / 65535)");
+    add_option(c, "--depth-scale", o.depth_scale,
+               "--float-format png: model units per step of the 16-bit depth and range (default: the farthest far "
+               "plane / 65535)");
 }
 
 const char* to_string(FloatFormat f) {
@@ -185,16 +186,16 @@ const char* to_string(FloatFormat f) {
 }
 
 void add_worker_options(CLI::App& c, RenderOptions& o, bool in_process_option) {
-    c.add_option("--timeout", o.timeout,
-                 "Seconds one file may take (load, render, write) before it is abandoned; 0: no limit")
+    add_option(c, "--timeout", o.timeout,
+               "Seconds one file may take (load, render, write) before it is abandoned; 0: no limit")
         ->capture_default_str();
-    c.add_option("--max-memory", o.max_memory,
-                 "Memory cap of the worker process loading and rendering a file: MiB, or N followed by K, M or G; "
-                 "0: no limit (default: 3/4 of the physical memory, shared among thumbs' workers)");
+    add_option(c, "--max-memory", o.max_memory,
+               "Memory cap of the worker process loading and rendering a file: MiB, or N followed by K, M or G; "
+               "0: no limit (default: 3/4 of the physical memory, shared among thumbs' workers)");
     if (in_process_option)
-        c.add_flag("--no-isolation", o.no_isolation,
-                   "Load and render in this process instead of a worker process (for debuggers; a file that crashes "
-                   "the model reader then crashes facet, and --timeout and --max-memory do not apply)");
+        add_flag(c, "--no-isolation", o.no_isolation,
+                 "Load and render in this process instead of a worker process (for debuggers; a file that crashes "
+                 "the model reader then crashes facet, and --timeout and --max-memory do not apply)");
 }
 
 Result<WorkerLimits> make_worker_limits(const RenderOptions& o, unsigned workers) {
@@ -420,8 +421,8 @@ const char* const k_app_description =
 CLI::App* add_view_subcommand(CLI::App& app, ViewArgs& args, bool with_options) {
     CLI::App* view = app.add_subcommand("view", "Open a model (or, with none, the default scene) in an interactive window");
     if (!with_options) return view;
-    view->add_option("model", args.model, "Model file (or drop one onto the window)");
-    view->add_flag("--spin", args.spin, "Start with the turntable spinning (Space toggles it)");
+    add_option(*view, "model", args.model, "Model file (or drop one onto the window)");
+    add_flag(*view, "--spin", args.spin, "Start with the turntable spinning (Space toggles it)");
     add_render_options(*view, args.options);
     view->get_option("--size")->description("Initial window size WxH");
     view->get_option("--ssaa")->description("Initial supersampling NxN (A toggles 1 and 2)");
