@@ -309,7 +309,7 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, 
     }
     if (p.settings.shading == Shading::lit) {
         // Made here, in the process that forks the workers, so that each worker inherits them
-        // (the built-in ones are the library's constants, copied once; README, "The lit mode").
+        // (the built-in ones are the library's constants; README, "The lit mode").
         if (!p.settings.environment) p.settings.environment = Environment::studio();
         split_sum_table();
     }

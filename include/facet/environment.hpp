@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,8 +43,8 @@ public:
     static constexpr int k_level_sizes[k_levels] = {128, 64, 32, 16, 16, 16};
 
     // The built-in neutral studio: soft boxes over a grey room (README, "The lit mode"), prefiltered
-    // when the library was built (its constants copied on the first call) and shared; the same bits
-    // every time and on every machine.
+    // when the library was built (its texels the library's constants, not copied) and shared; the
+    // same bits every time and on every machine.
     static std::shared_ptr<const Environment> studio();
     // From equirectangular linear radiance (width x height RGB floats, row 0 the top, +Y up; the
     // image's centre column looks toward +X, as three.js and <model-viewer> map them; non-finite
@@ -58,7 +59,10 @@ public:
     template <class F>
     static std::shared_ptr<const Environment> from_function(const F& radiance);
 
-    const std::vector<float>& texels() const { return texels_; }
+    // Every level with its border (OctahedralLevel), valid as long as the environment.
+    std::span<const float> texels() const {
+        return baked_ ? std::span<const float>(baked_, baked_count_) : std::span<const float>(texels_);
+    }
     const OctahedralLevel& level(int i) const { return levels_[static_cast<std::size_t>(i)]; }
     // Irradiance as a diffuse surface's outgoing radiance per unit albedo (E / pi): the order-2
     // spherical-harmonic coefficients with the cosine lobe convolved in, 9 per channel (diffuse()).
@@ -78,7 +82,11 @@ private:
     void build(const std::vector<float>& sharpest);  // sharpest: level 0's interior, size^2 RGB
     std::size_t lay_out_levels();                    // levels_ from k_level_sizes; the floats they take
 
-    std::vector<float> texels_;  // every level with its border
+    std::vector<float> texels_;  // every level with its border; empty for the studio's
+    // The studio's texels: the library's baked constants, which live as long as the process, read
+    // where they are rather than copied (280 KB) into each process's heap.
+    const float* baked_ = nullptr;
+    std::size_t baked_count_ = 0;
     std::array<OctahedralLevel, k_levels> levels_{};
     std::array<Vec3, 9> sh_{};
 };
@@ -109,7 +117,7 @@ inline Vec3 Environment::sample_level(int i, Vec3 d) const {
     const float x0 = std::floor(x), y0 = std::floor(y);
     const float tx = x - x0, ty = y - y0;
     const int stride = l.size + 2;
-    const float* row0 = texels_.data() + l.offset + (static_cast<std::size_t>(y0 + 1) * stride + static_cast<std::size_t>(x0 + 1)) * 3;
+    const float* row0 = texels().data() + l.offset + (static_cast<std::size_t>(y0 + 1) * stride + static_cast<std::size_t>(x0 + 1)) * 3;
     const float* row1 = row0 + static_cast<std::size_t>(stride) * 3;
     Vec3 c;
     for (int k = 0; k < 3; ++k) {

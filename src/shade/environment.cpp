@@ -89,7 +89,8 @@ std::shared_ptr<const Environment> Environment::studio() {
         const environment_detail::BakedStudio baked = environment_detail::baked_studio();
         std::shared_ptr<Environment> s(new Environment());
         s->lay_out_levels();
-        s->texels_.assign(baked.texels, baked.texels + baked.texel_count);
+        s->baked_ = baked.texels;
+        s->baked_count_ = baked.texel_count;
         for (std::size_t b = 0; b < 9; ++b) s->sh_[b] = {baked.sh[b * 3], baked.sh[b * 3 + 1], baked.sh[b * 3 + 2]};
         return std::shared_ptr<const Environment>(std::move(s));
     }();

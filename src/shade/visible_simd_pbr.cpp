@@ -351,7 +351,7 @@ HWY_INLINE Vec3Lanes display(const Vec3Lanes& radiance, const PbrUniforms& p) {
 inline bool grey_studio(const Environment* env) {
     static const Environment* const studio = Environment::studio().get();
     static const bool grey_texels_and_sh = [] {
-        const std::vector<float>& t = studio->texels();
+        const std::span<const float> t = studio->texels();
         for (std::size_t i = 0; i + 2 < t.size(); i += 3)
             if (!grey(Vec3{t[i], t[i + 1], t[i + 2]})) return false;
         for (const Vec3& c : studio->diffuse_sh())
