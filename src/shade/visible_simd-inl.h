@@ -30,6 +30,18 @@
 // specification itself.
 #ifndef FACET_SHADE_VISIBLE_SIMD_DISPATCH_
 #define FACET_SHADE_VISIBLE_SIMD_DISPATCH_
+namespace facet::detail {
+// Whether the CPU has AVX-512's conflict detection (vpconflictd), which Highway's AVX3 target does
+// not require: every AVX-512 CPU with the byte and word instructions has it, but the kernels ask.
+inline bool cpu_has_conflict_detection() {
+#if defined(__x86_64__) || defined(__i386__)
+    static const bool has = __builtin_cpu_supports("avx512cd");
+    return has;
+#else
+    return false;
+#endif
+}
+}  // namespace facet::detail
 #define FACET_DEFINE_VISIBLE_PASS(S, KERNEL)                                                                   \
     HWY_EXPORT(KERNEL);                                                                                      \
     void CompiledVisiblePass<shaders::S>::run(const shaders::S& shader, const VisibleTile& tile,             \
@@ -434,6 +446,34 @@ HWY_INLINE void store_block(D d, hn::Vec<D> v, T* p, int stride) {
     }
 }
 
+// For the lambdas of the shared blocks' blends: GCC otherwise calls some of them, with their
+// captures on the stack.
+#ifndef FACET_FORCE_INLINE
+#define FACET_FORCE_INLINE __attribute__((always_inline))
+#endif
+
+// AVX-512 finds a shared block's triangles by conflict detection (ShadeVisibleTile).
+#undef FACET_VISIBLE_CONFLICT_LEADERS
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+#define FACET_VISIBLE_CONFLICT_LEADERS 1
+// Each lane's bits of the earlier lanes holding the same value (AVX512CD's vpconflictd: Highway has
+// no op for it and its AVX3 target does not enable it, so inline assembly, run only where
+// cpu_has_conflict_detection).
+HWY_INLINE hn::Vec<DU> earlier_equal_lanes(hn::Vec<DU> v) {
+    __m512i r;
+    __asm__("vpconflictd %1, %0" : "=v"(r) : "v"(v.raw));
+    return hn::Vec<DU>{r};
+}
+// Lane r (< 4) of v, from its low 128 bits (vpextrd: no store and reload).
+template <int r>
+HWY_INLINE std::uint32_t lane_of(hn::Vec<DU> v) {
+    static_assert(r >= 0 && r < 4);
+    return static_cast<std::uint32_t>(_mm_extract_epi32(_mm512_castsi512_si128(v.raw), r));
+}
+#else
+#define FACET_VISIBLE_CONFLICT_LEADERS 0
+#endif
+
 // GCC 12 cannot see that the runs found from the leaders' bits fill run_record[0, runs) before the
 // blends read it, and warns; the entries read are exactly those written.
 #if defined(__GNUC__) && !defined(__clang__)
@@ -487,6 +527,9 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
         }
     }
     const int colour_stride = target.stride;
+#if FACET_VISIBLE_CONFLICT_LEADERS
+    const bool conflict_leaders = cpu_has_conflict_detection();
+#endif
 
     std::uint64_t redo[k_max_tile_size];  // per row: pixels for the specification
     for (int r = 0; r < height; ++r) redo[r] = vis.covered[r] & (r < simd_height ? tail_bits : ~0ull);
@@ -549,6 +592,68 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             // independently of each other, not one after another by removing each from the rest
             // (that chain was a third of a 4x4 block with four owners). A triangle whose rows in the
             // block do not touch may lead twice; its second run blends the same values again.
+#if FACET_VISIBLE_CONFLICT_LEADERS
+            // With conflict detection each triangle leads once: its leader is its first visible lane,
+            // the one with no earlier lane of the same triangle (invisible lanes are `none` here).
+            // The leaders' triangles, packed in lane order (run 0 the first visible lane's, as
+            // below), name the runs from registers, with no store and reload per run.
+            if (conflict_leaders) {
+                const auto owned = hn::IfThenElse(hn::RebindMask(du, visible), owners, none);
+                const auto leaders = hn::And(hn::RebindMask(du, visible),
+                                             hn::Eq(earlier_equal_lanes(owned), hn::Zero(du)));
+                const int runs = static_cast<int>(hn::CountTrue(du, leaders));
+                const auto run_owners = hn::Compress(owned, leaders);
+                auto record_of = [&](std::uint32_t owner) FACET_FORCE_INLINE {
+                    return records + static_cast<std::size_t>(owner) * vis.record_stride;
+                };
+                const float* first = record_of(hn::GetLane(run_owners));
+                Block& block = blocks[count++];
+                block.i = i;
+                if (runs == 1) {
+                    auto field = [&](int j) FACET_FORCE_INLINE { return hn::Set(df, first[j]); };
+                    interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
+                } else if (runs <= 4) {
+                    auto blend = [&]<int R>() FACET_FORCE_INLINE {
+                        MF mask[R];
+                        const float* record[R];
+                        record[0] = first;
+                        auto run = [&]<int r>() FACET_FORCE_INLINE {
+                            const std::uint32_t owner = lane_of<r>(run_owners);
+                            mask[r] = hn::RebindMask(df, hn::Eq(owned, hn::Set(du, owner)));
+                            record[r] = record_of(owner);
+                        };
+                        run.template operator()<1>();
+                        if constexpr (R > 2) run.template operator()<2>();
+                        if constexpr (R > 3) run.template operator()<3>();
+                        auto field = [&](int j) FACET_FORCE_INLINE {
+                            VF v = hn::Set(df, record[0][j]);
+                            for (int r = 1; r < R; ++r) v = hn::IfThenElse(mask[r], hn::Set(df, record[r][j]), v);
+                            return v;
+                        };
+                        interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
+                    };
+                    if (runs == 2) blend.template operator()<2>();
+                    else if (runs == 3) blend.template operator()<3>();
+                    else blend.template operator()<4>();
+                } else {
+                    HWY_ALIGN std::uint32_t run_owner[lane_count];
+                    hn::Store(run_owners, du, run_owner);
+                    MF run_mask[lane_count];
+                    const float* run_record[lane_count];
+                    for (int r = 1; r < runs; ++r) {
+                        run_mask[r] = hn::RebindMask(df, hn::Eq(owned, hn::Set(du, run_owner[r])));
+                        run_record[r] = record_of(run_owner[r]);
+                    }
+                    auto field = [&](int j) FACET_FORCE_INLINE {
+                        VF v = hn::Set(df, first[j]);
+                        for (int r = 1; r < runs; ++r) v = hn::IfThenElse(run_mask[r], hn::Set(df, run_record[r][j]), v);
+                        return v;
+                    };
+                    interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
+                }
+                continue;
+            }
+#endif
             HWY_ALIGN std::uint32_t owner_of[lane_count];
             hn::Store(owners, du, owner_of);
             MF run_mask[lane_count];
