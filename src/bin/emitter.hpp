@@ -277,11 +277,13 @@ private:
 
     // Record i of `lanes` into the bin of every tile it reaches: a record that goes to one tile
     // (most) is written straight into its bin (with Stream, by streaming stores).
+    // A triangle's tile comes from its kernel (SetupLanes::tile), a segment's from its bounds.
     template <bool Stream = false, bool Segment = Stream>
     [[gnu::always_inline]] void bin_lanes_record(const BinGrid& grid, const SetupLanes& lanes, int i, std::uint32_t primitive) {
         const std::int32_t* bounds = lanes.bounds(i);
-        if (grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3])) {
-            const std::size_t tile = grid.tile_of_pixel(bounds[0], bounds[1]);
+        const bool one_tile = Segment ? grid.one_tile(bounds[0], bounds[2], bounds[1], bounds[3]) : lanes.tile[i] >= 0;
+        if (one_tile) {
+            const std::size_t tile = Segment ? grid.tile_of_pixel(bounds[0], bounds[1]) : static_cast<std::size_t>(lanes.tile[i]);
             TriangleSetup& t = slot<!Stream>(grid, tile, primitive);
             // Noted before the record's bytes are copied: the compiler takes those stores to change
             // the bin's pointers.

@@ -136,6 +136,10 @@ struct SetupLanes {
     };
     Unit unit[k_units][n];
     float floor[n];                      // lowest_depth of triangle i's record, when `floors`
+    // The tile (FrontEndParams: tile_size pixels square, tiles_x a row) that holds all of triangle
+    // i's bounds, or -1 when they reach two or more: found in lanes by the triangles' kernels, for the
+    // emitter (the segments' kernel leaves it unset).
+    std::int32_t tile[n];
     std::uint32_t keep = 0, culled = 0;  // bit i: triangle i
     bool floors = true;                  // in: whether to set floor
     // The inclusive pixel bounds of triangle i (unit 3: min_x, min_y, max_x, max_y).

@@ -142,6 +142,17 @@ hn::Mask<Tag> culled_lanes(Tag t, hn::Vec<Tag> signed_area, hn::Mask<Tag> front,
     return zero_area;
 }
 
+// SetupLanes::tile of lanes with inclusive pixel bounds min..max (int32 lanes, non-negative where
+// kept): bounds share their tile exactly when they agree above the tile's bits.
+template <class Tag>
+HWY_INLINE void store_tiles(Tag t, hn::Vec<Tag> min_x, hn::Vec<Tag> min_y, hn::Vec<Tag> max_x, hn::Vec<Tag> max_y,
+                            const FrontEndParams& p, std::int32_t* out) {
+    const int shift = std::countr_zero(static_cast<unsigned>(p.tile_size));
+    const auto spread = hn::ShiftRightSame(hn::Or(hn::Xor(min_x, max_x), hn::Xor(min_y, max_y)), shift);
+    const auto tile = hn::Add(hn::Mul(hn::ShiftRightSame(min_y, shift), hn::Set(t, p.tiles_x)), hn::ShiftRightSame(min_x, shift));
+    hn::StoreU(hn::IfThenElse(hn::Eq(spread, hn::Zero(t)), tile, hn::Set(t, -1)), t, out);
+}
+
 // Lanes whose bounds are within k_small_bounds pixels on both axes (w, h: max - min) and whose
 // triangle covers none of their centres, as covers_no_centre_of_small_bounds tests them: each edge
 // from its value at the bounds' corner (e0) by its steps per column (a) and row (b), exactly in
@@ -241,6 +252,9 @@ bool SetUpGroupInDouble(const SetupBatch& batch, const FrontEndParams& p, SetupL
     store_unit(out, 5, i0, z.dfdy, zq0[1], q.dfdx, q.dfdy);
     store_unit(out, 6, i0, l1.dfdx, l1.dfdy, l2.dfdx, l2.dfdy);
     store_unit(out, 7, i0, r0, hn::IfThenElse(flip_u, r2, r1), hn::IfThenElse(flip_u, r1, r2), flags);
+    const DI di;
+    store_tiles(di, hn::DemoteTo(di, min_x), hn::DemoteTo(di, min_y), hn::DemoteTo(di, max_x), hn::DemoteTo(di, max_y), p,
+                out.tile + i0);
     // Groups of large triangles are few: their floors from the records.
     for (std::uint32_t bits = out.floors ? mask_bits(keep) : 0; bits != 0; bits &= bits - 1) {
         const int i = i0 + std::countr_zero(bits);
@@ -416,6 +430,7 @@ bool SetUpGroupIn32Bits(const SetupBatch& batch, const FrontEndParams& p, SetupL
     store_unit32(out, 2, i0, e[1].e0, e[1].e0_high, e[2].e0, e[2].e0_high);
     store_unit32(out, 3, i0, min_x, min_y, max_x, max_y);
     store_unit32(out, 7, i0, r0, hn::IfThenElse(flip, r2, r1), hn::IfThenElse(flip, r1, r2), flags);
+    store_tiles(di, min_x, min_y, max_x, max_y, p, out.tile + i0);
 
     // The attribute planes as SetUpGroupInDouble computes them, half of the lanes at a time.
     const VI32 x1 = hn::Sub(v1.x, s0.x), x2 = hn::Sub(v2.x, s0.x);
