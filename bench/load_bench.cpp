@@ -71,11 +71,13 @@ Round load_in_child(const std::string& path, const facet::LoadOptions& options, 
         facet::cli::keep_freed_memory_for_reuse();
         if (facet::cli::huge_pages_suit(path)) facet::cli::use_huge_pages_for_heap(0);
 #endif
+        facet::LoadOptions in_worker = options;
+        in_worker.map_files = true;  // as the worker loads (apps/cli/render_command.cpp)
         const Clock::time_point start = Clock::now();
         const double cpu_start = process_cpu_ms();
         const long faults_start = page_faults();
         facet::Result<facet::LoadedModel> model =
-            own ? facet::load_model(path, options) : facet::io_detail::load_model_through_assimp(path, options);
+            own ? facet::load_model(path, in_worker) : facet::io_detail::load_model_through_assimp(path, in_worker);
         Round r;
         r.ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         r.cpu_ms = process_cpu_ms() - cpu_start;

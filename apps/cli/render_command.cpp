@@ -294,7 +294,11 @@ int run_render(const std::string& model, const std::string& output, const std::s
             test_hooks(model);
             load_writers_for(*plan);
             confine_worker(model, outputs, plan->load.resource_dirs);
-            return render_job(request, report);
+            // Here a SIGBUS from a mapped model file cut short ends the worker, which the parent
+            // reports (describe_abnormal_end); in this process (--no-worker) files are read.
+            RenderRequest mapped = request;
+            mapped.plan.load.map_files = true;
+            return render_job(mapped, report);
         },
         *limits);
     // The worker has printed its own messages for the statuses it chose.

@@ -190,6 +190,13 @@ std::string crashed_while(WorkerPhase phase) {
     return "the worker process crashed while writing";
 }
 
+// SIGBUS while loading a file the worker maps (LoadOptions::map_files: OBJ and glTF): most likely
+// the file cut short by another program meanwhile.
+std::string mapped_file_hint(const std::string& model) {
+    const std::string ext = model_extension(model);
+    return ext == "obj" || ext == "gltf" || ext == "glb" ? "; was the file changed while it was read?" : "";
+}
+
 // Waits for a worker whose pipe has closed (it is exiting) and says how it ended.
 WorkerOutcome reap(Worker& w) {
     WorkerOutcome o;
@@ -440,7 +447,10 @@ std::string describe_abnormal_end(const WorkerOutcome& o, const std::string& inp
         return input + ": gave up after " + seconds_text(limits.timeout_seconds) + " s (--timeout sets the limit)";
     case WorkerOutcome::End::signalled: {
         // SIGKILL that facet did not send: the kernel's OOM killer, most likely.
-        const std::string hint = o.status == SIGKILL ? "; out of memory? --max-memory caps the worker" : "";
+        const std::string hint = o.status == SIGKILL ? "; out of memory? --max-memory caps the worker"
+                                 : o.status == SIGBUS && (o.phase == WorkerPhase::starting || o.phase == WorkerPhase::loading)
+                                     ? mapped_file_hint(input)
+                                     : "";
         return input + ": " + crashed_while(o.phase) + " (" + describe_signal(o.status) + ")" + hint;
     }
     case WorkerOutcome::End::exited:

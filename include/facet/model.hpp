@@ -42,6 +42,11 @@ struct LoadOptions {
     // a "file://" URI, "../..", a link pointing out) is not read: a warning names the model and the
     // reference, and the material falls back as for a missing texture. Embedded data is unaffected.
     std::vector<std::string> resource_dirs;
+    // OBJ and glTF files read through a read-only mapping of the file (mmap) instead of a copy:
+    // faster, and the file's text takes none of the process's own memory. But a file cut short by
+    // another program while it is read then ends the process with SIGBUS: only for a process whose
+    // end is reported, as facet's worker processes and load_model_isolated's child (which set it).
+    bool map_files = false;
 };
 
 struct LoadedModel {

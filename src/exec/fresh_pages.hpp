@@ -53,6 +53,22 @@ public:
             std::memset(static_cast<void*>(data_), 0, n * sizeof(T));
             return;
         }
+        if (kept.raw) {
+            // A larger array than the kept one: that mapping grown (its pages moved, not copied),
+            // what was written there cleared, the rest fresh.
+            void* grown = mremap(kept.raw, kept.bytes, bytes_, MREMAP_MAYMOVE);
+            if (grown != MAP_FAILED) {
+                const std::size_t written = std::exchange(kept.bytes, 0);
+                kept.raw = nullptr;
+                raw_ = grown;
+                const std::uintptr_t start = align(raw_, k_huge);
+                const std::size_t offset = start - reinterpret_cast<std::uintptr_t>(raw_);
+                madvise(reinterpret_cast<void*>(start), bytes_ - offset, MADV_HUGEPAGE);
+                data_ = reinterpret_cast<T*>(start);
+                if (written > offset) std::memset(static_cast<void*>(data_), 0, std::min(n * sizeof(T), written - offset));
+                return;
+            }
+        }
         raw_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
         if (raw_ == MAP_FAILED) throw std::bad_alloc();
         const std::uintptr_t start = align(raw_, k_huge);
@@ -102,8 +118,9 @@ private:
 };
 
 // While one is open on a thread, the largest mapping of a ZeroedArray released on that thread is
-// kept (not unmapped) and the next ZeroedArray made there that fits in it takes it, cleared by
-// memset: for a stage that frees tens of megabytes (a file's text) before the next maps as many.
+// kept (not unmapped) and the next ZeroedArray made there takes it, cleared by memset (grown by
+// mremap if it is larger): for stages that free tens of megabytes (a file's text, the OBJ join's
+// table) before the next maps as many (the creased normals' sums).
 // Pages faulted in a moment ago are cleared faster than fresh ones are faulted in, and far faster on
 // a VM that hands memory freed for a few seconds back to its host (docs/BENCHMARKS.md "Loading OBJ,
 // session 12"). The last scope to close unmaps what is kept.

@@ -4,6 +4,8 @@
 #include "io/fast_path.hpp"
 
 #include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -61,6 +63,32 @@ std::optional<FileBytes> read_whole_file(const std::string& path, std::uint64_t 
     ::close(fd);
     if (!whole) return std::nullopt;  // changed while being read: assimp reads it again and decides
     return bytes;
+}
+
+std::optional<FileBytes> map_whole_file(const std::string& path, std::uint64_t size) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return std::nullopt;
+    struct stat st {};
+    if (fstat(fd, &st) != 0 || static_cast<std::uint64_t>(st.st_size) != size) {
+        ::close(fd);
+        return std::nullopt;  // changed since its size was taken: assimp reads it again and decides
+    }
+    // Room for the bytes and a NUL: zero pages of an anonymous mapping, the file mapped over its
+    // start. The zero after the bytes is the last file page's (cleared past the end by the kernel)
+    // or, for a size in whole pages, the read-only zero page after them.
+    const auto page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+    const std::size_t span = (static_cast<std::size_t>(size) + page) & ~(page - 1);
+    void* room = mmap(nullptr, span, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    void* file = room == MAP_FAILED ? MAP_FAILED
+                                    : mmap(room, static_cast<std::size_t>(size), PROT_READ,
+                                           MAP_PRIVATE | MAP_FIXED | MAP_POPULATE, fd, 0);
+    ::close(fd);  // the mapping holds the file
+    if (file == MAP_FAILED) {
+        if (room != MAP_FAILED) munmap(room, span);
+        return read_whole_file(path, size);
+    }
+    return std::optional<FileBytes>(std::in_place, FileBytes::Mapped{}, static_cast<char*>(room), span,
+                                    static_cast<std::size_t>(size));
 }
 
 std::optional<OwnFormatHeader> OwnFormatHeader::parse(const std::string& ext, std::string_view head, std::uint64_t size) {

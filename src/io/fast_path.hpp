@@ -5,12 +5,15 @@
 // readers decline (or a limit the Scene would pass), which the assimp path then reads and reports.
 #pragma once
 
+#include <sys/mman.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 
 #include "exec/fresh_pages.hpp"
@@ -36,6 +39,9 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
 // take the heap's memory, which a worker reuses from file to file, advised for 2 MiB pages too.
 class FileBytes {
 public:
+    // The file's pages themselves, mapped read-only (map_whole_file).
+    struct Mapped {};
+
     explicit FileBytes(std::size_t size) : size_(size) {
         if (size >= k_fresh_from) {
             fresh_ = detail::ZeroedArray<char>(size + 1);  // the NUL: zero already
@@ -47,7 +53,8 @@ public:
             data_[size] = '\0';
         }
     }
-    char* data() { return data_; }
+    FileBytes(Mapped, char* start, std::size_t mapped, std::size_t size) : mapping_(start, mapped), data_(start), size_(size) {}
+    char* data() { return data_; }  // not for a mapped file's bytes (read-only)
     const char* data() const { return data_; }
     std::size_t size() const { return size_; }
     std::string_view view() const { return {data_, size_}; }
@@ -55,14 +62,42 @@ public:
 
 private:
     static constexpr std::size_t k_fresh_from = std::size_t{32} << 20;
+    // An address range unmapped with the bytes (empty: none).
+    class Mapping {
+    public:
+        Mapping() = default;
+        Mapping(char* start, std::size_t bytes) : start_(start), bytes_(bytes) {}
+        Mapping(Mapping&& o) noexcept : start_(std::exchange(o.start_, nullptr)), bytes_(std::exchange(o.bytes_, 0)) {}
+        Mapping& operator=(Mapping&& o) noexcept {
+            std::swap(start_, o.start_);
+            std::swap(bytes_, o.bytes_);
+            return *this;
+        }
+        ~Mapping() {
+            if (start_) munmap(start_, bytes_);
+        }
+
+    private:
+        char* start_ = nullptr;
+        std::size_t bytes_ = 0;
+    };
     std::unique_ptr<char[]> bytes_;
     detail::ZeroedArray<char> fresh_;
+    Mapping mapping_;
     char* data_ = nullptr;
     std::size_t size_;
 };
 
 // The file's `size` bytes, or nullopt when it cannot be read whole or has changed size.
 std::optional<FileBytes> read_whole_file(const std::string& path, std::uint64_t size);
+
+// The same bytes as read_whole_file's, but the file's own pages in the page cache, mapped read-only
+// (MAP_POPULATE: faulted in at once) with a zero byte after them: no copy and no fresh memory for
+// the text (the 1M-triangle OBJ's 38 MB). A file cut short while it is mapped ends the process with
+// SIGBUS where its bytes are read, so only for LoadOptions::map_files (processes whose end is
+// reported: facet's worker, load_model_isolated's child). read_whole_file's result where the
+// mapping fails; nullopt when the file has changed size.
+std::optional<FileBytes> map_whole_file(const std::string& path, std::uint64_t size);
 
 class OwnFormatHeader {
 public:

@@ -231,7 +231,10 @@ bool write_all(int fd, const std::vector<char>& bytes) {
     int status = 1;
     try {
         Writer w;
-        write_result(w, load_model(path, options));
+        // A SIGBUS from a mapped file cut short ends this child: the parent reports it.
+        LoadOptions mapped = options;
+        mapped.map_files = true;
+        write_result(w, load_model(path, mapped));
         status = write_all(fd, w.bytes()) ? 0 : 1;
     } catch (...) {  // std::bad_alloc under the memory cap: reported as such by the parent
         status = 2;
@@ -321,7 +324,12 @@ Result<LoadedModel> load_model_isolated(const std::string& path, const LoadOptio
         std::snprintf(seconds, sizeof seconds, "%g", limits.timeout_seconds);
         result = Error{ErrorCode::limit_exceeded, path + ": gave up after " + seconds + " s"};
     } else if (end == End::signalled) {
-        result = Error{ErrorCode::bad_format, path + ": the importer crashed (" + signal_text(value) + ")"};
+        // SIGBUS from a file the child maps (map_files: OBJ and glTF): most likely the file cut short
+        // by another program meanwhile.
+        const std::string ext = model_extension(path);
+        const bool mapped = ext == "obj" || ext == "gltf" || ext == "glb";
+        result = Error{ErrorCode::bad_format, path + ": the importer crashed (" + signal_text(value) + ")" +
+                                                  (value == SIGBUS && mapped ? "; was the file changed while it was read?" : "")};
     } else if (value == 2) {
         result = Error{ErrorCode::limit_exceeded, path + ": needs more memory than is available"};
     } else if (value == 0) {

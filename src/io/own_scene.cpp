@@ -22,12 +22,13 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
     if (ext != "obj" && !gltf) return std::nullopt;
     const ResourceRoots roots(path, options.resource_dirs);
     ImportNotes notes;
-    // A large file's pages, freed once read, taken again by the scratch arrays after it (the OBJ
-    // join's table, the creased normals' sums) rather than mapped anew (fresh_pages.hpp).
+    // A large file's pages (when read, not mapped), freed once read, and the scratch arrays' after
+    // it (the OBJ join's table, then the creased normals' sums), taken again by the next rather than
+    // mapped anew (fresh_pages.hpp).
     const detail::RecycleFreshPages recycle;
     std::optional<Result<OwnScene>> scene;
     {
-        std::optional<FileBytes> bytes = read_whole_file(path, size);
+        std::optional<FileBytes> bytes = options.map_files ? map_whole_file(path, size) : read_whole_file(path, size);
         if (!bytes) return std::nullopt;
         if (!gltf)
             scene = read_obj(path, *bytes, options, roots, notes, [&] { bytes.reset(); });

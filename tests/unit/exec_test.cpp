@@ -216,6 +216,22 @@ TEST(FreshPages, ARecyclingScopeHandsAReleasedArrayOnClearedAndUnmapsItAtItsEnd)
     for (std::size_t i = 0; i < n; i += 4096) ASSERT_EQ(e[i], 0u) << i;
 }
 
+TEST(FreshPages, ARecyclingScopeGrowsTheKeptMappingForALargerArray) {
+    constexpr std::size_t n = std::size_t{6} << 20;
+    const detail::RecycleFreshPages scope;
+    {
+        detail::ZeroedArray<std::uint8_t> a(n);
+        std::memset(a.data(), 0xA5, n);
+    }
+    ASSERT_NE(detail::fresh_detail::recycled.raw, nullptr);
+    // A larger array takes the kept mapping (none kept after it), grown: zero throughout, what the
+    // first array wrote cleared; and writable throughout.
+    detail::ZeroedArray<std::uint8_t> b(3 * n);
+    EXPECT_EQ(detail::fresh_detail::recycled.raw, nullptr);
+    EXPECT_EQ(std::count(b.data(), b.data() + 3 * n, std::uint8_t{0}), static_cast<std::ptrdiff_t>(3 * n));
+    std::memset(b.data(), 0x5A, 3 * n);
+}
+
 TEST(Renderer, RejectsBadConfigurationAndViewports) {
     EXPECT_THROW(Renderer({.tile_size = 48}), FacetError);
     EXPECT_THROW(Renderer({.tile_size = 128}), FacetError);

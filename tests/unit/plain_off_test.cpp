@@ -364,4 +364,21 @@ TEST(ReadWholeFile, TheBytesAndANulOrNothing) {
     EXPECT_EQ(empty->data()[0], '\0');
 }
 
+// The same of a mapped file: for a size in whole pages too (its NUL past the file's last page).
+TEST(MapWholeFile, TheBytesAndANulOrNothing) {
+    const fs::path dir = temp_dir();
+    for (const std::size_t size : {std::size_t{70000}, std::size_t{16} * 4096}) {
+        std::string text;
+        for (std::size_t i = 0; i < size; ++i) text += static_cast<char>('a' + i % 26);
+        const std::string path = write_file(dir / "mapped.txt", text);
+        const std::optional<io_detail::FileBytes> bytes = io_detail::map_whole_file(path, text.size());
+        ASSERT_TRUE(bytes.has_value()) << size;
+        EXPECT_EQ(bytes->view(), text) << size;
+        EXPECT_EQ(bytes->data()[bytes->size()], '\0') << size;
+        EXPECT_FALSE(io_detail::map_whole_file(path, text.size() - 1).has_value()) << size;  // grew since
+        EXPECT_FALSE(io_detail::map_whole_file(path, text.size() + 1).has_value()) << size;  // shrank since
+    }
+    EXPECT_FALSE(io_detail::map_whole_file((dir / "missing.txt").string(), 1).has_value());
+}
+
 }  // namespace
