@@ -100,7 +100,14 @@ ResolveTriangleKernel resolve_triangle_kernel(DepthTest test, bool write);
 // registers and fetches the records ahead itself.
 using ResolveBinKernel = void (*)(const TriangleSetup* records, std::size_t count, PixelRect tile,
                                   TileBuffers& buffers);
-ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write);
+// With `large`, for the less and lequal tests that write depth, a kernel for draws of large triangles:
+// it does not draw the rows of a large rectangle's strips where nothing is inside. The same bytes
+// either way. Small triangles keep the other kernel (with the test for large rectangles in it, never
+// true for them, homer's frame was 2% slower: docs/BENCHMARKS.md, session 14).
+ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write, bool large = false);
+// A draw whose fullest tile has at most this many triangles has large ones (nefertiti: 562 triangles
+// at 1920x1080): resolve_bin_kernel's `large`.
+constexpr std::size_t k_large_triangles_per_tile = 128;
 
 // Sets TileBuffers::covered and first_owner from the owners, with the ISA selected in facet/isa.hpp
 // (a SIMD kernel in depth_simd.cpp, or find_owned_pixels_reference).

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <limits>
@@ -223,6 +224,42 @@ HWY_INLINE void store_row(hn::Vec<DV> v, DV d, hn::TFromD<DV>* p) {
 // per triangle (measured: groups of 2 and 4 equal on the scanned meshes, 2 5% faster on the 1M sphere).
 constexpr int k_row_group = 2;
 
+// Narrows [first, last] (rows counted from a strip's first, within 0..63) to the rows where v + b row >=
+// 0: an edge's largest value over the strip's columns, v on the first row, changing by b per row. With
+// no branch on the signs (they are as good as random). Exact: v and b are below 2^31 in magnitude, so
+// double holds them, and -v / b is within 2^-22 / |b| of the quotient, which is at least 1 / |b| from
+// any integer it is not: the floor and ceiling are the quotient's.
+HWY_INLINE void rows_not_negative(std::int32_t v, std::int32_t b, int& first, int& last) {
+    const double q = -static_cast<double>(v) / static_cast<double>(b != 0 ? b : 1);
+    const int from = static_cast<int>(std::clamp(std::ceil(q), 0.0, 64.0));    // b > 0: rows from here on
+    const int to = static_cast<int>(std::clamp(std::floor(q), -1.0, 64.0));    // b < 0: rows up to here
+    first = b > 0 ? std::max(first, from) : first;
+    last = b < 0 ? std::min(last, to) : (b == 0 && v < 0 ? -1 : last);
+}
+
+// A strip's rows that may have a pixel inside, [first, last] counted from r.y0: those where no edge is
+// negative at every one of the strip's columns start + lo .. start + hi (then nothing is inside). Each
+// edge's largest value over them on a row is at an end (the edges are linear). False when there are
+// none.
+template <int K>
+HWY_INLINE bool rows_with_pixels(const EdgeRectOf<K>& r, int start, int lo, int hi, int& first, int& last) {
+    first = 0, last = r.y1 - r.y0;
+    for (int k = 0; k < K; ++k) {
+        // Exact: (start + lo, r.y0) and (start + hi, r.y0) are in the rectangle, where the edge fits
+        // 32 bits, and r.ex <= start + lo.
+        const std::uint32_t at_lo = r.e[k] + r.a[k] * static_cast<std::uint32_t>(start + lo - r.ex);
+        const std::uint32_t at_hi = at_lo + r.a[k] * static_cast<std::uint32_t>(hi - lo);
+        const auto largest = static_cast<std::int32_t>(static_cast<std::int32_t>(r.a[k]) < 0 ? at_lo : at_hi);
+        rows_not_negative(largest, static_cast<std::int32_t>(r.b[k]), first, last);
+    }
+    return first <= last;
+}
+
+// In the kernels for large triangles (resolve_bin_kernel's `large`), the rectangles at least this wide
+// and tall draw only rows_with_pixels of each strip. Smaller ones have too few rows to skip to pay for
+// the set-up (docs/BENCHMARKS.md, session 14).
+constexpr int k_large_columns = 17, k_large_rows = 16;
+
 // One strip of the rectangle: columns [start, start + lanes) of the tile, of which lanes lo..hi
 // (relative to start) are the rectangle's, every row y0..y1. With Aligned, start - tile.x0 is a
 // multiple of the lane count, so the strip's rows of the tile's depth and owner arrays are aligned
@@ -351,9 +388,55 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
 }
 #endif
 
+// resolve_strip for a strip of a large triangle's rectangle: only its rows_with_pixels (the others
+// would pass nowhere), each drawn as resolve_strip draws it: the same bytes. A function of its own so
+// that resolve_strip's machine code for every other rectangle stays as it was.
+template <DepthTest D, bool DepthWrite, class DF>
+HWY_INLINE bool resolve_trimmed_strip(DF df, const TriangleSetup& t, PixelRect tile, TileBuffers& buffers,
+                                      std::uint32_t id, const EdgeRect& r, int start, int lo, int hi) {
+    constexpr int K = EdgeRect::k_edges;
+    int first, last;
+    if (!rows_with_pixels(r, start, lo, hi, first, last)) return false;
+    const hn::RebindToSigned<DF> di;
+    const hn::RebindToUnsigned<DF> du;
+    using VI = hn::Vec<decltype(di)>;
+    const VI iota = hn::Iota(di, 0);
+    const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
+    VI e[K], b[K];
+    edge_vectors(di, r, start, iota, e, b);
+    for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], hn::Mul(b[k], hn::Set(di, first)));
+    const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
+    const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
+    const auto owner_id = hn::Set(du, id);
+    const int y_first = r.y0 + first, y_last = r.y0 + last;
+    float* depth = buffers.depth + (y_first - tile.y0) * k_max_tile_size + (start - tile.x0);
+    std::uint32_t* owner = buffers.owner + (y_first - tile.y0) * k_max_tile_size + (start - tile.x0);
+    auto passed = hn::FirstN(df, 0);
+    float centre = static_cast<float>(y_first) + 0.5f;  // counted as in resolve_strip
+    for (int y = y_first; y <= y_last; y += k_row_group) {
+        const VI rows_left = hn::Set(di, y_last - y + 1);
+        HWY_UNROLL(2)
+        for (int g = 0; g < k_row_group; ++g) {
+            const auto in_rect = g == 0 ? columns : hn::And(columns, hn::Lt(hn::Set(di, g), rows_left));
+            const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
+            for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b[k]);
+            const float dy = centre - t.y0;
+            centre += 1.0f;
+            const auto z = clamp_depth(df, hn::Add(z_x, hn::Set(df, t.dzdy * dy)));
+            const auto stored = hn::Load(df, depth);
+            const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
+            if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
+            hn::BlendedStore(owner_id, hn::RebindMask(du, pass), du, owner);
+            passed = hn::Or(passed, pass);
+            depth += k_max_tile_size, owner += k_max_tile_size;
+        }
+    }
+    return !hn::AllFalse(df, passed);
+}
+
 // resolve_rect for a rectangle wider than the narrow vector: strips of one vector aligned within the
-// tile's arrays.
-template <DepthTest D, bool DepthWrite, class R>
+// tile's arrays (with Trimmed, resolve_trimmed_strip).
+template <DepthTest D, bool DepthWrite, bool Trimmed = false, class R>
 HWY_INLINE bool resolve_strips(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
                                const R& r) {
     const hn::ScalableTag<float> df;
@@ -362,7 +445,10 @@ HWY_INLINE bool resolve_strips(const TriangleSetup& t, PixelRect tile, TileBuffe
     for (int x = r.x0; x <= r.x1;) {
         const int start = tile.x0 + ((x - tile.x0) & -lanes);  // x >= tile.x0; lanes is a power of two
         const int end = std::min(r.x1, start + lanes - 1);
-        any |= resolve_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
+        if constexpr (Trimmed)
+            any |= resolve_trimmed_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
+        else
+            any |= resolve_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
         x = end + 1;
     }
     return any;
@@ -379,7 +465,7 @@ HWY_NOINLINE bool resolve_wide_segment(const TriangleSetup& t, PixelRect tile, T
 // Pass one for one triangle's or segment's rectangle in the tile, r, in strips of one vector aligned
 // within the tile's arrays (whose rows are wider than the tile when it is narrower than a vector:
 // those lanes are never inside).
-template <DepthTest D, bool DepthWrite, class R>
+template <DepthTest D, bool DepthWrite, bool Large = false, class R>
 HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
                              const R& r) {
     const hn::ScalableTag<float> df;
@@ -423,6 +509,9 @@ HWY_INLINE bool resolve_rect(const TriangleSetup& t, PixelRect tile, TileBuffers
             const int start = std::min(r.x0, tile.x0 + k_max_tile_size - full);
             return resolve_strip<D, DepthWrite, false>(df, t, tile, buffers, id, r, start, r.x0 - start, r.x1 - start);
         }
+        if constexpr (Large)
+            if (r.x1 - r.x0 >= k_large_columns - 1 && r.y1 - r.y0 >= k_large_rows - 1)
+                return resolve_strips<D, DepthWrite, true>(t, tile, buffers, id, r);
         return resolve_strips<D, DepthWrite>(t, tile, buffers, id, r);
     }
 }
@@ -447,13 +536,13 @@ HWY_NOINLINE bool resolve_segment_call(const TriangleSetup& t, PixelRect tile, T
     return resolve_segment<D, DepthWrite>(t, tile, buffers, id);
 }
 
-template <DepthTest D, bool DepthWrite>
+template <DepthTest D, bool DepthWrite, bool Large = false>
 HWY_INLINE bool resolve_one(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id) {
     if (t.segment) [[unlikely]]
         return resolve_segment_call<D, DepthWrite>(t, tile, buffers, id);
     EdgeRect r;
     if (!edge_rect(t, tile, r)) return false;
-    return resolve_rect<D, DepthWrite>(t, tile, buffers, id, r);
+    return resolve_rect<D, DepthWrite, Large>(t, tile, buffers, id, r);
 }
 
 template <DepthTest D, bool DepthWrite>
@@ -719,7 +808,7 @@ HWY_NOINLINE std::size_t resolve_segment_run(const TriangleSetup* records, std::
 
 // Triangles' records are read a group of TinyGroup::k_lanes at a time (prepare_tiny_group), fetched
 // further ahead; a run of segments goes to resolve_segment_run.
-template <DepthTest D, bool DepthWrite>
+template <DepthTest D, bool DepthWrite, bool Large = false>
 void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect tile, TileBuffers& buffers) {
     constexpr std::size_t k_group_distance = 32;
     constexpr std::size_t k_lanes = TinyGroup::k_lanes;
@@ -742,7 +831,7 @@ void ResolveBinFor(const TriangleSetup* records, std::size_t count, PixelRect ti
             prefetch_record(records + n + k_group_distance);
             const TriangleSetup& t = records[n];
             const bool any = group.covered[lane] && tiny_record(t) ? resolve_tiny<D, DepthWrite>(t, group, lane, buffers, id)
-                                                                   : resolve_one<D, DepthWrite>(t, tile, buffers, id);
+                                                                   : resolve_one<D, DepthWrite, Large>(t, tile, buffers, id);
             listed[id - first] = &t;
             id += any;
         }
@@ -822,9 +911,13 @@ ResolveTriangleKernel ChooseResolveTriangle(DepthTest test, bool write) {
     with_depth_test(test, with_write);
     return kernel;
 }
-ResolveBinKernel ChooseResolveBin(DepthTest test, bool write) {
+ResolveBinKernel ChooseResolveBin(DepthTest test, bool write, bool large) {
     ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileBuffers&) {};
-    auto with_write = [&]<DepthTest D>() { kernel = write ? &ResolveBinFor<D, true> : &ResolveBinFor<D, false>; };
+    auto with_write = [&]<DepthTest D>() {
+        kernel = write ? &ResolveBinFor<D, true> : &ResolveBinFor<D, false>;
+        if constexpr (D == DepthTest::less || D == DepthTest::lequal)
+            if (write && large) kernel = &ResolveBinFor<D, true, true>;
+    };
     with_depth_test(test, with_write);
     return kernel;
 }
@@ -870,9 +963,9 @@ void resolve_bin_reference(const TriangleSetup* records, std::size_t count, Pixe
     }
 }
 
-ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write) {
+ResolveBinKernel resolve_bin_kernel(DepthTest test, bool write, bool large) {
     ResolveBinKernel kernel = [](const TriangleSetup*, std::size_t, PixelRect, TileBuffers&) {};
-    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ChooseResolveBin)(test, write);
+    if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(ChooseResolveBin)(test, write, large);
     auto with_write = [&]<DepthTest D>() {
         kernel = write ? &resolve_bin_reference<D, true> : &resolve_bin_reference<D, false>;
     };

@@ -185,7 +185,9 @@ void TilePass::run(ThreadPool& pool, const TileBatch& batch, Framebuffer& target
     ResolveBinKernel resolve_bin = nullptr;
     const int pass_varyings = passes ? passes->layout.count : -1;
     if (visible_only || passes) {
-        if (visible_only) resolve_bin = resolve_bin_kernel(shading.depth_test, shading.depth_write);
+        if (visible_only)
+            resolve_bin = resolve_bin_kernel(shading.depth_test, shading.depth_write,
+                                             max_tile_triangles <= k_large_triangles_per_tile);
         // Every worker's lists sized for the fullest tile now: after the first draw of a scene they
         // no longer grow, whichever tiles each worker is given.
         for (const auto& b : buffers_) {

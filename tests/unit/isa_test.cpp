@@ -180,14 +180,14 @@ BinTile random_bin_tile(std::mt19937& rng, int width, int height) {
 // number listed to `listed`.
 void expect_bin_as_specified(const std::string& isa, const std::vector<TriangleSetup>& bin, std::size_t split,
                              PixelRect tile, int width, int height, DepthTest test, bool write, DepthPassState& simd,
-                             DepthPassState& spec, int& listed) {
+                             DepthPassState& spec, int& listed, bool large = false) {
     ASSERT_LE(split, bin.size());
     std::vector<std::size_t> order[2];
     for (DepthPassState* s : {&simd, &spec}) {
         ASSERT_TRUE(select_isa(s == &simd ? isa : "scalar"));
         s->depth.assign(static_cast<std::size_t>(width) * height, 1.0f);
         s->buffers.begin(tile, 1, {nullptr, s->depth.data(), width});
-        const ResolveBinKernel kernel = resolve_bin_kernel(test, write);
+        const ResolveBinKernel kernel = resolve_bin_kernel(test, write, large);
         kernel(bin.data(), split, tile, s->buffers);
         kernel(bin.data() + split, bin.size() - split, tile, s->buffers);
         s->buffers.end(tile, {nullptr, s->depth.data(), width}, write);
@@ -273,7 +273,7 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
     const double extents[] = {0.6, 1.5, 3, 6, 20, 5000};
     const std::uint32_t refs[3] = {0, 1, 2};
     auto simd = std::make_unique<DepthPassState>(), spec = std::make_unique<DepthPassState>();
-    int tiles = 0, listed = 0;
+    int tiles = 0, listed = 0, large_listed = 0;
     for (const std::string& isa : available_isas()) {
         std::mt19937 rng(20261121);
         for (int n = 0; n < 300; ++n) {
@@ -295,10 +295,15 @@ TEST(Isa, BinDepthPassEqualsTheScalarSpecificationOnEveryIsa) {
             }
             ASSERT_NO_FATAL_FAILURE(expect_bin_as_specified(isa, bin, 100, c.tile, width, height, c.test, c.write, *simd, *spec, listed))
                 << "tile " << n;
+            // The kernel for draws of large triangles (its own rows for large rectangles).
+            ASSERT_NO_FATAL_FAILURE(
+                expect_bin_as_specified(isa, bin, 100, c.tile, width, height, c.test, c.write, *simd, *spec, large_listed, true))
+                << "tile " << n << ", large";
             ++tiles;
         }
     }
     EXPECT_GT(listed, 5000);
+    EXPECT_EQ(large_listed, listed);
     EXPECT_EQ(tiles, 300 * static_cast<int>(available_isas().size()));
 }
 
