@@ -265,11 +265,20 @@ constexpr int k_large_columns = 17, k_large_rows = 16;
 // multiple of the lane count, so the strip's rows of the tile's depth and owner arrays are aligned
 // vectors; without, start + lanes <= tile.x0 + k_max_tile_size (inside the arrays' rows). A row past
 // the rectangle (in the last group) is loaded and stored unchanged, past the tile in the arrays'
-// spare row (TileBuffers::k_rows).
-template <DepthTest D, bool DepthWrite, bool Aligned = true, class DF, class R>
+// spare row (TileBuffers::k_rows). With Trimmed (a large triangle's strip, aligned), only the rows
+// from the first to the last that have pixels (rows_with_pixels; the others would pass nowhere), each
+// drawn as the others are: the same bytes.
+template <DepthTest D, bool DepthWrite, bool Aligned = true, bool Trimmed = false, class DF, class R>
 HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, TileBuffers& buffers,
                               std::uint32_t id, const R& r, int start, int lo, int hi) {
     constexpr int K = R::k_edges;
+    static_assert(!Trimmed || Aligned);
+    int y0 = r.y0, y1 = r.y1;  // the rows drawn
+    if constexpr (Trimmed) {
+        int first, last;
+        if (!rows_with_pixels(r, start, lo, hi, first, last)) return false;
+        y0 = r.y0 + first, y1 = r.y0 + last;
+    }
     const hn::RebindToSigned<DF> di;
     const hn::RebindToUnsigned<DF> du;
     using VI = hn::Vec<decltype(di)>;
@@ -277,19 +286,21 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
     const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
     VI e[K], b[K];
     edge_vectors(di, r, start, iota, e, b);
+    if constexpr (Trimmed)
+        for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], hn::Mul(b[k], hn::Set(di, y0 - r.y0)));
     // z = (z0 + dzdx dx) + dzdy dy as depth_at; the first sum is the same for every row.
     const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
     const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
     const auto owner_id = hn::Set(du, id);
     static_assert(k_row_group - 1 <= TileBuffers::k_rows - k_max_tile_size, "a group's rows past the tile are in the arrays");
-    float* depth = buffers.depth + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
-    std::uint32_t* owner = buffers.owner + (r.y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
+    float* depth = buffers.depth + (y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
+    std::uint32_t* owner = buffers.owner + (y0 - tile.y0) * k_max_tile_size + (start - tile.x0);
     auto passed = hn::FirstN(df, 0);
     // Row y's centre, float(y) + 0.5, counted rather than converted per row: the same bits (exact
     // below 2^23).
-    float centre = static_cast<float>(r.y0) + 0.5f;
-    for (int y = r.y0; y <= r.y1; y += k_row_group) {
-        const VI rows_left = hn::Set(di, r.y1 - y + 1);
+    float centre = static_cast<float>(y0) + 0.5f;
+    for (int y = y0; y <= y1; y += k_row_group) {
+        const VI rows_left = hn::Set(di, y1 - y + 1);
         HWY_UNROLL(2)  // k_row_group: straight-line code
         for (int g = 0; g < k_row_group; ++g) {
             // Covered where every edge function is >= 0: no sign bit in their OR.
@@ -304,7 +315,8 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
             const auto stored = load_row<Aligned>(df, depth);
             const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
             if constexpr (DepthWrite) store_row<Aligned>(hn::IfThenElse(pass, z, stored), df, depth);
-            store_row<Aligned>(hn::IfThenElse(hn::RebindMask(du, pass), owner_id, load_row<Aligned>(du, owner)), du, owner);
+            if constexpr (Trimmed) hn::BlendedStore(owner_id, hn::RebindMask(du, pass), du, owner);
+            else store_row<Aligned>(hn::IfThenElse(hn::RebindMask(du, pass), owner_id, load_row<Aligned>(du, owner)), du, owner);
             passed = hn::Or(passed, pass);
             depth += k_max_tile_size, owner += k_max_tile_size;
         }
@@ -388,54 +400,8 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
 }
 #endif
 
-// resolve_strip for a strip of a large triangle's rectangle: only its rows_with_pixels (the others
-// would pass nowhere), each drawn as resolve_strip draws it: the same bytes. A function of its own so
-// that resolve_strip's machine code for every other rectangle stays as it was.
-template <DepthTest D, bool DepthWrite, class DF>
-HWY_INLINE bool resolve_trimmed_strip(DF df, const TriangleSetup& t, PixelRect tile, TileBuffers& buffers,
-                                      std::uint32_t id, const EdgeRect& r, int start, int lo, int hi) {
-    constexpr int K = EdgeRect::k_edges;
-    int first, last;
-    if (!rows_with_pixels(r, start, lo, hi, first, last)) return false;
-    const hn::RebindToSigned<DF> di;
-    const hn::RebindToUnsigned<DF> du;
-    using VI = hn::Vec<decltype(di)>;
-    const VI iota = hn::Iota(di, 0);
-    const auto columns = hn::And(hn::Gt(iota, hn::Set(di, lo - 1)), hn::Lt(iota, hn::Set(di, hi + 1)));
-    VI e[K], b[K];
-    edge_vectors(di, r, start, iota, e, b);
-    for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], hn::Mul(b[k], hn::Set(di, first)));
-    const auto dx = hn::Sub(hn::Add(hn::Iota(df, static_cast<float>(start)), hn::Set(df, 0.5f)), hn::Set(df, t.x0));
-    const auto z_x = hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx));
-    const auto owner_id = hn::Set(du, id);
-    const int y_first = r.y0 + first, y_last = r.y0 + last;
-    float* depth = buffers.depth + (y_first - tile.y0) * k_max_tile_size + (start - tile.x0);
-    std::uint32_t* owner = buffers.owner + (y_first - tile.y0) * k_max_tile_size + (start - tile.x0);
-    auto passed = hn::FirstN(df, 0);
-    float centre = static_cast<float>(y_first) + 0.5f;  // counted as in resolve_strip
-    for (int y = y_first; y <= y_last; y += k_row_group) {
-        const VI rows_left = hn::Set(di, y_last - y + 1);
-        HWY_UNROLL(2)
-        for (int g = 0; g < k_row_group; ++g) {
-            const auto in_rect = g == 0 ? columns : hn::And(columns, hn::Lt(hn::Set(di, g), rows_left));
-            const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
-            for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b[k]);
-            const float dy = centre - t.y0;
-            centre += 1.0f;
-            const auto z = clamp_depth(df, hn::Add(z_x, hn::Set(df, t.dzdy * dy)));
-            const auto stored = hn::Load(df, depth);
-            const auto pass = depth_test<D>(df, z, stored, hn::RebindMask(df, inside));
-            if constexpr (DepthWrite) hn::Store(hn::IfThenElse(pass, z, stored), df, depth);
-            hn::BlendedStore(owner_id, hn::RebindMask(du, pass), du, owner);
-            passed = hn::Or(passed, pass);
-            depth += k_max_tile_size, owner += k_max_tile_size;
-        }
-    }
-    return !hn::AllFalse(df, passed);
-}
-
 // resolve_rect for a rectangle wider than the narrow vector: strips of one vector aligned within the
-// tile's arrays (with Trimmed, resolve_trimmed_strip).
+// tile's arrays (with Trimmed, only the rows of each that have pixels).
 template <DepthTest D, bool DepthWrite, bool Trimmed = false, class R>
 HWY_INLINE bool resolve_strips(const TriangleSetup& t, PixelRect tile, TileBuffers& buffers, std::uint32_t id,
                                const R& r) {
@@ -445,10 +411,7 @@ HWY_INLINE bool resolve_strips(const TriangleSetup& t, PixelRect tile, TileBuffe
     for (int x = r.x0; x <= r.x1;) {
         const int start = tile.x0 + ((x - tile.x0) & -lanes);  // x >= tile.x0; lanes is a power of two
         const int end = std::min(r.x1, start + lanes - 1);
-        if constexpr (Trimmed)
-            any |= resolve_trimmed_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
-        else
-            any |= resolve_strip<D, DepthWrite>(df, t, tile, buffers, id, r, start, x - start, end - start);
+        any |= resolve_strip<D, DepthWrite, true, Trimmed>(df, t, tile, buffers, id, r, start, x - start, end - start);
         x = end + 1;
     }
     return any;
