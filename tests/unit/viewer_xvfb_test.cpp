@@ -310,12 +310,25 @@ protected:
 
     std::string x(const std::string& command) const { return "DISPLAY=" + display_ + " timeout 20 " + command; }
 
+    // Waits (bounded) for a visible window whose name matches `pattern`: xdotool's output (the ids)
+    // and exit code. A search fails with BadWindow when a window it walks past is destroyed under it
+    // (a closing client's): then it searches again.
+    CommandResult find_window(const std::string& pattern) const {
+        CommandResult search;
+        for (const Clock::time_point end = Clock::now() + 20s; Clock::now() < end;) {
+            search = run(x("xdotool search --sync --onlyvisible --name '" + pattern + "'"));
+            if (search.exit_code == 0) break;
+            std::this_thread::sleep_for(100ms);
+        }
+        return search;
+    }
+
     // Starts the viewer and waits for its window; returns the window id.
     std::string start_viewer(const std::vector<std::string>& args) {
         std::vector<std::string> argv = {k_facet.string(), "view"};
         argv.insert(argv.end(), args.begin(), args.end());
         EXPECT_TRUE(viewer_.start(argv, {"DISPLAY=" + display_, "FACET_VIEW_TRACE=1"}, dir_, dir_ / "viewer.log"));
-        const CommandResult search = run(x("xdotool search --sync --onlyvisible --name '^facet view'"));
+        const CommandResult search = find_window("^facet view");
         if (search.exit_code != 0) {
             const std::optional<int> ended = viewer_.wait_exit(0ms);
             ADD_FAILURE() << "no viewer window appeared (xdotool: " << search.exit_code << "); the viewer "
@@ -631,7 +644,9 @@ TEST_F(XvfbViewer, ExamplesShowTheirFramesInAWindow) {
         Child example;
         const fs::path binary = fs::path(FACET_BINARY_DIR) / "examples" / (std::string("example_") + name);
         ASSERT_TRUE(example.start({binary.string(), "--window"}, {"DISPLAY=" + display_}, dir_, dir_ / "example.log"));
-        const CommandResult search = run(x("xdotool search --sync --onlyvisible --name '^facet: '"));
+        std::string title = name;  // the example's window: "facet: lit cube" (not the last one's, closing)
+        std::replace(title.begin(), title.end(), '_', ' ');
+        const CommandResult search = find_window("^facet: " + title + "$");
         ASSERT_EQ(search.exit_code, 0) << name << ": no window";
         const std::string win = search.output.substr(0, search.output.find('\n'));
         // Something besides the dark background is drawn.
