@@ -582,6 +582,17 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             const MF visible = hn::RebindMask(df, hn::And(hn::LoadMaskBits(du, bytes), hn::Ne(owners, none)));
             if (hn::AllFalse(df, visible)) continue;
             stream_fill_rows(*vis.idle, k_fill_rows_per_block);
+            // Two to four runs (most shared blocks) with the count known at compile time: the masks
+            // and records stay in registers and no field's blend tests the count. Run 0's record is the
+            // base the others are blended over where their masks are set.
+            auto blend_runs = [&]<int R>(const MF (&mask)[R], const float* const (&record)[R], LanesIn<N, D>& in) FACET_FORCE_INLINE {
+                auto field = [&](int j) FACET_FORCE_INLINE {
+                    VF v = hn::Set(df, record[0][j]);
+                    for (int r = 1; r < R; ++r) v = hn::IfThenElse(mask[r], hn::Set(df, record[r][j]), v);
+                    return v;
+                };
+                interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, in);
+            };
 
             // The triangles owning the visible lanes: each lane's value of a record field is
             // assembled from one broadcast per triangle. (Gathering values lane by lane was measured
@@ -625,12 +636,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                         run.template operator()<1>();
                         if constexpr (R > 2) run.template operator()<2>();
                         if constexpr (R > 3) run.template operator()<3>();
-                        auto field = [&](int j) FACET_FORCE_INLINE {
-                            VF v = hn::Set(df, record[0][j]);
-                            for (int r = 1; r < R; ++r) v = hn::IfThenElse(mask[r], hn::Set(df, record[r][j]), v);
-                            return v;
-                        };
-                        interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
+                        blend_runs(mask, record, block.in);
                     };
                     if (runs == 2) blend.template operator()<2>();
                     else if (runs == 3) blend.template operator()<3>();
@@ -684,18 +690,11 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                 auto field = [&](int j) { return hn::Set(df, record[j]); };
                 interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
             } else {
-                // Two to four runs (most shared blocks) with the count known at compile time: the
-                // masks and records stay in registers and no field's blend tests the count.
                 auto blend = [&]<int R>() {
                     MF mask[R];
                     const float* record[R];
                     for (int r = 0; r < R; ++r) mask[r] = run_mask[r], record[r] = run_record[r];
-                    auto field = [&](int j) {
-                        VF v = hn::Set(df, record[0][j]);
-                        for (int r = 1; r < R; ++r) v = hn::IfThenElse(mask[r], hn::Set(df, record[r][j]), v);
-                        return v;
-                    };
-                    interpolate_lanes<N, D, Z, F>(field, centre_x, row_terms(field, centre_y), visible, block.in);
+                    blend_runs(mask, record, block.in);
                 };
                 if (runs == 2) blend.template operator()<2>();
                 else if (runs == 3) blend.template operator()<3>();
