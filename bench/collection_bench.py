@@ -14,16 +14,18 @@ wall times are given beside. Objects per hour count the files attempted, rendere
 interleave the renderers; the tables give medians. facet is also run on each format alone, against
 f3d's time on those files.
 
-    build/release/tests/python/venv/bin/python bench/collection_bench.py --data /tmp/facet-collection \
-        --node-modules /tmp/mv                  # 3 rounds at 256 and 512: about 1.5 h on 2 busy cores
+    scripts/setup --peers                       # once: chromium, node and <model-viewer>'s npm packages
+    build/release/tests/python/venv/bin/python bench/collection_bench.py --data /tmp/facet-collection
+                                                # 3 rounds at 256 and 512: about 1.5 h on 2 busy cores
     python3 bench/collection_bench.py --rounds 1 --sizes 256 --skip dask --limit 40   # a quick check
     python3 bench/collection_bench.py --data /tmp/facet-collection --rounds 2 --limit 60 \
         --skip dask,model-viewer,formats        # the f3d ratio on a fixed sample: about 3 min when quiet
 
 The Dask rows need the facet package importable (the test venv has it: `ctest -R Python.InstallWheel`);
-without it, or without Dask, they are left out, saying so. <model-viewer> needs Debian's chromium and
-node, and `PUPPETEER_SKIP_DOWNLOAD=1 npm install --prefix /tmp/mv @google/model-viewer puppeteer-core`
-(bench/model_viewer_thumbs.mjs drives it); without --node-modules it is left out.
+without it, or without Dask, they are left out, saying so. <model-viewer> (bench/model_viewer_thumbs.mjs
+drives it) needs Debian's chromium, node and the npm packages pinned in bench/peers/package-lock.json,
+which `scripts/setup --peers` installs (into ~/.cache/facet/peers, found by default); without them it
+is left out, saying so.
 """
 import argparse
 import ctypes
@@ -48,6 +50,30 @@ ASSIMP_MODELS = Path("/usr/share/assimp/models")
 CGAL_DATA = Path("/usr/share/doc/libcgal-dev/data.tar.gz")
 EXTENSIONS = {".obj", ".gltf", ".glb", ".stl", ".ply", ".off"}
 CLOCK_TICKS = os.sysconf("SC_CLK_TCK")
+PEERS_LOCK = ROOT / "bench" / "peers" / "package-lock.json"
+PEERS_HINT = "scripts/setup --peers installs them"
+
+
+def peers_dir() -> Path:
+    """Where `scripts/setup --peers` puts the npm peers (scripts/lib/peers.sh)."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "facet" / "peers"
+
+
+def has_peer_modules(folder: Path) -> bool:
+    return all((folder / "node_modules" / m).is_dir() for m in ("@google/model-viewer", "puppeteer-core"))
+
+
+def model_viewer_problem(folder: Path, given: bool):
+    """Why <model-viewer> cannot be measured with this folder (None: it can). A folder given by hand
+    is used as it is; the default one must hold the repository's lock, not an older install."""
+    if not shutil.which("node") or not Path("/usr/bin/chromium").exists():
+        return f"node or /usr/bin/chromium missing: {PEERS_HINT}"
+    if not has_peer_modules(folder):
+        return f"no @google/model-viewer and puppeteer-core in {folder}/node_modules: {PEERS_HINT}"
+    lock = folder / "package-lock.json"
+    if not given and (not lock.is_file() or lock.read_bytes() != PEERS_LOCK.read_bytes()):
+        return f"{folder} holds another bench/peers/package-lock.json's packages: run scripts/setup --peers again"
+    return None
 
 
 # ---- the collection -------------------------------------------------------------------------
@@ -407,8 +433,9 @@ def main():
     parser.add_argument("--generated", type=int, default=100, help="generated models besides Debian's files")
     parser.add_argument("--data", help="keep the collection in this folder and use it again on the next run "
                                        "(it takes a few minutes to build)")
-    parser.add_argument("--node-modules", help="a folder with node_modules/@google/model-viewer and puppeteer-core: "
-                                               "measures <model-viewer> on the glTF files")
+    parser.add_argument("--node-modules", help="a folder with node_modules/@google/model-viewer and puppeteer-core "
+                                               "for <model-viewer> on the glTF files (default: scripts/setup --peers's, "
+                                               "${XDG_CACHE_HOME:-~/.cache}/facet/peers)")
     parser.add_argument("--limit", type=int, help="every k-th file only, about this many (a quick check)")
     parser.add_argument("--skip", default="", help="comma-separated: f3d, dask, model-viewer, formats (facet on each "
                                                    "format alone)")
@@ -417,6 +444,11 @@ def main():
     sizes = [int(s) for s in args.sizes.split(",")]
     skip = set(filter(None, args.skip.split(",")))
     notes = []
+    node_modules = Path(args.node_modules or peers_dir())
+    if "model-viewer" not in skip and args.node_modules:
+        problem = model_viewer_problem(node_modules, given=True)
+        if problem:  # asked for by hand: an error, not a silent gap in the tables
+            parser.error(f"--node-modules {args.node_modules}: {problem}")
 
     tmp = Path(tempfile.mkdtemp(prefix="facet-collection-bench-"))
     clusters, xvfb = {}, None
@@ -446,11 +478,11 @@ def main():
             else:
                 notes.append("f3d: not measured (f3d or Xvfb missing)")
         if "model-viewer" not in skip:
-            if args.node_modules and shutil.which("node") and Path("/usr/bin/chromium").exists():
+            problem = model_viewer_problem(node_modules, given=bool(args.node_modules))
+            if problem is None:
                 runs.append(("model-viewer", "gltf"))
             else:
-                notes.append("<model-viewer>: not measured (give --node-modules; needs node and Debian's chromium, "
-                             "which scripts/setup leaves out: docs/BENCHMARKS.md)")
+                notes.append(f"<model-viewer>: not measured ({problem})")
         if "dask" not in skip:
             try:
                 import distributed  # noqa: F401
@@ -472,7 +504,7 @@ def main():
                     elif name == "f3d":
                         res = run_f3d(files, out, size, xvfb)
                     elif name == "model-viewer":
-                        res = run_model_viewer(args.node_modules, groups[group], out, size)
+                        res = run_model_viewer(node_modules, groups[group], out, size)
                     else:
                         res = run_dask(clusters[int(name[4:])], args.facet, manifests[group], out, size)
                     res["load"] = load

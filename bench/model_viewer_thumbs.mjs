@@ -4,12 +4,13 @@
 // list of {"path", "out"}, a size; out: a PNG per model that loaded, and one line per model on
 // stdout ({"path", "ok", "error"}). Everything is served from 127.0.0.1 (no CDN).
 //
-//   node bench/model_viewer_thumbs.mjs --modules DIR --list LIST.json --size 256 [--chromium PATH]
+//   node bench/model_viewer_thumbs.mjs [--modules DIR] --list LIST.json --size 256 [--chromium PATH]
 //
-// DIR holds node_modules with @google/model-viewer and puppeteer-core
-// (PUPPETEER_SKIP_DOWNLOAD=1 npm install --prefix DIR @google/model-viewer puppeteer-core).
+// DIR holds node_modules with @google/model-viewer and puppeteer-core; by default the folder where
+// `scripts/setup --peers` installs them (${XDG_CACHE_HOME:-~/.cache}/facet/peers).
 import fs from "node:fs";
 import http from "node:http";
+import os from "node:os";
 import path from "node:path";
 import { createRequire } from "node:module";
 
@@ -17,7 +18,8 @@ const args = Object.fromEntries(
   process.argv.slice(2).reduce((pairs, a, i, all) => (a.startsWith("--") ? [...pairs, [a.slice(2), all[i + 1]]] : pairs), []));
 const size = Number(args.size || 256);
 const list = JSON.parse(fs.readFileSync(args.list, "utf8"));
-const require = createRequire(path.join(path.resolve(args.modules), "node_modules", "x.js"));
+const modules = args.modules || path.join(process.env.XDG_CACHE_HOME || path.join(os.homedir(), ".cache"), "facet", "peers");
+const require = createRequire(path.join(path.resolve(modules), "node_modules", "x.js"));
 const puppeteer = require("puppeteer-core");
 const viewerScript = require.resolve("@google/model-viewer/dist/model-viewer.min.js");
 

@@ -12,19 +12,23 @@
 // explicitly (--eye/--target/--fov; --camera-position/-focal-point/-view-angle).
 //
 //   node fidelity.mjs --facet BIN --out DIR [--size N] [--models a.glb,b.gltf] [--azimuth 35 --elevation 25 --fov 45]
+//                     [--modules DIR]
+// DIR holds node_modules with @google/model-viewer and puppeteer-core; by default the folder where
+// `scripts/setup --peers` installs them (${XDG_CACHE_HOME:-~/.cache}/facet/peers).
 import {spawnSync} from 'node:child_process';
 import fs from 'node:fs';
 import http from 'node:http';
+import {createRequire} from 'node:module';
 import os from 'node:os';
 import path from 'node:path';
-import {fileURLToPath} from 'node:url';
-import puppeteer from 'puppeteer-core';
 
-const here = path.dirname(fileURLToPath(import.meta.url));
 const args = Object.fromEntries(process.argv.slice(2).reduce((pairs, a, i, all) => {
   if (a.startsWith('--')) pairs.push([a.slice(2), all[i + 1]]);
   return pairs;
 }, []));
+const modules = args.modules || path.join(process.env.XDG_CACHE_HOME || path.join(os.homedir(), '.cache'), 'facet', 'peers');
+const require = createRequire(path.join(path.resolve(modules), 'node_modules', 'x.js'));
+const puppeteer = require('puppeteer-core');
 const facet = args.facet;
 const outDir = path.resolve(args.out);
 const size = Number(args.size || 400);
@@ -80,7 +84,7 @@ const page_html = (bg) => `<!doctype html><html><head><style>
 async function main() {
   const work = fs.mkdtempSync(path.join(os.tmpdir(), 'facet-fidelity-'));
   fs.writeFileSync(path.join(work, 'index.html'), page_html(background));
-  const mvDist = path.join(here, 'node_modules/@google/model-viewer/dist');
+  const mvDist = path.dirname(require.resolve('@google/model-viewer/dist/model-viewer.min.js'));
   const routes = {'/mv/': mvDist, '/page/': work};
   models.forEach((m, i) => { routes[`/m${i}/`] = path.dirname(path.resolve(m)); });
   const server = await serve(routes);
