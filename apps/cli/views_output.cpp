@@ -15,6 +15,7 @@
 #include <optional>
 #include <sstream>
 
+#include "../../src/math/portable_trig.hpp"  // header-only; not in the public headers, hence the path
 #include "facet/io.hpp"
 #include "json.hpp"
 #include "pass_files.hpp"
@@ -144,7 +145,9 @@ Result<OpenCvCamera> nerf_frame(const Reader& r, const json::Value& frame, const
     } else {
         Result<double> angle = r.number(frame, top, "camera_angle_x");  // instant-ngp's and Blender's NeRF sets
         if (!angle) return r.bad("\"fl_x\" (or \"camera_angle_x\") is missing");
-        c.fx = 0.5 * c.width / std::tan(*angle / 2);
+        // The portable tangent: glibc's picks an FMA variant by CPU, and fx is written to the
+        // folder's cameras files and makes the projection, so it must have the same bits everywhere.
+        c.fx = 0.5 * c.width / portable::tan(*angle / 2);
     }
     c.fy = c.fx;
     if (frame.find("fl_y") || top.find("fl_y")) {

@@ -8,11 +8,14 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "math/portable_trig.hpp"
 #include "support/cli.hpp"
 #include "support/test_data.hpp"
 
@@ -285,6 +288,40 @@ TEST(CliViews, ASecondRunIntoTheFolderReplacesItsFilesAndKeepsOthers) {
     EXPECT_TRUE(fs::exists(out / "instance" / "0000.png"));
     EXPECT_EQ(facet_test::read_file(out / "notes.txt"), "mine");
     EXPECT_EQ(entries_besides(dir, {"boxes.obj", "out", "link"}), std::vector<std::string>{});
+}
+
+// A NeRF file's camera_angle_x becomes fx = w / 2 / tan(angle / 2) with facet's portable tangent,
+// not the C library's, whose last bit depends on the CPU (glibc picks an FMA variant at run time:
+// camera_angle_x 0.098695479404196804 at w = 800 gives fx 8099.1602945243021 with FMA and
+// ...012 without); fx is written to cameras.json and makes the projection. For these angles glibc
+// 2.36's tan and the portable one differ in the last bit, so std::tan would fail here.
+TEST(CliViews, CameraAngleXBecomesTheSameFocalLengthOnEveryMachine) {
+    const fs::path dir = temp_dir();
+    const std::string model = two_boxes(dir);
+    const double angles[] = {1.0471975511965976, 0.4, 0.35};
+    std::string frames;
+    for (double a : angles) {
+        char frame[200];
+        std::snprintf(frame, sizeof(frame),
+                      "%s{\"camera_angle_x\": %.17g, \"transform_matrix\": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 9], [0, 0, 0, 1]]}",
+                      frames.empty() ? "" : ", ", a);
+        frames += frame;
+    }
+    const std::string cameras = write_text(dir / "transforms.json", "{\"w\": 20, \"h\": 16, \"frames\": [" + frames + "]}");
+    const fs::path out = dir / "out";
+    const CliRun r = render({model, "--views", "file:" + cameras, "-o", out.string()});
+    ASSERT_EQ(r.exit_code, 0) << r.all();
+    const std::string written = facet_test::read_file(out / "cameras.json");
+    std::size_t at = 0;
+    for (double a : angles) {
+        at = written.find("\"fx\": ", at);
+        ASSERT_NE(at, std::string::npos) << written;
+        at += 6;
+        const double fx = std::strtod(written.c_str() + at, nullptr), portable = 0.5 * 20 / facet::portable::tan(a / 2);
+        char both[80];
+        std::snprintf(both, sizeof(both), "fx %.17g, portable %.17g", fx, portable);
+        EXPECT_EQ(fx, portable) << "camera_angle_x " << a << ": " << both;
+    }
 }
 
 }  // namespace
