@@ -24,6 +24,8 @@ set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME facet)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SECTION graphics)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SHLIBDEPS ON)
+# Opened with dlopen when a PNG is read (src/io/png.cpp), so dpkg-shlibdeps does not see it.
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_DEPENDS "libspng0")
 set(CPACK_DEBIAN_RUNTIME_DESCRIPTION "software 3D renderer: model files to PNG on the CPU
 facet renders 3D model files (OBJ, STL, PLY, OFF, glTF, FBX, 3MF, COLLADA and
 every other format assimp reads) to PNG images on the CPU, without a GPU or a
@@ -34,7 +36,7 @@ tests (facet diff, facet render --reference) and shows models in a window
 
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME libfacet-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
-set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libassimp-dev, libseccomp-dev, libspng-dev, zlib1g-dev, libstb-dev, pkg-config")
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "libassimp-dev, libseccomp-dev, zlib1g-dev, libstb-dev, pkg-config")
 if(NOT FACET_STATIC)
   set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS "facet (= ${PROJECT_VERSION}), ${CPACK_DEBIAN_DEV_PACKAGE_DEPENDS}")
 endif()

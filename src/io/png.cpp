@@ -1,7 +1,9 @@
-// facet io: PNG files. Encoding is facet's own (below), decoding libspng's; and atomic file writes.
+// facet io: PNG files. Encoding is facet's own (below), decoding libspng's (opened at the first
+// read); and atomic file writes.
 // The encoder filters each row with Up and deflates fixed blocks of rows as independent pieces of
 // one zlib stream, in parallel: the bytes depend on the image and the level alone, never on the
 // number of threads.
+#include <dlfcn.h>
 #include <spng.h>
 #include <zlib.h>
 
@@ -13,8 +15,11 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <mutex>
 #include <random>
+#include <string>
 #include <thread>
+#include <type_traits>
 
 #include "facet/detail/frame.hpp"
 #include "facet/detail/thread_pool.hpp"
@@ -27,8 +32,59 @@ Error io_error(const std::string& path, const std::string& what) {
     return Error{ErrorCode::io, path + ": " + what};
 }
 
+// libspng's functions, from the library opened at the first PNG read (dlopen): a process that
+// only writes PNGs, as `facet render` does, then loads neither libspng nor the zlib it needs at
+// its start (the dynamic loader's work and the process's mappings: 0.15-0.2 ms a process,
+// docs/BENCHMARKS.md).
+struct Spng {
+    decltype(&spng_ctx_new) ctx_new;
+    decltype(&spng_ctx_free) ctx_free;
+    decltype(&spng_set_image_limits) set_image_limits;
+    decltype(&spng_set_png_file) set_png_file;
+    decltype(&spng_get_ihdr) get_ihdr;
+    decltype(&spng_decoded_image_size) decoded_image_size;
+    decltype(&spng_decode_image) decode_image;
+    decltype(&spng_strerror) strerror;
+};
+
+static_assert(SPNG_VERSION_MAJOR == 0, "libspng's soname below is that of its major version 0");
+constexpr const char* k_spng_library = "libspng.so.0";
+
+// The functions, or null with the reason in `why`; opened once per process, kept open.
+const Spng* spng(std::string& why) {
+    static std::once_flag once;
+    static Spng functions{};
+    static const Spng* loaded = nullptr;
+    static std::string error;
+    std::call_once(once, [] {
+        void* library = dlopen(k_spng_library, RTLD_NOW | RTLD_LOCAL);
+        if (!library) {
+            const char* e = dlerror();
+            error = e ? e : std::string(k_spng_library) + ": cannot be opened";
+            return;
+        }
+        bool all = true;
+        auto get = [&](auto& function, const char* name) {
+            function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(dlsym(library, name));
+            if (!function && all) error = std::string(k_spng_library) + " has no " + name, all = false;
+        };
+        get(functions.ctx_new, "spng_ctx_new");
+        get(functions.ctx_free, "spng_ctx_free");
+        get(functions.set_image_limits, "spng_set_image_limits");
+        get(functions.set_png_file, "spng_set_png_file");
+        get(functions.get_ihdr, "spng_get_ihdr");
+        get(functions.decoded_image_size, "spng_decoded_image_size");
+        get(functions.decode_image, "spng_decode_image");
+        get(functions.strerror, "spng_strerror");
+        if (all) loaded = &functions;
+    });
+    if (!loaded) why = error;
+    return loaded;
+}
+
 struct SpngDeleter {
-    void operator()(spng_ctx* ctx) const { spng_ctx_free(ctx); }
+    const Spng* functions;
+    void operator()(spng_ctx* ctx) const { functions->ctx_free(ctx); }
 };
 using SpngContext = std::unique_ptr<spng_ctx, SpngDeleter>;
 
@@ -313,22 +369,25 @@ Status write_png_rgb16(const std::string& path, int width, int height, const std
 Result<Image> read_png(const std::string& path) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), std::fclose);
     if (!file) return io_error(path, std::string("cannot open: ") + std::strerror(errno));
-    SpngContext ctx(spng_ctx_new(0));
+    std::string why;
+    const Spng* const f = spng(why);
+    if (!f) return io_error(path, "cannot decode PNG files: " + why);
+    SpngContext ctx(f->ctx_new(0), SpngDeleter{f});
     if (!ctx) return io_error(path, "out of memory creating the PNG decoder");
     // Refuse absurd sizes before allocating: a hostile header can claim 2^31 x 2^31 pixels.
-    spng_set_image_limits(ctx.get(), k_max_target_size * 2, k_max_target_size * 2);
-    spng_set_png_file(ctx.get(), file.get());
+    f->set_image_limits(ctx.get(), k_max_target_size * 2, k_max_target_size * 2);
+    f->set_png_file(ctx.get(), file.get());
     spng_ihdr ihdr{};
-    int err = spng_get_ihdr(ctx.get(), &ihdr);
+    int err = f->get_ihdr(ctx.get(), &ihdr);
     std::size_t size = 0;
-    if (!err) err = spng_decoded_image_size(ctx.get(), SPNG_FMT_RGBA8, &size);
-    if (err) return Error{ErrorCode::bad_format, path + ": not a valid PNG file (" + spng_strerror(err) + ")"};
+    if (!err) err = f->decoded_image_size(ctx.get(), SPNG_FMT_RGBA8, &size);
+    if (err) return Error{ErrorCode::bad_format, path + ": not a valid PNG file (" + f->strerror(err) + ")"};
     Image image;
     image.width = static_cast<int>(ihdr.width);
     image.height = static_cast<int>(ihdr.height);
     image.pixels.resize(static_cast<std::size_t>(image.width) * image.height);
-    err = spng_decode_image(ctx.get(), image.pixels.data(), size, SPNG_FMT_RGBA8, SPNG_DECODE_TRNS);
-    if (err) return Error{ErrorCode::bad_format, path + ": corrupt PNG data (" + spng_strerror(err) + ")"};
+    err = f->decode_image(ctx.get(), image.pixels.data(), size, SPNG_FMT_RGBA8, SPNG_DECODE_TRNS);
+    if (err) return Error{ErrorCode::bad_format, path + ": corrupt PNG data (" + f->strerror(err) + ")"};
     return image;
 }
 
