@@ -531,8 +531,10 @@ std::size_t split_into_sets(float cos_crease, FanScratch& s) {
 // (vertex_set: that set's smallest corner), and corners from another set ask for a copy of the
 // vertex. Corners without area take whatever their vertex has.
 struct VertexNormals {
-    std::vector<std::uint32_t>& vertex_set;
+    std::uint32_t* vertex_set;  // by vertex, from vertex `first` on
+    std::uint32_t first;
     std::vector<Vec3>& normals;
+    std::uint32_t& set_of(std::uint32_t vertex) const { return vertex_set[vertex - first]; }
 };
 constexpr std::uint32_t k_no_set = ~0u;
 
@@ -546,7 +548,7 @@ void assign_set_normals(std::size_t sets, Vec3 around, FanScratch& s, VertexNorm
         if (!(dot(n, n) > 0)) return;
         const std::uint32_t set = corners[0].corner;
         for (const FanCorner& c : corners)
-            if (out.vertex_set[c.vertex] == k_no_set) out.vertex_set[c.vertex] = set, out.normals[c.vertex] = n;
+            if (out.set_of(c.vertex) == k_no_set) out.set_of(c.vertex) = set, out.normals[c.vertex] = n;
         return;
     }
     s.sum.assign(corners.size(), Vec3{});
@@ -558,7 +560,7 @@ void assign_set_normals(std::size_t sets, Vec3 around, FanScratch& s, VertexNorm
         if (!(dot(n, n) > 0)) continue;
         const FanCorner& c = corners[local];
         const std::uint32_t set = corners[root].corner;
-        std::uint32_t& vertex_set = out.vertex_set[c.vertex];
+        std::uint32_t& vertex_set = out.set_of(c.vertex);
         if (vertex_set == k_no_set) {
             vertex_set = set;
             out.normals[c.vertex] = n;
@@ -684,18 +686,29 @@ struct FirstFaceTest {
     }
 };
 
-// The triangles described in order: each position's sums, and a bit per triangle with area.
+// Every position's sums in one array.
+struct AllSums {
+    PositionSums* sums;
+    void before(const std::uint32_t*) const {}
+    PositionSums& at(std::uint32_t w) const { return sums[w]; }
+    void prefetch(std::uint32_t w) const { __builtin_prefetch(sums + w, 1); }
+};
+
+// The triangles described in order: each position's sums (sums.at(w), after sums.before(the
+// triangle's indices) for each valid triangle), and a bit per triangle with area.
+template <class Sums>
 void sum_by_position(const Mesh& mesh, WeldIds weld, const InRange& in_range,
-                     const FirstFaceTest& test, PositionSums* sums, std::vector<std::uint64_t>& area) {
+                     const FirstFaceTest& test, Sums& sums, std::vector<std::uint64_t>& area) {
     area.assign((in_range.size() + 63) / 64, 0);
     describe_range(mesh, in_range, 0, in_range.size(), [&](std::size_t t, const TriangleFacts& facts) {
+        const std::uint32_t* idx = mesh.indices.data() + 3 * t;
+        sums.before(idx);
         const Vec3 face{facts.face[0], facts.face[1], facts.face[2]};
         if (!(dot(face, face) > 0)) return;
         area[t / 64] |= std::uint64_t{1} << t % 64;
-        const std::uint32_t* idx = mesh.indices.data() + 3 * t;
         const std::int64_t w[3] = {weld[idx[0]], weld[idx[1]], weld[idx[2]]};
         for (int k = 0; k < 3; ++k) {
-            PositionSums& p = sums[w[k]];
+            PositionSums& p = sums.at(static_cast<std::uint32_t>(w[k]));
             p.around += face * facts.angle[k];
             const std::uint32_t faces = p.faces & k_count;
             if (faces == 0) p.first = face;
@@ -715,7 +728,7 @@ void sum_by_position(const Mesh& mesh, WeldIds weld, const InRange& in_range,
     // sums would otherwise wait for): they are fetched a chunk ahead, before the kernel runs.
     [&](std::size_t t) {
         const std::uint32_t* idx = mesh.indices.data() + 3 * t;
-        for (int k = 0; k < 3; ++k) __builtin_prefetch(sums + weld[idx[k]], 1);
+        for (int k = 0; k < 3; ++k) sums.prefetch(weld[idx[k]]);
     });
 }
 
@@ -838,11 +851,11 @@ bool settle_one_set(std::span<const std::uint32_t> corners, const Facts* triangl
     const Vec3 normal = normalize(sum);
     if (!(dot(normal, normal) > 0)) return true;
     if constexpr (Facts::k_own_positions) {  // every corner's vertex is the position's own, in no set yet
-        out.vertex_set[position] = set, out.normals[position] = normal;
+        out.set_of(position) = set, out.normals[position] = normal;
         return true;
     }
     for (std::uint32_t i = 0; i < n; ++i)
-        if (out.vertex_set[vertex[i]] == k_no_set) out.vertex_set[vertex[i]] = set, out.normals[vertex[i]] = normal;
+        if (out.set_of(vertex[i]) == k_no_set) out.set_of(vertex[i]) = set, out.normals[vertex[i]] = normal;
     return true;
 }
 
@@ -895,6 +908,191 @@ void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, WeldIds
         if (vertex_set[v] == k_no_set) normals[v] = fallback_normal(around(weld[v]));
 }
 
+// One thread where each vertex is its own position: in most meshes a triangle's positions are
+// numbered close to the highest number of the triangles up to it (the conversion numbers them in
+// order of first use: 99% of the 1M sphere's corners are within 223 of it), so the sums are kept
+// for a ring of the k_window positions up to the highest, each position settled as the ring leaves
+// it, and for the few used again later than that (`far`: the 1M sphere's 6,702 on the seams of its
+// subdivided faces) in an array of their own: 0.7 MB of sums instead of 32 MB of fresh pages
+// (docs/BENCHMARKS.md "Loading OBJ, session 15"). The same sums in the same order: the same bits.
+constexpr std::size_t k_window = 4096;  // positions; a power of two (the ring of twice as many: 512 KB)
+constexpr std::size_t k_window_min_positions = 4 * k_window;
+
+struct FarPositions {
+    std::vector<std::uint64_t> bits;    // per position
+    std::vector<std::uint32_t> before;  // per word of bits: the far positions before it
+    std::size_t count = 0;
+    bool has(std::uint32_t w) const { return bits[w / 64] >> w % 64 & 1; }
+    std::uint32_t rank(std::uint32_t w) const {
+        return before[w / 64] + static_cast<std::uint32_t>(std::popcount(bits[w / 64] & ((std::uint64_t{1} << w % 64) - 1)));
+    }
+};
+
+// The positions that a corner of a valid triangle uses k_window or more below the highest position
+// of the valid triangles up to its own; nullopt when they are more than an eighth of all (the
+// sums are then kept for every position).
+std::optional<FarPositions> find_far_positions(const Mesh& mesh, const InRange& in_range, std::size_t positions) {
+    FarPositions far;
+    far.bits.assign((positions + 63) / 64, 0);
+    const std::size_t most = positions / 8;
+    constexpr auto window = static_cast<std::int64_t>(k_window);
+    std::int64_t highest = -1;
+    const std::uint32_t* index = mesh.indices.data();
+    for (std::size_t t = 0; t < in_range.size(); ++t) {
+        if (!in_range[t]) continue;
+        const std::uint32_t* idx = index + 3 * t;
+        highest = std::max<std::int64_t>(highest, std::max({idx[0], idx[1], idx[2]}));
+        if (highest - std::min({idx[0], idx[1], idx[2]}) < window) continue;  // one test for most triangles
+        for (int k = 0; k < 3; ++k) {
+            if (highest - idx[k] < window) continue;
+            std::uint64_t& word = far.bits[idx[k] / 64];
+            const std::uint64_t bit = std::uint64_t{1} << idx[k] % 64;
+            if (word & bit) continue;
+            word |= bit;
+            if (++far.count > most) return std::nullopt;
+        }
+    }
+    far.before.resize(far.bits.size());
+    std::uint32_t count = 0;
+    for (std::size_t i = 0; i < far.bits.size(); ++i) far.before[i] = count, count += static_cast<std::uint32_t>(std::popcount(far.bits[i]));
+    return far;
+}
+
+// The sums as sum_by_position fills them: those of the positions from `finished_` up to the highest
+// so far in a ring of 2 * k_window (the positions k_window or more below the highest, but for the
+// far ones, are used no more: they are finished in batches of k_window or more, out of the
+// per-triangle path), and the far positions' once they are finished. finish(w, sums) is called
+// for each position in order (sums null for a far one).
+template <class Finish>
+class WindowSums {
+public:
+    WindowSums(const FarPositions& far, std::size_t positions, const Finish& finish)
+        : far_(far), positions_(static_cast<std::int64_t>(positions)), ring_(k_ring), far_sums_(far.count), finish_(finish) {}
+    void before(const std::uint32_t* idx) {
+        const std::int64_t top = std::max({idx[0], idx[1], idx[2]});
+        if (top - finished_ >= static_cast<std::int64_t>(k_ring)) finish_to(top - static_cast<std::int64_t>(k_window));
+    }
+    // A position finished already is a far one (find_far_positions).
+    PositionSums& at(std::uint32_t w) {
+        return static_cast<std::int64_t>(w) >= finished_ ? ring_[w & (k_ring - 1)] : far_sums_[far_.rank(w)];
+    }
+    void prefetch(std::uint32_t) const {}  // the ring stays in the caches; the far sums are few
+    void finish_rest() { finish_to(positions_ - 1); }
+    const std::vector<PositionSums>& far_sums() const { return far_sums_; }
+
+private:
+    static constexpr std::size_t k_ring = 2 * k_window;
+    [[gnu::noinline]] void finish_to(std::int64_t last) {
+        for (std::int64_t w = finished_; w <= last; ++w) {
+            const auto position = static_cast<std::uint32_t>(w);
+            PositionSums& sums = ring_[position & (k_ring - 1)];
+            if (far_.has(position)) {
+                far_sums_[far_finished_++] = sums;  // in order: its rank
+                finish_(position, nullptr);
+            } else {
+                finish_(position, &sums);
+            }
+            sums = PositionSums{};  // for position w + k_ring
+        }
+        finished_ = std::max(finished_, last + 1);
+    }
+    const FarPositions& far_;
+    std::int64_t positions_;
+    std::int64_t finished_ = 0;  // the positions below are finished
+    std::size_t far_finished_ = 0;
+    std::vector<PositionSums> ring_;
+    std::vector<PositionSums> far_sums_;
+    const Finish& finish_;
+};
+
+// Whether a position's sums settle it (its corners with area one set, or fewer than two).
+bool settled_by_sums(const PositionSums& p) {
+    const std::uint32_t faces = p.faces & k_count;
+    return !(p.faces & k_rough) && (faces <= 1 || (!(p.faces & k_far) && joined_by_sides(p.sides.next, p.sides.prev, faces)));
+}
+
+// creased_normals_in_order where each vertex is its own position, with the sums of the ring
+// and of the far positions (above): the same steps, the same bits.
+void creased_normals_in_window(Mesh& mesh, const FarPositions& far, std::size_t positions, const InRange& in_range,
+                               float crease) {
+    detail::reserve_in_huge_pages(mesh.normals, mesh.positions.size());
+    mesh.normals.clear();  // appended below, position by position
+    // The positions not settled by their sums, in order, with what the split needs of them.
+    struct Listed {
+        std::uint32_t position, faces, place;
+        Vec3 around;
+    };
+    std::vector<Listed> listed;
+    const auto finish = [&](std::uint32_t w, const PositionSums* p) {
+        if (p && settled_by_sums(*p)) {
+            mesh.normals.push_back(p->around);  // made its normal below
+            return;
+        }
+        mesh.normals.emplace_back();  // given below
+        if (p) listed.push_back({w, p->faces, 0, p->around});
+    };
+    WindowSums<decltype(finish)> sums(far, positions, finish);
+    std::vector<std::uint64_t> area;
+    sum_by_position(mesh, WeldIds{}, in_range, FirstFaceTest(crease), sums, area);
+    sums.finish_rest();
+    std::size_t far_rank = 0;
+    const std::size_t from_ring = listed.size();
+    for (std::size_t word = 0; word < far.bits.size(); ++word)
+        for (std::uint64_t bits = far.bits[word]; bits; bits &= bits - 1) {
+            const auto w = static_cast<std::uint32_t>(64 * word + static_cast<std::size_t>(std::countr_zero(bits)));
+            const PositionSums& p = sums.far_sums()[far_rank++];
+            if (settled_by_sums(p))
+                mesh.normals[w] = p.around;
+            else
+                listed.push_back({w, p.faces, 0, p.around});
+        }
+    std::inplace_merge(listed.begin(), listed.begin() + static_cast<std::ptrdiff_t>(from_ring), listed.end(),
+                       [](const Listed& a, const Listed& b) { return a.position < b.position; });
+    fallback_normals_in_place(mesh.normals.data(), mesh.normals.size());
+    if (listed.empty()) return;
+    // Their corners with area, in corner order (place ends where each position's corners end).
+    std::vector<std::uint64_t> is_listed((positions + 63) / 64, 0);
+    std::uint32_t listed_count = 0;
+    for (Listed& l : listed) {
+        is_listed[l.position / 64] |= std::uint64_t{1} << l.position % 64;
+        l.place = listed_count, listed_count += l.faces & k_count;
+    }
+    std::vector<std::uint32_t> listed_corners(listed_count);
+    const auto triangles = static_cast<std::uint32_t>(in_range.size());
+    for (std::uint32_t t = 0; t < triangles; ++t) {
+        if (!has_area(area, t)) continue;
+        for (std::uint32_t k = 0; k < 3; ++k)
+            if (const std::uint32_t w = mesh.indices[3 * t + k]; is_listed[w / 64] >> w % 64 & 1) {
+                Listed& l = *std::lower_bound(listed.begin(), listed.end(), w,
+                                              [](const Listed& a, std::uint32_t b) { return a.position < b; });
+                listed_corners[l.place++] = 3 * t + k;
+            }
+    }
+    const float cos_crease = static_cast<float>(portable::cos(crease));
+    std::vector<FanScratch> scratch(1);
+    FanScratch& s = scratch[0];
+    for (const Listed& l : listed) {
+        const std::uint32_t w = l.position, faces = l.faces & k_count;
+        const std::span<const std::uint32_t> corners{listed_corners.data() + l.place - faces, faces};
+        std::uint32_t set = k_no_set;  // the position's vertex's
+        [&] {
+            if (!(l.faces & k_rough)) {  // k_far: the sides from the corners
+                std::uint32_t next[k_sides_read] = {}, prev[k_sides_read] = {};
+                for (std::uint32_t i = 0; i < faces; ++i) {
+                    const std::uint32_t* idx = mesh.indices.data() + corners[i] / 3 * 3;
+                    const std::uint32_t k = corners[i] % 3;
+                    next[i] = idx[(k + 1) % 3], prev[i] = idx[(k + 2) % 3];
+                }
+                if (joined_by_sides(next, prev, faces)) return;
+            }
+            gather_fan(corners, [&](std::uint32_t c) { return describe_corner(mesh, WeldIds{}, c); }, s.corners);
+            assign_set_normals(split_into_sets(cos_crease, s), l.around, s, {&set, w, mesh.normals});
+        }();
+        if (set == k_no_set) mesh.normals[w] = fallback_normal(l.around);
+    }
+    copy_vertices(scratch, mesh);
+}
+
 // The normals with one thread: the fans of the positions that their sums do not settle split as
 // split_fans does, and the others' vertices left to the fallback (their one set's normal is the
 // normalized sum, which the fallback gives too). Where each vertex is its own position (no weld),
@@ -903,6 +1101,11 @@ void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, WeldIds
 void creased_normals_in_order(Mesh& mesh, WeldIds weld, std::size_t positions,
                               const InRange& in_range, float crease) {
     const bool own_positions = !weld.id;
+    if (own_positions && positions >= k_window_min_positions)
+        if (const std::optional<FarPositions> far = find_far_positions(mesh, in_range, positions)) {
+            creased_normals_in_window(mesh, *far, positions, in_range, crease);
+            return;
+        }
     std::vector<std::uint32_t> vertex_set(mesh.positions.size(), k_no_set);
     detail::reserve_in_huge_pages(mesh.normals, mesh.positions.size());
     if (own_positions)
@@ -912,7 +1115,8 @@ void creased_normals_in_order(Mesh& mesh, WeldIds weld, std::size_t positions,
     std::vector<FanScratch> scratch(1);
     const ZeroedArray<PositionSums> sums(positions);
     std::vector<std::uint64_t> area;
-    sum_by_position(mesh, weld, in_range, FirstFaceTest(crease), sums.data(), area);
+    AllSums all{sums.data()};
+    sum_by_position(mesh, weld, in_range, FirstFaceTest(crease), all, area);
     // The positions not settled here, listed: each given its place in `listed_corners` (in the
     // place of its sides, which it no longer needs) and a bit in `listed`.
     std::vector<std::uint64_t> listed((positions + 63) / 64, 0);
@@ -957,7 +1161,7 @@ void creased_normals_in_order(Mesh& mesh, WeldIds weld, std::size_t positions,
                     if (joined_by_sides(next, prev, faces)) continue;
                 }
                 gather_fan(corners, [&](std::uint32_t c) { return describe_corner(mesh, weld, c); }, s.corners);
-                assign_set_normals(split_into_sets(cos_crease, s), p.around, s, {vertex_set, mesh.normals});
+                assign_set_normals(split_into_sets(cos_crease, s), p.around, s, {vertex_set.data(), 0, mesh.normals});
             }
         copy_vertices(scratch, mesh);
     }
@@ -1027,7 +1231,7 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
         const auto facts = std::make_unique_for_overwrite<Facts[]>(triangles);
         describe_triangles(mesh, weld, positions, in_range, workers, facts.get(), by_position);
         return split_fans(by_position, facts.get(), cos_crease, FirstFaceTest(crease_angle_radians), workers, scratch,
-                          {vertex_set, mesh.normals});
+                          {vertex_set.data(), 0, mesh.normals});
     };
     const std::vector<Vec3> around = distinct_positions && vertex_count <= k_packed_vertices
                                          ? describe_and_split(static_cast<PackedFacts*>(nullptr))

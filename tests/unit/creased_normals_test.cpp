@@ -169,6 +169,81 @@ TEST(CreasedNormals, DistinctPositionsWithoutWeldingMatchTheReference) {
     }
 }
 
+// The mesh with its positions numbered in order of first use by the triangles (as facet's conversion
+// numbers them), the unused ones after them.
+Mesh numbered_by_first_use(const Mesh& m) {
+    std::vector<std::uint32_t> number(m.positions.size(), ~0u);
+    Mesh out;
+    const auto give = [&](std::uint32_t v) {
+        if (number[v] != ~0u) return;
+        number[v] = static_cast<std::uint32_t>(out.positions.size());
+        out.positions.push_back(m.positions[v]);
+    };
+    for (std::uint32_t i : m.indices)
+        if (i < number.size()) give(i);
+    for (std::uint32_t v = 0; v < m.positions.size(); ++v) give(v);
+    for (std::uint32_t i : m.indices) out.indices.push_back(i < number.size() ? number[i] : i);
+    return out;
+}
+
+// A torus of rows x columns vertices, its triangles row by row but those of one row last.
+Mesh torus_with_a_row_last(std::uint32_t rows, std::uint32_t columns, std::uint32_t last_row) {
+    Mesh m;
+    for (std::uint32_t u = 0; u < rows; ++u)
+        for (std::uint32_t v = 0; v < columns; ++v) {
+            const float phi = 6.2831853f * static_cast<float>(u) / static_cast<float>(rows);
+            const float theta = 6.2831853f * static_cast<float>(v) / static_cast<float>(columns);
+            const float ring = 1 + 0.3f * std::cos(theta);
+            m.positions.push_back({ring * std::cos(phi), ring * std::sin(phi), 0.3f * std::sin(theta)});
+        }
+    std::vector<std::uint32_t> held;
+    for (std::uint32_t u = 0; u < rows; ++u)
+        for (std::uint32_t v = 0; v < columns; ++v) {
+            const std::uint32_t next_u = (u + 1) % rows, next_v = (v + 1) % columns;
+            const std::uint32_t a = u * columns + v, b = u * columns + next_v, c = next_u * columns + v, d = next_u * columns + next_v;
+            (u == last_row ? held : m.indices).insert((u == last_row ? held : m.indices).end(), {a, c, b, b, c, d});
+        }
+    m.indices.insert(m.indices.end(), held.begin(), held.end());
+    return m;
+}
+
+// One thread keeps the sums of the positions in a ring up to the highest one used so far, and of
+// the positions used again long after it has passed them (far ones) apart, where each vertex is its
+// own position and there are 16,384 positions or more. A torus numbered in order of first use,
+// the triangles of its last row of quads (at its first row: far, with neighbours far in the
+// numbering) and of its tenth row (at two rows with near neighbours) last, then 12,000 positions no
+// triangle uses (which the ring passes at once), a ball, degenerate and out-of-range triangles,
+// and a triangle at the torus's first position; and the same shuffled (too many far positions:
+// every position's sums kept).
+TEST(CreasedNormals, PositionsInARingMatchTheReference) {
+    Mesh m = numbered_by_first_use(torus_with_a_row_last(96, 64, 10));
+    for (int i = 0; i < 12000; ++i) m.positions.push_back({10.0f + static_cast<float>(i), 0, 0});
+    const Mesh ball = joined_by_position(make_icosphere(0.5f, 2));
+    const auto base = static_cast<std::uint32_t>(m.positions.size());
+    for (const Vec3& p : ball.positions) m.positions.push_back(p + Vec3{5, 0, 0});
+    for (const std::uint32_t i : ball.indices) m.indices.push_back(base + i);
+    m.indices.insert(m.indices.end(), {base, base, base + 1, base, base + 1, 1'000'000, 0, base + 2, base + 3});
+    ASSERT_GE(m.positions.size(), 16384u);
+    Mesh shuffled = m;
+    std::mt19937 rng(7);
+    std::vector<std::uint32_t> order(m.positions.size());
+    for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::shuffle(order.begin(), order.end(), rng);
+    for (std::uint32_t i = 0; i < order.size(); ++i) shuffled.positions[order[i]] = m.positions[i];
+    for (std::uint32_t& index : shuffled.indices)
+        if (index < order.size()) index = order[index];
+    for (const auto& [name, mesh] : {std::pair<const char*, const Mesh&>{"torus and ball", m}, {"shuffled", shuffled}})
+        for (float crease : {radians(20), radians(40), k_pi}) {
+            SCOPED_TRACE(std::string(name) + ", crease " + std::to_string(crease));
+            Mesh want = mesh, got = mesh;
+            facet_test::reference_creased_normals(want, crease);
+            detail::compute_creased_normals_on(got, crease, nullptr, /*distinct_positions=*/true);
+            EXPECT_EQ(bits_of(got.positions), bits_of(want.positions));
+            EXPECT_EQ(bits_of(got.normals), bits_of(want.normals));
+            EXPECT_EQ(got.indices, want.indices);
+        }
+}
+
 // Nothing but degenerate triangles: no triangle has an edge, so every vertex's list of edge sides is
 // empty (fuzzing found pointer arithmetic past an empty list there, which UBSan reports).
 TEST(CreasedNormals, MeshesWithoutAnyEdgeMatchTheReference) {
