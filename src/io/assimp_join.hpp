@@ -16,6 +16,9 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
+#include <new>
 #include <optional>
 #include <unordered_map>
 #include <utility>
@@ -136,7 +139,14 @@ std::optional<Join> join_as_assimp(std::size_t count, Value&& value, std::size_t
     std::uint32_t uniques = 0;
     const std::size_t slots = std::bit_ceil(std::max<std::size_t>(16, 2 * count));
     const int shift = 64 - std::countr_zero(slots);
-    const detail::ZeroedArray<std::uint64_t> table(slots);  // bucket << 32 | unique + 1; fresh 2 MB pages (random probes)
+    // bucket << 32 | unique + 1. From the heap, not a mapping of its own: freed, its pages are taken
+    // by the next arrays (the conversion's positions), not fresh ones ("Loading OBJ, session 15" in
+    // docs/BENCHMARKS.md); in 2 MB pages where they are fresh (random probes).
+    const std::unique_ptr<std::uint64_t[], void (*)(void*)> table_owner(
+        static_cast<std::uint64_t*>(std::calloc(slots, sizeof(std::uint64_t))), &std::free);
+    if (!table_owner) throw std::bad_alloc();
+    std::uint64_t* const table = table_owner.get();
+    detail::advise_huge_pages(table, slots * sizeof(std::uint64_t));
     const std::size_t mask = slots - 1;
     // A bucket's first slot: its number spread over the table.
     const auto slot_of = [&](std::uint64_t bucket) { return static_cast<std::size_t>(bucket * 0x9E3779B97F4A7C15ull >> shift); };

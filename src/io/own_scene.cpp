@@ -22,9 +22,10 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
     if (ext != "obj" && !gltf) return std::nullopt;
     const ResourceRoots roots(path, options.resource_dirs);
     ImportNotes notes;
-    // A large file's pages (when read, not mapped), freed once read, and the scratch arrays' after
-    // it (the OBJ join's table, then the creased normals' sums), taken again by the next rather than
-    // mapped anew (fresh_pages.hpp).
+    // A large file's pages (when read, not mapped), freed once read, taken again by the next large
+    // scratch array (the creased normals' sums where they are kept for every position) rather than
+    // mapped anew (fresh_pages.hpp). The OBJ join's table is the heap's: the conversion's positions
+    // take its pages.
     const detail::RecycleFreshPages recycle;
     std::optional<Result<OwnScene>> scene;
     {
