@@ -918,13 +918,20 @@ void give_fallback_normals(const std::vector<std::uint32_t>& vertex_set, WeldIds
 constexpr std::size_t k_window = 4096;  // positions; a power of two (the ring of twice as many: 512 KB)
 constexpr std::size_t k_window_min_positions = 4 * k_window;
 
+// A set of positions (a bit each) and each one's rank among them.
 struct FarPositions {
     std::vector<std::uint64_t> bits;    // per position
-    std::vector<std::uint32_t> before;  // per word of bits: the far positions before it
+    std::vector<std::uint32_t> before;  // per word of bits: the positions in the set before it
     std::size_t count = 0;
     bool has(std::uint32_t w) const { return bits[w / 64] >> w % 64 & 1; }
     std::uint32_t rank(std::uint32_t w) const {
         return before[w / 64] + static_cast<std::uint32_t>(std::popcount(bits[w / 64] & ((std::uint64_t{1} << w % 64) - 1)));
+    }
+    // `before` from the bits.
+    void count_before() {
+        before.resize(bits.size());
+        std::uint32_t n = 0;
+        for (std::size_t i = 0; i < bits.size(); ++i) before[i] = n, n += static_cast<std::uint32_t>(std::popcount(bits[i]));
     }
 };
 
@@ -952,9 +959,7 @@ std::optional<FarPositions> find_far_positions(const Mesh& mesh, const InRange& 
             if (++far.count > most) return std::nullopt;
         }
     }
-    far.before.resize(far.bits.size());
-    std::uint32_t count = 0;
-    for (std::size_t i = 0; i < far.bits.size(); ++i) far.before[i] = count, count += static_cast<std::uint32_t>(std::popcount(far.bits[i]));
+    far.count_before();
     return far;
 }
 
@@ -1050,23 +1055,23 @@ void creased_normals_in_window(Mesh& mesh, const FarPositions& far, std::size_t 
                        [](const Listed& a, const Listed& b) { return a.position < b.position; });
     fallback_normals_in_place(mesh.normals.data(), mesh.normals.size());
     if (listed.empty()) return;
-    // Their corners with area, in corner order (place ends where each position's corners end).
-    std::vector<std::uint64_t> is_listed((positions + 63) / 64, 0);
+    // Their corners with area, in corner order (place ends where each position's corners end); a
+    // listed position's entry is its rank among them (as the far positions').
+    FarPositions is_listed;
+    is_listed.bits.assign((positions + 63) / 64, 0);
     std::uint32_t listed_count = 0;
     for (Listed& l : listed) {
-        is_listed[l.position / 64] |= std::uint64_t{1} << l.position % 64;
+        is_listed.bits[l.position / 64] |= std::uint64_t{1} << l.position % 64;
         l.place = listed_count, listed_count += l.faces & k_count;
     }
+    is_listed.count_before();
     std::vector<std::uint32_t> listed_corners(listed_count);
     const auto triangles = static_cast<std::uint32_t>(in_range.size());
     for (std::uint32_t t = 0; t < triangles; ++t) {
         if (!has_area(area, t)) continue;
         for (std::uint32_t k = 0; k < 3; ++k)
-            if (const std::uint32_t w = mesh.indices[3 * t + k]; is_listed[w / 64] >> w % 64 & 1) {
-                Listed& l = *std::lower_bound(listed.begin(), listed.end(), w,
-                                              [](const Listed& a, std::uint32_t b) { return a.position < b; });
-                listed_corners[l.place++] = 3 * t + k;
-            }
+            if (const std::uint32_t w = mesh.indices[3 * t + k]; is_listed.has(w))
+                listed_corners[listed[is_listed.rank(w)].place++] = 3 * t + k;
     }
     const float cos_crease = static_cast<float>(portable::cos(crease));
     std::vector<FanScratch> scratch(1);
