@@ -142,6 +142,17 @@ Mesh joined_by_position(const Mesh& m) {
 
 // facet's own readers join the vertices by position and start their threads once: the normals
 // leave the welding out then (compute_creased_normals_on), and must give the same bits.
+void expect_distinct_positions_same_as_reference(const Mesh& mesh, float crease_radians, const std::string& what,
+                                                 detail::ThreadPool* pool) {
+    SCOPED_TRACE(what + ", crease " + std::to_string(crease_radians));
+    Mesh want = mesh, got = mesh;
+    facet_test::reference_creased_normals(want, crease_radians);
+    detail::compute_creased_normals_on(got, crease_radians, pool, /*distinct_positions=*/true);
+    EXPECT_EQ(bits_of(got.positions), bits_of(want.positions));
+    EXPECT_EQ(bits_of(got.normals), bits_of(want.normals));
+    EXPECT_EQ(got.indices, want.indices);
+}
+
 TEST(CreasedNormals, DistinctPositionsWithoutWeldingMatchTheReference) {
     std::mt19937 rng(11);
     std::vector<std::pair<std::string, Mesh>> meshes{{"icosphere", make_icosphere(1, 5)},
@@ -156,15 +167,8 @@ TEST(CreasedNormals, DistinctPositionsWithoutWeldingMatchTheReference) {
     for (auto& [name, mesh] : meshes) {
         const Mesh m = joined_by_position(mesh);
         for (float crease : {radians(20), radians(40), k_pi})
-            for (detail::ThreadPool* pool : {static_cast<detail::ThreadPool*>(nullptr), &two}) {
-                SCOPED_TRACE(name + ", crease " + std::to_string(crease) + (pool ? ", 2 threads" : ", 1 thread"));
-                Mesh want = m, got = m;
-                facet_test::reference_creased_normals(want, crease);
-                detail::compute_creased_normals_on(got, crease, pool, /*distinct_positions=*/true);
-                EXPECT_EQ(bits_of(got.positions), bits_of(want.positions));
-                EXPECT_EQ(bits_of(got.normals), bits_of(want.normals));
-                EXPECT_EQ(got.indices, want.indices);
-            }
+            for (detail::ThreadPool* pool : {static_cast<detail::ThreadPool*>(nullptr), &two})
+                expect_distinct_positions_same_as_reference(m, crease, name + (pool ? ", 2 threads" : ", 1 thread"), pool);
         if (HasFailure()) return;
     }
 }
@@ -233,15 +237,8 @@ TEST(CreasedNormals, PositionsInARingMatchTheReference) {
     for (std::uint32_t& index : shuffled.indices)
         if (index < order.size()) index = order[index];
     for (const auto& [name, mesh] : {std::pair<const char*, const Mesh&>{"torus and ball", m}, {"shuffled", shuffled}})
-        for (float crease : {radians(20), radians(40), k_pi}) {
-            SCOPED_TRACE(std::string(name) + ", crease " + std::to_string(crease));
-            Mesh want = mesh, got = mesh;
-            facet_test::reference_creased_normals(want, crease);
-            detail::compute_creased_normals_on(got, crease, nullptr, /*distinct_positions=*/true);
-            EXPECT_EQ(bits_of(got.positions), bits_of(want.positions));
-            EXPECT_EQ(bits_of(got.normals), bits_of(want.normals));
-            EXPECT_EQ(got.indices, want.indices);
-        }
+        for (float crease : {radians(20), radians(40), k_pi})
+            expect_distinct_positions_same_as_reference(mesh, crease, name, nullptr);
 }
 
 // Nothing but degenerate triangles: no triangle has an edge, so every vertex's list of edge sides is
