@@ -9,6 +9,8 @@
 #include <limits>
 #include <vector>
 
+#include "math/portable_log.hpp"
+
 namespace facet {
 namespace {
 
@@ -119,7 +121,7 @@ ImageComparison compare_images(const Image& a, const Image& b, int tolerance) {
         c.differing_pixels += differs;
     }
     const double mse = c.pixels == 0 ? 0 : squared / (static_cast<double>(c.pixels) * channels);
-    c.psnr = mse == 0 ? std::numeric_limits<double>::infinity() : 10 * std::log10(255.0 * 255.0 / mse);
+    c.psnr = mse == 0 ? std::numeric_limits<double>::infinity() : 10 * portable::log10(255.0 * 255.0 / mse);
     double ssim = 0;
     for (int k = 0; k < channels; ++k) ssim += c.pixels == 0 ? 1 : channel_ssim(a, b, k);
     c.ssim = ssim / channels;
