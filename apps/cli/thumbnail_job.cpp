@@ -82,6 +82,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
         Result<Scene> scene = load_scene(job.model, plan, job.command);
         f.load_ms = ms_since(start);
         if (!job.fresh_process && assimp_import_count() != assimp_imports) return k_exit_fresh_worker;
+        if (job.huge_heap_after_load) use_huge_pages_for_heap(*job.huge_heap_after_load);
         if (!scene) {
             error = scene.error().message;
             f.reason = reason_for_load_error(scene.error(), job.model);

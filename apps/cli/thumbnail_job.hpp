@@ -6,6 +6,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -55,6 +56,10 @@ struct ThumbnailJob {
     // With confine: the folders of the other objects the worker may serve (--worker-sharing batch),
     // which its sandbox lets it read too. Each model's own resources stay confined to its folder.
     std::vector<std::string> other_model_dirs{};
+    // Set: once the model is loaded, the heap is advised for huge pages (use_huge_pages_for_heap
+    // with this memory cap) for the render's buffers. For a worker's first job that assimp may
+    // read: its reads past a buffer are over by then, and they still meet the plain heap.
+    std::optional<std::uint64_t> huge_heap_after_load{};
 };
 
 // The status of a job given back to be run in a fresh worker process (ThumbnailJob::fresh_process).

@@ -325,12 +325,17 @@ bool run_jobs(std::vector<Job>& jobs, const std::vector<std::size_t>& order, con
     const ServingJob serve = [&](std::size_t i, const WorkerReport& report, bool& go_on) {
         if (!confined) keep_freed_memory_for_reuse();  // a worker reuses what its jobs free
         // The heap in huge pages, as facet render's: from the first job when its file suits, else
-        // from the second, since assimp reads no file in a worker after its first job.
+        // from its render on (below), since assimp reads no file in a worker after its first load.
         if (!huge_heap && (confined || huge_pages_suit(jobs[i].entry.path))) {
             use_huge_pages_for_heap(limits.max_memory_bytes);
             huge_heap = true;
         }
         ThumbnailJob job{jobs[i].entry.path, object_plan(plan, jobs[i]), output_of(i), staged[i] ? &*staged[i] : nullptr};
+        // Else from the first job's render: once its file is loaded, assimp reads no more.
+        if (!huge_heap) {
+            job.huge_heap_after_load = limits.max_memory_bytes;
+            huge_heap = true;
+        }
         job.confine = !confined;
         job.fresh_process = !confined;
         if (const auto b = batch_folders.find(keys[i]); b != batch_folders.end()) job.other_model_dirs = b->second;
