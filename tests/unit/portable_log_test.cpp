@@ -12,15 +12,11 @@
 
 #include "facet/compare.hpp"
 #include "math/portable_log.hpp"
+#include "support/ulps.hpp"
 
 namespace {
 
-// Error in units of double's last place at the exact value.
-double ulps(double r, long double exact) {
-    const double e = static_cast<double>(exact);
-    const double u = std::nextafter(std::fabs(e), std::numeric_limits<double>::infinity()) - std::fabs(e);
-    return static_cast<double>(std::fabs(static_cast<long double>(r) - exact)) / u;
-}
+using facet_test::ulps;
 
 // Against the C library's long double logarithms (11 bits beyond double's), over doubles of every
 // binade (subnormals included), densely around 1 (where log is smallest) and over PSNR's arguments.

@@ -12,8 +12,11 @@
 
 #include "facet/math/portable_pow.hpp"
 #include "math/portable_trig.hpp"
+#include "support/ulps.hpp"
 
 namespace {
+
+using facet_test::ulps;
 
 using facet::portable_log2;
 using facet::portable_pow;
@@ -104,13 +107,6 @@ TEST(PortableLog2, IsWithinThreeUnitsInTheLastPlace) {
         worst = std::max(worst, std::fabs(r - exact) / ulp(static_cast<float>(exact)));
     }
     EXPECT_LE(worst, 3.01);
-}
-
-// Error in units of double's last place at the exact value.
-double ulps(double r, long double exact) {
-    const double e = static_cast<double>(exact);
-    const double u = std::nextafter(std::fabs(e), std::numeric_limits<double>::infinity()) - std::fabs(e);
-    return static_cast<double>(std::fabs(static_cast<long double>(r) - exact)) / u;
 }
 
 // Against the C library's long double functions (64-bit significands: 11 bits beyond double's),
