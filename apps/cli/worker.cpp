@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <new>
 #include <string_view>
 #include <thread>
@@ -190,11 +191,14 @@ std::string crashed_while(WorkerPhase phase) {
     return "the worker process crashed while writing";
 }
 
-// SIGBUS while loading a file the worker maps (LoadOptions::map_files: OBJ and glTF): most likely
-// the file cut short by another program meanwhile.
+// SIGBUS while loading a file the worker maps (LoadOptions::map_files: files of 32 MiB or more in the
+// formats facet reads itself, OBJ, glTF, OFF, STL, PLY, XYZ and PTS): most likely the file cut short
+// by another program meanwhile.
 std::string mapped_file_hint(const std::string& model) {
     const std::string ext = model_extension(model);
-    return ext == "obj" || ext == "gltf" || ext == "glb" ? "; was the file changed while it was read?" : "";
+    for (const char* mapped : {"obj", "gltf", "glb", "off", "stl", "ply", "xyz", "pts"})
+        if (ext == mapped) return "; was the file changed while it was read?";
+    return "";
 }
 
 // Waits for a worker whose pipe has closed (it is exiting) and says how it ended.

@@ -42,10 +42,12 @@ struct LoadOptions {
     // a "file://" URI, "../..", a link pointing out) is not read: a warning names the model and the
     // reference, and the material falls back as for a missing texture. Embedded data is unaffected.
     std::vector<std::string> resource_dirs;
-    // OBJ and glTF files read through a read-only mapping of the file (mmap) instead of a copy:
-    // faster, and the file's text takes none of the process's own memory. But a file cut short by
-    // another program while it is read then ends the process with SIGBUS: only for a process whose
-    // end is reported, as facet's worker processes and load_model_isolated's child (which set it).
+    // OBJ, glTF, OFF, STL, PLY, XYZ and PTS files of 32 MiB or more read through a read-only mapping
+    // of the file (mmap) instead of a copy: faster, and the file's text takes none of the process's
+    // own memory (a smaller file's copy is heap memory the process reuses next, which pays more).
+    // But a file cut short by another program while it is read then ends the process with SIGBUS:
+    // only for a process whose end is reported, as facet's worker processes and
+    // load_model_isolated's child (which set it).
     bool map_files = false;
 };
 

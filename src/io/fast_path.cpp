@@ -91,6 +91,13 @@ std::optional<FileBytes> map_whole_file(const std::string& path, std::uint64_t s
                                     static_cast<std::size_t>(size));
 }
 
+std::optional<FileBytes> whole_file(const std::string& path, std::uint64_t size, const LoadOptions& options) {
+    // From this size read_whole_file's copy takes fresh pages itself, so a mapping saves it; a smaller
+    // file's copy is heap memory that the rest of the process reuses once it is freed.
+    constexpr std::uint64_t k_map_from = FileBytes::k_fresh_from;
+    return options.map_files && size >= k_map_from ? map_whole_file(path, size) : read_whole_file(path, size);
+}
+
 std::optional<OwnFormatHeader> OwnFormatHeader::parse(const std::string& ext, std::string_view head, std::uint64_t size) {
     if (ext == "off") return OwnFormatHeader(parse_off_header(head));
     if (ext == "stl") return OwnFormatHeader(parse_stl_header(head, size));
@@ -109,7 +116,7 @@ std::optional<Result<LoadedModel>> OwnFormatHeader::load_point_cloud(const std::
                                                                      std::uint64_t size, const LoadOptions& options) const {
     const PlyHeader* ply = std::get_if<PlyHeader>(&header_);
     if (!ply || !is_ply_point_cloud(*ply)) return std::nullopt;
-    const std::optional<FileBytes> bytes = read_whole_file(path, size);
+    const std::optional<FileBytes> bytes = whole_file(path, size, options);
     if (!bytes || bytes->view().substr(0, head.size()) != head)
         return fail(ErrorCode::io, path, "changed while it was being read");
     return read_ply_point_cloud(path, *bytes, *ply, options);
@@ -117,7 +124,7 @@ std::optional<Result<LoadedModel>> OwnFormatHeader::load_point_cloud(const std::
 
 std::optional<LoadedModel> OwnFormatHeader::load(const std::string& path, std::string_view head, std::uint64_t size,
                                                  const LoadOptions& options) const {
-    const std::optional<FileBytes> bytes = read_whole_file(path, size);
+    const std::optional<FileBytes> bytes = whole_file(path, size, options);
     // A file changed since its header was read goes to assimp, which reads it again.
     if (!bytes || bytes->view().substr(0, head.size()) != head) return std::nullopt;
     // One pool for the reading and the normals, for files large enough to share (a thread costs

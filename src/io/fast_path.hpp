@@ -60,8 +60,9 @@ public:
     std::string_view view() const { return {data_, size_}; }
     operator std::string_view() const { return view(); }
 
-private:
     static constexpr std::size_t k_fresh_from = std::size_t{32} << 20;
+
+private:
     // An address range unmapped with the bytes (empty: none).
     class Mapping {
     public:
@@ -98,6 +99,11 @@ std::optional<FileBytes> read_whole_file(const std::string& path, std::uint64_t 
 // reported: facet's worker, load_model_isolated's child). read_whole_file's result where the
 // mapping fails; nullopt when the file has changed size.
 std::optional<FileBytes> map_whole_file(const std::string& path, std::uint64_t size);
+
+// The bytes every whole-file reader takes (OBJ, glTF, OFF, STL, PLY, XYZ/PTS): map_whole_file's
+// where `options.map_files` and the file has FileBytes::k_fresh_from bytes or more, read_whole_file's
+// otherwise.
+std::optional<FileBytes> whole_file(const std::string& path, std::uint64_t size, const LoadOptions& options);
 
 class OwnFormatHeader {
 public:

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <thread>
@@ -324,10 +325,11 @@ Result<LoadedModel> load_model_isolated(const std::string& path, const LoadOptio
         std::snprintf(seconds, sizeof seconds, "%g", limits.timeout_seconds);
         result = Error{ErrorCode::limit_exceeded, path + ": gave up after " + seconds + " s"};
     } else if (end == End::signalled) {
-        // SIGBUS from a file the child maps (map_files: OBJ and glTF): most likely the file cut short
-        // by another program meanwhile.
+        // SIGBUS from a file the child maps (map_files: OBJ, glTF, OFF, STL, PLY, XYZ, PTS of 32 MiB
+        // or more): most likely the file cut short by another program meanwhile.
         const std::string ext = model_extension(path);
-        const bool mapped = ext == "obj" || ext == "gltf" || ext == "glb";
+        bool mapped = false;
+        for (const char* e : {"obj", "gltf", "glb", "off", "stl", "ply", "xyz", "pts"}) mapped = mapped || ext == e;
         result = Error{ErrorCode::bad_format, path + ": the importer crashed (" + signal_text(value) + ")" +
                                                   (value == SIGBUS && mapped ? "; was the file changed while it was read?" : "")};
     } else if (value == 2) {

@@ -97,7 +97,7 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
 
     try {
         if (ext == "xyz" || ext == "pts") {
-            const std::optional<io_detail::FileBytes> bytes = io_detail::read_whole_file(path, size);
+            const std::optional<io_detail::FileBytes> bytes = io_detail::whole_file(path, size, options);
             if (!bytes) return fail(ErrorCode::io, path, "changed while it was being read");
             return io_detail::read_text_points(path, *bytes, ext == "pts", options);
         }
@@ -113,7 +113,7 @@ Result<LoadedModel> load_model_from(const std::string& path, const LoadOptions& 
         Result<LoadedModel> model = io_detail::module_load_with_assimp(path, ext, options);
         // assimp refuses OBJ files of vertices alone ("no faces"): those are point clouds.
         if (!model && ext == "obj" && model.error().code == ErrorCode::bad_format)
-            if (const std::optional<io_detail::FileBytes> bytes = io_detail::read_whole_file(path, size))
+            if (const std::optional<io_detail::FileBytes> bytes = io_detail::whole_file(path, size, options))
                 if (std::optional<Result<LoadedModel>> cloud = io_detail::read_obj_points(path, *bytes, options))
                     return std::move(*cloud);
         return model;

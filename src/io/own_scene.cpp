@@ -29,7 +29,7 @@ std::optional<Result<LoadedModel>> load_own_scene(const std::string& path, const
     const detail::RecycleFreshPages recycle;
     std::optional<Result<OwnScene>> scene;
     {
-        std::optional<FileBytes> bytes = options.map_files ? map_whole_file(path, size) : read_whole_file(path, size);
+        std::optional<FileBytes> bytes = whole_file(path, size, options);
         if (!bytes) return std::nullopt;
         if (!gltf)
             scene = read_obj(path, *bytes, options, roots, notes, [&] { bytes.reset(); });

@@ -381,4 +381,41 @@ TEST(MapWholeFile, TheBytesAndANulOrNothing) {
     EXPECT_FALSE(io_detail::map_whole_file((dir / "missing.txt").string(), 1).has_value());
 }
 
+// Whether `p` lies in a mapping of the file `path` (/proc/self/maps).
+bool in_mapping_of(const char* p, const fs::path& path) {
+    std::ifstream maps("/proc/self/maps");
+    const auto at = reinterpret_cast<std::uintptr_t>(p);
+    for (std::string line; std::getline(maps, line);) {
+        std::uintptr_t start = 0, end = 0;
+        char dash = 0;
+        std::istringstream fields(line);
+        fields >> std::hex >> start >> dash >> end;
+        if (at >= start && at < end) return line.find(fs::canonical(path).string()) != std::string::npos;
+    }
+    return false;
+}
+
+// The readers' bytes: with map_files, a mapping of the file from FileBytes::k_fresh_from bytes (the
+// copy's own fresh pages saved) and a copy below it (heap memory the process reuses); a copy always
+// without map_files. The same bytes and NUL each way.
+TEST(WholeFile, MappedWithMapFilesFromTheFreshPagesSize) {
+    const fs::path dir = temp_dir();
+    LoadOptions mapped;
+    mapped.map_files = true;
+    for (const std::size_t size : {std::size_t{70000}, io_detail::FileBytes::k_fresh_from}) {
+        std::string text(size, 'a');
+        for (std::size_t i = 0; i < size; i += 4093) text[i] = static_cast<char>('b' + i % 23);
+        const fs::path path = dir / "whole_file.txt";
+        write_file(path, text);
+        for (const bool map : {false, true}) {
+            const std::optional<io_detail::FileBytes> bytes = io_detail::whole_file(path.string(), size, map ? mapped : LoadOptions{});
+            ASSERT_TRUE(bytes.has_value()) << size << map;
+            EXPECT_TRUE(bytes->view() == text) << size << map;
+            EXPECT_EQ(bytes->data()[size], '\0') << size << map;
+            EXPECT_EQ(in_mapping_of(bytes->data(), path), map && size >= io_detail::FileBytes::k_fresh_from) << size << map;
+        }
+    }
+    fs::remove(dir / "whole_file.txt");
+}
+
 }  // namespace
