@@ -1016,6 +1016,24 @@ bool settled_by_sums(const PositionSums& p) {
     return !(p.faces & k_rough) && (faces <= 1 || (!(p.faces & k_far) && joined_by_sides(p.sides.next, p.sides.prev, faces)));
 }
 
+// A position its sums did not settle, given its corners with area: unless their sides join them
+// into one set after all (k_far: the sides read from the corners), its fan is split as split_fans
+// splits one, each set's normal given to its vertex.
+void split_listed_fan(const Mesh& mesh, WeldIds weld, std::span<const std::uint32_t> corners, std::uint32_t flags,
+                      Vec3 around, float cos_crease, FanScratch& s, VertexNormals out) {
+    if (!(flags & k_rough)) {
+        std::uint32_t next[k_sides_read] = {}, prev[k_sides_read] = {};
+        for (std::uint32_t i = 0; i < corners.size(); ++i) {
+            const std::uint32_t* idx = mesh.indices.data() + corners[i] / 3 * 3;
+            const std::uint32_t k = corners[i] % 3;
+            next[i] = weld[idx[(k + 1) % 3]], prev[i] = weld[idx[(k + 2) % 3]];
+        }
+        if (joined_by_sides(next, prev, static_cast<std::uint32_t>(corners.size()))) return;
+    }
+    gather_fan(corners, [&](std::uint32_t c) { return describe_corner(mesh, weld, c); }, s.corners);
+    assign_set_normals(split_into_sets(cos_crease, s), around, s, out);
+}
+
 // creased_normals_in_order where each vertex is its own position, with the sums of the ring
 // and of the far positions (above): the same steps, the same bits.
 void creased_normals_in_window(Mesh& mesh, const FarPositions& far, std::size_t positions, const InRange& in_range,
@@ -1080,19 +1098,7 @@ void creased_normals_in_window(Mesh& mesh, const FarPositions& far, std::size_t 
         const std::uint32_t w = l.position, faces = l.faces & k_count;
         const std::span<const std::uint32_t> corners{listed_corners.data() + l.place - faces, faces};
         std::uint32_t set = k_no_set;  // the position's vertex's
-        [&] {
-            if (!(l.faces & k_rough)) {  // k_far: the sides from the corners
-                std::uint32_t next[k_sides_read] = {}, prev[k_sides_read] = {};
-                for (std::uint32_t i = 0; i < faces; ++i) {
-                    const std::uint32_t* idx = mesh.indices.data() + corners[i] / 3 * 3;
-                    const std::uint32_t k = corners[i] % 3;
-                    next[i] = idx[(k + 1) % 3], prev[i] = idx[(k + 2) % 3];
-                }
-                if (joined_by_sides(next, prev, faces)) return;
-            }
-            gather_fan(corners, [&](std::uint32_t c) { return describe_corner(mesh, WeldIds{}, c); }, s.corners);
-            assign_set_normals(split_into_sets(cos_crease, s), l.around, s, {&set, w, mesh.normals});
-        }();
+        split_listed_fan(mesh, WeldIds{}, corners, l.faces, l.around, cos_crease, s, {&set, w, mesh.normals});
         if (set == k_no_set) mesh.normals[w] = fallback_normal(l.around);
     }
     copy_vertices(scratch, mesh);
@@ -1128,13 +1134,12 @@ void creased_normals_in_order(Mesh& mesh, WeldIds weld, std::size_t positions,
     std::uint32_t listed_count = 0;
     for (std::size_t w = 0; w < positions; ++w) {
         PositionSums& p = sums[w];
-        const std::uint32_t faces = p.faces & k_count;
-        if (!(p.faces & k_rough) && (faces <= 1 || (!(p.faces & k_far) && joined_by_sides(p.sides.next, p.sides.prev, faces)))) {
+        if (settled_by_sums(p)) {
             if (own_positions) mesh.normals.push_back(p.around);  // made its normal below
             continue;
         }
         if (own_positions) mesh.normals.emplace_back();  // given below
-        p.place = listed_count, listed_count += faces;
+        p.place = listed_count, listed_count += p.faces & k_count;
         listed[w / 64] |= std::uint64_t{1} << w % 64;
     }
     if (own_positions) fallback_normals_in_place(mesh.normals.data(), mesh.normals.size());
@@ -1156,17 +1161,7 @@ void creased_normals_in_order(Mesh& mesh, WeldIds weld, std::size_t positions,
                 const PositionSums& p = sums[w];
                 const std::uint32_t faces = p.faces & k_count;
                 const std::span<const std::uint32_t> corners{listed_corners.data() + p.place - faces, faces};
-                if (!(p.faces & k_rough)) {  // k_far: the sides from the corners
-                    std::uint32_t next[k_sides_read] = {}, prev[k_sides_read] = {};
-                    for (std::uint32_t i = 0; i < faces; ++i) {
-                        const std::uint32_t* idx = mesh.indices.data() + corners[i] / 3 * 3;
-                        const std::uint32_t k = corners[i] % 3;
-                        next[i] = weld[idx[(k + 1) % 3]], prev[i] = weld[idx[(k + 2) % 3]];
-                    }
-                    if (joined_by_sides(next, prev, faces)) continue;
-                }
-                gather_fan(corners, [&](std::uint32_t c) { return describe_corner(mesh, weld, c); }, s.corners);
-                assign_set_normals(split_into_sets(cos_crease, s), p.around, s, {vertex_set.data(), 0, mesh.normals});
+                split_listed_fan(mesh, weld, corners, p.faces, p.around, cos_crease, s, {vertex_set.data(), 0, mesh.normals});
             }
         copy_vertices(scratch, mesh);
     }
