@@ -191,16 +191,6 @@ std::string crashed_while(WorkerPhase phase) {
     return "the worker process crashed while writing";
 }
 
-// SIGBUS while loading a file the worker maps (LoadOptions::map_files: files of 32 MiB or more in the
-// formats facet reads itself, OBJ, glTF, OFF, STL, PLY, XYZ and PTS): most likely the file cut short
-// by another program meanwhile.
-std::string mapped_file_hint(const std::string& model) {
-    const std::string ext = model_extension(model);
-    for (const char* mapped : {"obj", "gltf", "glb", "off", "stl", "ply", "xyz", "pts"})
-        if (ext == mapped) return "; was the file changed while it was read?";
-    return "";
-}
-
 // Waits for a worker whose pipe has closed (it is exiting) and says how it ended.
 WorkerOutcome reap(Worker& w) {
     WorkerOutcome o;
@@ -453,7 +443,7 @@ std::string describe_abnormal_end(const WorkerOutcome& o, const std::string& inp
         // SIGKILL that facet did not send: the kernel's OOM killer, most likely.
         const std::string hint = o.status == SIGKILL ? "; out of memory? --max-memory caps the worker"
                                  : o.status == SIGBUS && (o.phase == WorkerPhase::starting || o.phase == WorkerPhase::loading)
-                                     ? mapped_file_hint(input)
+                                     ? mapped_file_crash_hint(input)
                                      : "";
         return input + ": " + crashed_while(o.phase) + " (" + describe_signal(o.status) + ")" + hint;
     }

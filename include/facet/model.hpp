@@ -89,6 +89,11 @@ bool is_supported_model_file(const std::string& path);
 // a format by.
 std::string model_extension(const std::string& path);
 
+// What a SIGBUS of a process loading `path` with LoadOptions::map_files adds to its report: "; was
+// the file changed while it was read?" for the formats that may be mapped (a file cut short by
+// another program meanwhile is the likely cause), else "".
+std::string mapped_file_crash_hint(const std::string& path);
+
 // How many files load_model has needed assimp's importer for in this process (not facet's own
 // readers), given to it or refused (below). facet thumbs' workers, which serve several objects,
 // use it to read such files only in a fresh process: what a damaged file does inside assimp (reads

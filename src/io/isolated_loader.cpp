@@ -325,13 +325,9 @@ Result<LoadedModel> load_model_isolated(const std::string& path, const LoadOptio
         std::snprintf(seconds, sizeof seconds, "%g", limits.timeout_seconds);
         result = Error{ErrorCode::limit_exceeded, path + ": gave up after " + seconds + " s"};
     } else if (end == End::signalled) {
-        // SIGBUS from a file the child maps (map_files: OBJ, glTF, OFF, STL, PLY, XYZ, PTS of 32 MiB
-        // or more): most likely the file cut short by another program meanwhile.
-        const std::string ext = model_extension(path);
-        bool mapped = false;
-        for (const char* e : {"obj", "gltf", "glb", "off", "stl", "ply", "xyz", "pts"}) mapped = mapped || ext == e;
+        // The child maps large files (map_files): a SIGBUS is most likely one cut short meanwhile.
         result = Error{ErrorCode::bad_format, path + ": the importer crashed (" + signal_text(value) + ")" +
-                                                  (value == SIGBUS && mapped ? "; was the file changed while it was read?" : "")};
+                                                  (value == SIGBUS ? mapped_file_crash_hint(path) : "")};
     } else if (value == 2) {
         result = Error{ErrorCode::limit_exceeded, path + ": needs more memory than is available"};
     } else if (value == 0) {

@@ -133,6 +133,13 @@ std::string model_extension(const std::string& path) {
     return io_detail::lower(ext.empty() ? ext : ext.substr(1));
 }
 
+std::string mapped_file_crash_hint(const std::string& path) {
+    const std::string ext = model_extension(path);
+    for (const char* mapped : {"obj", "gltf", "glb", "off", "stl", "ply", "xyz", "pts"})  // io_detail::whole_file's readers
+        if (ext == mapped) return "; was the file changed while it was read?";
+    return "";
+}
+
 std::size_t assimp_import_count() { return assimp_imports.load(std::memory_order_relaxed); }
 void allow_assimp_imports(bool allowed) { assimp_allowed.store(allowed, std::memory_order_relaxed); }
 
