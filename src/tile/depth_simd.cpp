@@ -119,8 +119,22 @@ HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// Where the covered lanes pass the depth test. On AVX-512 the compare takes the covered mask itself
+// (a masked compare: the same predicate, one mask AND fewer on each row's chain).
 template <DepthTest D, class DF, class M>
 M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+    constexpr int predicate = D == DepthTest::less      ? _CMP_LT_OQ
+                              : D == DepthTest::lequal  ? _CMP_LE_OQ
+                              : D == DepthTest::equal   ? _CMP_EQ_OQ
+                              : D == DepthTest::greater ? _CMP_GT_OQ
+                                                        : -1;
+    if constexpr (predicate >= 0) {
+        if constexpr (sizeof(z.raw) == 64) return M{_mm512_mask_cmp_ps_mask(covered.raw, z.raw, stored.raw, predicate)};
+        else if constexpr (sizeof(z.raw) == 32) return M{_mm256_mask_cmp_ps_mask(covered.raw, z.raw, stored.raw, predicate)};
+        else if constexpr (sizeof(z.raw) == 16) return M{_mm_mask_cmp_ps_mask(covered.raw, z.raw, stored.raw, predicate)};
+    }
+#endif
     if constexpr (D == DepthTest::less) return hn::And(covered, hn::Lt(z, stored));
     else if constexpr (D == DepthTest::lequal) return hn::And(covered, hn::Le(z, stored));
     else if constexpr (D == DepthTest::equal) return hn::And(covered, hn::Eq(z, stored));
@@ -151,6 +165,30 @@ HWY_INLINE V or_of(const V (&e)[K]) {
     V v = e[0];
     for (int k = 1; k < K; ++k) v = hn::Or(v, e[k]);
     return v;
+}
+
+// The lanes of m where a < b (32-bit integers). On AVX-512 one compare under the mask.
+template <class DI, class M>
+HWY_INLINE M and_less(DI, M m, hn::Vec<DI> a, hn::Vec<DI> b) {
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+    if constexpr (sizeof(a.raw) == 64) return M{_mm512_mask_cmplt_epi32_mask(m.raw, a.raw, b.raw)};
+    else if constexpr (sizeof(a.raw) == 32) return M{_mm256_mask_cmplt_epi32_mask(m.raw, a.raw, b.raw)};
+    else if constexpr (sizeof(a.raw) == 16) return M{_mm_mask_cmplt_epi32_mask(m.raw, a.raw, b.raw)};
+#endif
+    return hn::And(m, hn::Lt(a, b));
+}
+
+// The lanes of `in_rect` inside the triangle: where no edge is negative (no sign bit in or_of(e)). On
+// AVX-512 one compare under the mask.
+template <int K, class DI, class M>
+HWY_INLINE M inside_of(DI di, const hn::Vec<DI> (&e)[K], M in_rect) {
+    const auto v = or_of(e);
+#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
+    if constexpr (sizeof(v.raw) == 64) return M{_mm512_mask_cmpge_epi32_mask(in_rect.raw, v.raw, _mm512_setzero_si512())};
+    else if constexpr (sizeof(v.raw) == 32) return M{_mm256_mask_cmpge_epi32_mask(in_rect.raw, v.raw, _mm256_setzero_si256())};
+    else if constexpr (sizeof(v.raw) == 16) return M{_mm_mask_cmpge_epi32_mask(in_rect.raw, v.raw, _mm_setzero_si128())};
+#endif
+    return hn::AndNot(hn::Lt(v, hn::Zero(di)), in_rect);
 }
 
 // Each edge of a rectangle along a strip's first row, r.y0: e[k] lane j is edge k at column
@@ -305,8 +343,8 @@ HWY_INLINE bool resolve_strip(DF df, const TriangleSetup& t, PixelRect tile, Til
         for (int g = 0; g < k_row_group; ++g) {
             // Covered where every edge function is >= 0: no sign bit in their OR.
             // The group's first row is always in the rectangle (the loop's condition).
-            const auto in_rect = g == 0 ? columns : hn::And(columns, hn::Lt(hn::Set(di, g), rows_left));
-            const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
+            const auto in_rect = g == 0 ? columns : and_less(di, columns, hn::Set(di, g), rows_left);
+            const auto inside = inside_of(di, e, in_rect);
             for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b[k]);
             const float dy = centre - t.y0;
             centre += 1.0f;
@@ -372,8 +410,8 @@ HWY_INLINE bool resolve_row_pairs(const TriangleSetup& t, PixelRect tile, TileBu
         HWY_UNROLL(2)  // k_pair_group: straight-line code
         for (int g = 0; g < k_pair_group; ++g) {
             const VI row_g = hn::Add(row, hn::Set(di, 2 * g));
-            const auto in_rect = hn::And(columns, hn::Lt(row_g, rows_left));
-            const auto inside = hn::AndNot(hn::Lt(or_of(e), hn::Zero(di)), in_rect);
+            const auto in_rect = and_less(di, columns, row_g, rows_left);
+            const auto inside = inside_of(di, e, in_rect);
             for (int k = 0; k < K; ++k) e[k] = hn::Add(e[k], b2[k]);
             // (y + row + 0.5) - y0 per lane: the float operations of resolve_strip's dy.
             const auto dy = hn::Sub(centres, y0);
