@@ -536,19 +536,46 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
     // A row of blocks is shaded in two steps: first each block's triangles are found and its inputs
     // interpolated, then the shader runs on every block of the row. The shader's arithmetic is one
     // long chain of dependent operations per block (a division, a square root and another division
-    // in a row for Lambert); in a loop of its own the core overlaps the chains of several blocks,
-    // which it could not across the first step's scalar work and branches.
+    // in a row for Lambert), whose inputs must be ready when it is issued: a chain issued right after
+    // its own block's first step waits on it, and the core could not overlap it across the next
+    // blocks' scalar work and branches (the second step's loop below).
     constexpr int D = derivative_lanes<Lanes>();
     constexpr bool Z = signed_zeros<Lanes>(), F = reads_front_facing<Lanes>();
     struct Block {
         LanesIn<N, D> in;
         int i;  // its first column in the tile
     };
-    Block blocks[k_max_tile_size / bw];
+    // Step two of a row of blocks runs during step one of the next row with pixels, a block shaded
+    // for each block found: its inputs are ready, so the shader's chains (the divider's) overlap the
+    // finding's scalar work and branches, which leave the divider idle. Each block's colours and
+    // redo bits are its own: the order of the blocks does not change the image.
+    Block blocks[2][k_max_tile_size / bw];
+    Block* shading = blocks[1];  // the previous row's blocks, shaded from `shaded` up to `to_shade`
+    int shaded = 0, to_shade = 0, shading_r0 = 0;
+    auto shade_block = [&](Block& block) FACET_FORCE_INLINE {
+        LanesIn<N, D>& in = block.in;
+        const int i = block.i;
+        // A shader's lanes may pack their own colours (e.g. grey ones, once for three channels).
+        hn::Vec<DU> rgba;
+        if constexpr (requires { lanes.rgba8(in); }) rgba = lanes.rgba8(in);
+        else rgba = to_rgba8(lanes(in));
+        // Rgba8 is four bytes, r first: stored as 32-bit lanes (Highway stores may alias).
+        auto* colour = reinterpret_cast<std::uint32_t*>(target.colour + target.at(tile.x0 + i, tile.y0 + shading_r0));
+        // Read the old colours only to keep the pixels of a partly visible block (reading them
+        // for every block was measured at 8% of the pass: the framebuffer is not in the caches).
+        if (!hn::AllTrue(df, in.visible))
+            rgba = hn::IfThenElse(hn::RebindMask(du, in.visible), rgba, load_block(du, colour, colour_stride));
+        store_block(du, rgba, colour, colour_stride);
+        const MF redo_lanes = hn::And(in.scalar, in.visible);
+        if (HWY_LIKELY(hn::AllFalse(df, redo_lanes))) return;
+        const std::uint64_t redo_bits = mask_bits(redo_lanes);
+        for (int r = 0; r < bh; ++r) redo[shading_r0 + r] |= ((redo_bits >> (r * bw)) & block_row_bits) << i;
+    };
     for (int r0 = 0; r0 < simd_height; r0 += bh) {
         std::uint64_t any = 0;
         for (int r = 0; r < bh; ++r) any |= vis.covered[r0 + r];
         if (!any) continue;
+        Block* const row_blocks = shading == blocks[0] ? blocks[1] : blocks[0];
         const int y = tile.y0 + r0;
         const VF centre_y = hn::Add(hn::Add(hn::Set(df, static_cast<float>(y)), lane_row), half);
         // The y terms of the last whole block's triangle in this row of blocks.
@@ -559,6 +586,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             std::uint64_t bits = 0;
             for (int r = 0; r < bh; ++r) bits |= ((vis.covered[r0 + r] >> i) & block_row_bits) << (r * bw);
             if (!bits) continue;
+            if (shaded < to_shade) shade_block(shading[shaded++]);
             const auto owners = load_block(du, vis.owner + r0 * VisibleTile::k_row + i, VisibleTile::k_row);
             const int x = tile.x0 + i;
             const VF centre_x = hn::Add(hn::Add(hn::Set(df, static_cast<float>(x)), lane_column), half);
@@ -568,7 +596,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                 const std::uint32_t owner = hn::GetLane(owners);
                 if (owner < vis.count && hn::AllTrue(du, hn::Eq(owners, hn::Set(du, owner)))) {
                     stream_fill_rows(*vis.idle, k_fill_rows_per_block);
-                    Block& block = blocks[count++];
+                    Block& block = row_blocks[count++];
                     block.i = i;
                     const float* record = records + static_cast<std::size_t>(owner) * vis.record_stride;
                     auto field = [&](int j) { return hn::Set(df, record[j]); };
@@ -618,7 +646,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                     return records + static_cast<std::size_t>(owner) * vis.record_stride;
                 };
                 const float* first = record_of(hn::GetLane(run_owners));
-                Block& block = blocks[count++];
+                Block& block = row_blocks[count++];
                 block.i = i;
                 if (runs == 1) {
                     auto field = [&](int j) FACET_FORCE_INLINE { return hn::Set(df, first[j]); };
@@ -683,7 +711,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                     run_record[runs] = records + static_cast<std::size_t>(owner) * vis.record_stride;
                 }
             }
-            Block& block = blocks[count++];
+            Block& block = row_blocks[count++];
             block.i = i;
             if (runs == 1) {  // one triangle: plain broadcasts
                 const float* record = run_record[0];
@@ -709,26 +737,10 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
                 }
             }
         }
-        for (int b = 0; b < count; ++b) {
-            LanesIn<N, D>& in = blocks[b].in;
-            const int i = blocks[b].i;
-            // A shader's lanes may pack their own colours (e.g. grey ones, once for three channels).
-            hn::Vec<DU> rgba;
-            if constexpr (requires { lanes.rgba8(in); }) rgba = lanes.rgba8(in);
-            else rgba = to_rgba8(lanes(in));
-            // Rgba8 is four bytes, r first: stored as 32-bit lanes (Highway stores may alias).
-            auto* colour = reinterpret_cast<std::uint32_t*>(target.colour + target.at(tile.x0 + i, y));
-            // Read the old colours only to keep the pixels of a partly visible block (reading them
-            // for every block was measured at 8% of the pass: the framebuffer is not in the caches).
-            if (!hn::AllTrue(df, in.visible))
-                rgba = hn::IfThenElse(hn::RebindMask(du, in.visible), rgba, load_block(du, colour, colour_stride));
-            store_block(du, rgba, colour, colour_stride);
-            const MF redo_lanes = hn::And(in.scalar, in.visible);
-            if (HWY_LIKELY(hn::AllFalse(df, redo_lanes))) continue;
-            const std::uint64_t redo_bits = mask_bits(redo_lanes);
-            for (int r = 0; r < bh; ++r) redo[r0 + r] |= ((redo_bits >> (r * bw)) & block_row_bits) << i;
-        }
+        while (shaded < to_shade) shade_block(shading[shaded++]);
+        shading = row_blocks, shaded = 0, to_shade = count, shading_r0 = r0;
     }
+    while (shaded < to_shade) shade_block(shading[shaded++]);
     for (int r = 0; r < height; ++r)
         if (redo[r]) shade_visible_pixels(shader, vis, target, tile.y0 + r, redo[r]);
 }

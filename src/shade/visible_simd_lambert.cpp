@@ -59,18 +59,20 @@ struct LambertLanes {
     static constexpr int N = S::k_varyings;
     static constexpr bool k_signed_zeros = false, k_front_facing = false;
     S s;  // a copy: the kernel's stores cannot alias it, so its uniforms stay in registers
+    // The methods are forced inline: GCC called rgba8 out of line from the kernel's block loop once
+    // that loop held the finding too (ShadeVisibleTile), its vectors passed through memory.
     bool grey_light = grey_lights(s.u);
     bool no_fill = fill_is_dark(s.u.fill);
     bool grey_colour = grey_light && !S::k_vertex_colours && grey(Vec3{s.u.base_colour.x, s.u.base_colour.y, s.u.base_colour.z});
     bool unit_key = s.u.key.colour.x == 1.0f;
     bool below_one = grey_colour && no_fill && grey_key_light_below_one(s.u, s.u.base_colour.x, unit_key);
     std::uint32_t alpha_word = std::uint32_t{to_rgba8(Vec4{0, 0, 0, s.u.base_colour.w}).a} << 24;
-    Vec3Lanes normal(LanesIn<N>& in) const {
+    HWY_INLINE Vec3Lanes normal(LanesIn<N>& in) const {
         return normalize(vec3_lanes<typename S::Layout, shaders::Varying::normal>(in.v), in.scalar, k_min_normal_length);
     }
-    Vec3Lanes light(LanesIn<N>& in) const { return lambert_term(normal(in), s.u, grey_light, no_fill); }
+    HWY_INLINE Vec3Lanes light(LanesIn<N>& in) const { return lambert_term(normal(in), s.u, grey_light, no_fill); }
     // lambert_term of grey lights without fill, one channel: ambient + (key * k) * diffuse.
-    VF key_light(LanesIn<N>& in) const {
+    HWY_INLINE VF key_light(LanesIn<N>& in) const {
         const DF df;
         const Vec3Lanes n = normal(in);
         const Vec3 l = s.u.key.direction;
@@ -79,8 +81,8 @@ struct LambertLanes {
         const VF lit = unit_key ? k : hn::Mul(hn::Set(df, s.u.key.colour.x), k);
         return hn::Add(hn::Set(df, s.u.ambient), hn::Mul(lit, hn::Set(df, s.u.diffuse)));
     }
-    ColourLanes operator()(LanesIn<N>& in) const { return shade(albedo_lanes(s, in), light(in)); }
-    hn::Vec<DU> rgba8(LanesIn<N>& in) const {
+    HWY_INLINE ColourLanes operator()(LanesIn<N>& in) const { return shade(albedo_lanes(s, in), light(in)); }
+    HWY_INLINE hn::Vec<DU> rgba8(LanesIn<N>& in) const {
         if (!grey_colour) return to_rgba8((*this)(in));
         const DF df;
         // shade(): albedo.r * light.x, alpha kept.
