@@ -54,7 +54,9 @@ inline bool grey_key_light_below_one(const ShadingUniforms& u, float base, bool 
 // key * k as k when the key's colour is 1 (the same bits), leave out the clamps when the colour
 // cannot leave [0, 1) (grey_key_light_below_one), and the constant alpha byte of a grey colour is
 // quantized once, by to_rgba8 itself.
-template <class S>
+// With `Known` the lambert mode's case holds (lambert_mode below: grey lights and colour, no fill, a
+// key of colour 1, the colour below 1) and the lanes take it as known instead of testing it per block.
+template <class S, bool Known = false>
 struct LambertLanes {
     static constexpr int N = S::k_varyings;
     static constexpr bool k_signed_zeros = false, k_front_facing = false;
@@ -63,10 +65,11 @@ struct LambertLanes {
     // that loop held the finding too (ShadeVisibleTile), its vectors passed through memory.
     bool grey_light = grey_lights(s.u);
     bool no_fill = fill_is_dark(s.u.fill);
-    bool grey_colour = grey_light && !S::k_vertex_colours && grey(Vec3{s.u.base_colour.x, s.u.base_colour.y, s.u.base_colour.z});
+    bool grey_colour = Known || (grey_light && !S::k_vertex_colours && grey(Vec3{s.u.base_colour.x, s.u.base_colour.y, s.u.base_colour.z}));
     bool unit_key = s.u.key.colour.x == 1.0f;
     bool below_one = grey_colour && no_fill && grey_key_light_below_one(s.u, s.u.base_colour.x, unit_key);
     std::uint32_t alpha_word = std::uint32_t{to_rgba8(Vec4{0, 0, 0, s.u.base_colour.w}).a} << 24;
+    bool lambert_mode() const { return grey_colour && no_fill && unit_key && below_one; }
     HWY_INLINE Vec3Lanes normal(LanesIn<N>& in) const {
         return normalize(vec3_lanes<typename S::Layout, shaders::Varying::normal>(in.v), in.scalar, k_min_normal_length);
     }
@@ -78,25 +81,46 @@ struct LambertLanes {
         const Vec3 l = s.u.key.direction;
         const VF k = max_zero(hn::Add(hn::Add(hn::Mul(n.x, hn::Set(df, l.x)), hn::Mul(n.y, hn::Set(df, l.y))),
                                       hn::Mul(n.z, hn::Set(df, l.z))));
-        const VF lit = unit_key ? k : hn::Mul(hn::Set(df, s.u.key.colour.x), k);
+        const VF lit = Known || unit_key ? k : hn::Mul(hn::Set(df, s.u.key.colour.x), k);
         return hn::Add(hn::Set(df, s.u.ambient), hn::Mul(lit, hn::Set(df, s.u.diffuse)));
     }
     HWY_INLINE ColourLanes operator()(LanesIn<N>& in) const { return shade(albedo_lanes(s, in), light(in)); }
     HWY_INLINE hn::Vec<DU> rgba8(LanesIn<N>& in) const {
-        if (!grey_colour) return to_rgba8((*this)(in));
+        if (!Known && !grey_colour) return to_rgba8((*this)(in));
         const DF df;
         // shade(): albedo.r * light.x, alpha kept.
-        const VF c = hn::Mul(hn::Set(df, s.u.base_colour.x), no_fill ? key_light(in) : light(in).x);
-        return grey_to_rgba8(below_one ? unorm8_in_range(c) : unorm8(c), hn::Set(DU(), alpha_word));
+        const VF c = hn::Mul(hn::Set(df, s.u.base_colour.x), Known || no_fill ? key_light(in) : light(in).x);
+        return grey_to_rgba8(Known || below_one ? unorm8_in_range(c) : unorm8(c), hn::Set(DU(), alpha_word));
     }
 };
+
+// A copy of the base-colour kernel for the lambert mode (LambertLanes' `Known`): without its four
+// tests per block and their other paths the compiler keeps more of the uniforms in registers. Not
+// in sanitizer builds, whose kernels are compiled once per shader (CI time): the copy makes the same
+// accesses as the general kernel, and the release suite compares both with the specification.
+#ifndef FACET_LAMBERT_MODE_KERNEL
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define FACET_LAMBERT_MODE_KERNEL 0
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#define FACET_LAMBERT_MODE_KERNEL 0
+#endif
+#endif
+#ifndef FACET_LAMBERT_MODE_KERNEL
+#define FACET_LAMBERT_MODE_KERNEL 1
+#endif
+#endif
 
 void ShadeLambert(const shaders::Lambert& s, const VisibleTile& tile, TargetView target) {
     ShadeVisibleTile(s, LambertLanes<shaders::Lambert>{s}, tile, target);
 }
 void ShadeLambertBaseColour(const shaders::LambertBaseColour& s, const VisibleTile& tile,
                             TargetView target) {
-    ShadeVisibleTile(s, LambertLanes<shaders::LambertBaseColour>{s}, tile, target);
+    const LambertLanes<shaders::LambertBaseColour> lanes{s};
+#if FACET_LAMBERT_MODE_KERNEL
+    if (lanes.lambert_mode()) return ShadeVisibleTile(s, LambertLanes<shaders::LambertBaseColour, true>{s}, tile, target);
+#endif
+    ShadeVisibleTile(s, lanes, tile, target);
 }
 
 }  // namespace facet::detail::HWY_NAMESPACE
