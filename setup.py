@@ -71,6 +71,9 @@ class CMakeBuild(build_ext):
         for built_module in sorted((out / "lib" / "facet").glob("libfacet_*.so")):
             for folder in (module.parent, bin_dir):
                 shutil.copy2(built_module, folder / built_module.name)
+        # The third-party code in these files and the licence texts it asks to be carried with them.
+        shutil.copy2(ROOT / "docs" / "THIRD_PARTY.md", module.parent / "THIRD_PARTY.md")
+        shutil.copytree(ROOT / "packaging" / "licenses", module.parent / "licenses", dirs_exist_ok=True)
 
 
 # setuptools' own scratch (build/, *.egg-info) goes beside the CMake build, not into the sources.

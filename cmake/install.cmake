@@ -6,6 +6,7 @@
 #   bin/facet, bin/facet-view         the command line and its viewer (they find each other side by side)
 #   share/man/man1/facet*.1.gz        generated from --help by help2man, when it is installed
 #   share/thumbnailers/facet.thumbnailer, share/mime/packages/facet.xml   the desktop thumbnailer
+#   share/doc/facet/, share/doc/libfacet-dev/   THIRD_PARTY.md and licenses/ (cmake/package.cmake)
 # Components: `runtime` (executables, man pages, the shared library) and `dev` (the rest), which
 # the Debian packaging turns into the packages facet and libfacet-dev. tests/install builds two
 # consumer programs against an installed tree.

@@ -48,7 +48,9 @@ This package holds the headers, the library, the CMake package
 (find_package(facet) gives facet::facet) and facet.pc for pkg-config.")
 
 # Debian's documentation files for each package: a changelog (a native package's, compressed as
-# policy asks) and, once the project declares a license in LICENSE, the copyright file.
+# policy asks), the third-party code in what it installs with the copyright files and licence texts
+# of what is compiled or linked in (docs/THIRD_PARTY.md, packaging/licenses/) and, once the project
+# declares a license in LICENSE, the copyright file.
 string(TIMESTAMP _facet_date "%a, %d %b %Y %H:%M:%S +0000" UTC)
 foreach(component IN ITEMS runtime dev)
   string(TOUPPER ${component} _c)
@@ -65,6 +67,10 @@ foreach(component IN ITEMS runtime dev)
     DEPENDS ${_facet_doc}/changelog VERBATIM)
   add_custom_target(facet_debian_changelog_${component} ALL DEPENDS ${_facet_doc}/changelog.gz)
   install(FILES ${_facet_doc}/changelog.gz DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/${_facet_pkg} COMPONENT ${component})
+  install(FILES ${PROJECT_SOURCE_DIR}/docs/THIRD_PARTY.md DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/${_facet_pkg}
+    COMPONENT ${component})
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/packaging/licenses DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/${_facet_pkg}
+    COMPONENT ${component})
   if(EXISTS ${PROJECT_SOURCE_DIR}/LICENSE)
     install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/${_facet_pkg}
       RENAME copyright COMPONENT ${component})
