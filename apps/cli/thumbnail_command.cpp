@@ -117,8 +117,16 @@ int run_thumbnail(const std::string& input, const std::string& output, int size,
 
     keep_freed_memory_for_reuse();  // the worker renders one file and exits
     const ThumbnailJob job{.model = *model, .plan = *plan, .output = output, .command = k_command, .refuse_empty = true};
-    const WorkerOutcome outcome =
-        run_in_worker([&](const WorkerReport& report) { return run_thumbnail_job(job, report); }, *limits);
+    // The heap advised for huge pages from the start for the files facet's own code reads (OFF,
+    // STL), as facet render's and a thumbs worker's. Not once another file is loaded, as a thumbs
+    // worker's first job has it: for one job that gained nothing (docs/RELIABILITY.md, session 16).
+    const bool huge_pages = huge_pages_suit(*model);
+    const WorkerOutcome outcome = run_in_worker(
+        [&](const WorkerReport& report) {
+            if (huge_pages) use_huge_pages_for_heap(limits->max_memory_bytes);
+            return run_thumbnail_job(job, report);
+        },
+        *limits);
     if (exited(outcome) && outcome.status == k_exit_ok) return k_exit_ok;
     if (exited(outcome) && outcome.status == k_exit_failed && !outcome.message.empty()) {
         std::fprintf(stderr, "%s: %s\n", k_command, outcome.message.c_str());

@@ -73,6 +73,7 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
     }
     ThumbnailFigures f;
     std::string error;
+    bool huge_heap_advised = false;
     try {
         Image colour;
         report.phase(WorkerPhase::loading);
@@ -82,7 +83,10 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
         Result<Scene> scene = load_scene(job.model, plan, job.command);
         f.load_ms = ms_since(start);
         if (!job.fresh_process && assimp_import_count() != assimp_imports) return k_exit_fresh_worker;
-        if (job.huge_heap_after_load) use_huge_pages_for_heap(*job.huge_heap_after_load);
+        if (job.huge_heap_after_load) {
+            use_huge_pages_for_heap(*job.huge_heap_after_load);
+            huge_heap_advised = true;
+        }
         if (!scene) {
             error = scene.error().message;
             f.reason = reason_for_load_error(scene.error(), job.model);
@@ -132,6 +136,9 @@ int run_thumbnail_job(const ThumbnailJob& job, const WorkerReport& report) {
     } catch (const std::bad_alloc&) {
         error = job.model + ": out of memory";
         f.reason = FailReason::out_of_memory;
+        // A load that ran out of memory still advises the heap: a thumbs worker goes on to its next
+        // jobs, which would otherwise never have it (its first job was the one to advise it).
+        if (job.huge_heap_after_load && !huge_heap_advised) use_huge_pages_for_heap(*job.huge_heap_after_load);
     }
     report.figures(f.text());
     if (error.empty()) return k_exit_ok;

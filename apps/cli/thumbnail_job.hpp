@@ -57,8 +57,9 @@ struct ThumbnailJob {
     // which its sandbox lets it read too. Each model's own resources stay confined to its folder.
     std::vector<std::string> other_model_dirs{};
     // Set: once the model is loaded, the heap is advised for huge pages (use_huge_pages_for_heap
-    // with this memory cap) for the render's buffers. For a worker's first job that assimp may
-    // read: its reads past a buffer are over by then, and they still meet the plain heap.
+    // with this memory cap) for the render's buffers, also when the load ran out of memory (the
+    // worker's next jobs use that heap). For a thumbs worker's first job that assimp may read: its
+    // reads past a buffer are over by then, and they still meet the plain heap.
     std::optional<std::uint64_t> huge_heap_after_load{};
 };
 
