@@ -11,6 +11,7 @@
 
 #include "facet/io.hpp"
 #include "support/golden.hpp"
+#include "support/paths.hpp"
 
 namespace {
 
@@ -19,7 +20,7 @@ namespace fs = std::filesystem;
 using facet_test::expect_matches_golden;
 using facet_test::golden_scratch_dir;
 
-const fs::path k_bin = fs::path(FACET_BINARY_DIR);
+const fs::path k_bin = fs::path(facet_test::k_binary_dir);
 
 void run(const std::string& command) {
     ASSERT_EQ(std::system((command + " > /dev/null").c_str()), 0) << command;

@@ -13,13 +13,15 @@
 #include <iterator>
 #include <memory>
 
+#include "support/paths.hpp"
+
 extern char** environ;
 
 namespace facet_test {
 
 namespace fs = std::filesystem;
 
-fs::path facet_binary() { return fs::path(FACET_BINARY_DIR) / "bin" / "facet"; }
+fs::path facet_binary() { return fs::path(k_binary_dir) / "bin" / "facet"; }
 
 namespace {
 

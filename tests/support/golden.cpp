@@ -5,15 +5,16 @@
 #include <cstdlib>
 
 #include "facet/io.hpp"
+#include "support/paths.hpp"
 
 namespace facet_test {
 
 namespace fs = std::filesystem;
 
-fs::path golden_data_dir() { return fs::path(FACET_SOURCE_DIR) / "tests" / "golden" / "data"; }
+fs::path golden_data_dir() { return fs::path(k_source_dir) / "tests" / "golden" / "data"; }
 
 fs::path golden_scratch_dir() {
-    const fs::path dir = fs::path(FACET_BINARY_DIR) / "golden_out";
+    const fs::path dir = fs::path(k_binary_dir) / "golden_out";
     fs::create_directories(dir);
     return dir;
 }

@@ -12,13 +12,15 @@
 #include <iterator>
 #include <sstream>
 
+#include "support/paths.hpp"
+
 namespace facet_test {
 
 namespace fs = std::filesystem;
 
 std::optional<fs::path> cgal_meshes() {
     static const std::optional<fs::path> dir = []() -> std::optional<fs::path> {
-        const fs::path out = fs::path(FACET_BINARY_DIR) / "test_data" / "cgal";
+        const fs::path out = fs::path(k_binary_dir) / "test_data" / "cgal";
         const fs::path meshes = out / "data" / "meshes";
         const char* names[] = {"bunny00.off", "armadillo.off", "elephant.off",
                                // OFF's other forms, for the OFF reader's tests (small files)
@@ -107,7 +109,7 @@ fs::path test_temp_dir(const std::string& prefix) {
     // The build folder's hash: several checkouts' test runs on one machine (one user, one /tmp)
     // must not clear each other's folders.
     std::string name = prefix + "_" + std::to_string(geteuid()) + "_" +
-                       std::to_string(std::hash<std::string>{}(FACET_BINARY_DIR) % 1000000);
+                       std::to_string(std::hash<std::string>{}(k_binary_dir) % 1000000);
     if (info) name += std::string("_") + info->test_suite_name() + "_" + info->name();
     for (char& c : name)
         if (c == '/') c = '_';  // parameterized test names

@@ -12,6 +12,7 @@
 
 #include "facet/io.hpp"
 #include "support/cli.hpp"
+#include "support/paths.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -270,7 +271,7 @@ TEST(CiRecipe, RenderAndCompareFailsOnAChangeAndKeepsTheDifferences) {
     fs::create_directories(dir / "models");
     facet_test::write_file(dir / "models" / "a.obj", "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n");
     facet_test::write_file(dir / "models" / "b.obj", "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n");
-    const std::string script = (fs::path(FACET_SOURCE_DIR) / "examples/ci/render-and-compare").string();
+    const std::string script = (fs::path(facet_test::k_source_dir) / "examples/ci/render-and-compare").string();
     auto run = [&](const std::string& env, const std::string& options) {
         return facet_test::run_program("/bin/bash", {"-c", "FACET='" + facet_test::facet_binary().string() + "' " + env +
                                                                " '" + script + "' '" + (dir / "models").string() +

@@ -19,6 +19,7 @@
 
 #include "facet/isa.hpp"
 #include "support/cli.hpp"
+#include "support/paths.hpp"
 #include "worker.hpp"  // apps/cli: whether this build caps the worker's memory
 #include "support/test_data.hpp"
 
@@ -250,7 +251,7 @@ TEST(PrintConfig, ViewPrintsWithoutAWindow) {
 // The README's option table states the defaults that --print-config prints, and its "Printing the
 // settings" section names every key.
 TEST(PrintConfig, ReadmeDocumentsTheDefaultsAndEveryKey) {
-    const std::string readme = facet_test::read_file(fs::path(FACET_SOURCE_DIR) / "README.md");
+    const std::string readme = facet_test::read_file(fs::path(facet_test::k_source_dir) / "README.md");
     ASSERT_FALSE(readme.empty());
     auto row = [&](const std::string& option) {
         const std::size_t at = readme.find("\n| `" + option);

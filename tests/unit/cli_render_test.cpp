@@ -20,6 +20,7 @@
 #include "facet/io.hpp"
 #include "facet/isa.hpp"
 #include "support/cli.hpp"
+#include "support/paths.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -649,7 +650,7 @@ TEST(CliRender, EveryIsaDrawsTheSameImage) {
 // input is a read past a buffer inside assimp and TSan reports on it too (exit 99 through the
 // worker process); the message is checked in the other builds.
 TEST(CliRender, AReaderMessageQuotingTheFileIsShortenedToOneLine) {
-    const fs::path input = fs::path(FACET_SOURCE_DIR) / "tests" / "regression" / "assimp_messages" /
+    const fs::path input = fs::path(facet_test::k_source_dir) / "tests" / "regression" / "assimp_messages" /
                            "md5mesh_quotes_its_text_0811277a.md5mesh";
     ASSERT_TRUE(fs::exists(input));
     const fs::path dir = temp_dir();

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "facet/io.hpp"
+#include "support/paths.hpp"
 
 namespace {
 
@@ -19,7 +20,7 @@ struct CommandResult {
 };
 
 CommandResult run_facet(const std::string& args) {
-    const std::string cmd = (fs::path(FACET_BINARY_DIR) / "bin" / "facet").string() + " " + args + " 2>&1";
+    const std::string cmd = (fs::path(facet_test::k_binary_dir) / "bin" / "facet").string() + " " + args + " 2>&1";
     CommandResult r{-1, {}};
     FILE* p = popen(cmd.c_str(), "r");
     if (!p) return r;

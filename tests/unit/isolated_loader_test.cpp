@@ -13,6 +13,7 @@
 
 #include "facet/model.hpp"
 #include "support/gltf_writer.hpp"
+#include "support/paths.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -143,7 +144,7 @@ TEST(IsolatedLoader, ErrorsOfTheReaderComeBackUnchanged) {
 // The inputs of tests/regression/assimp_crashes/ (the same the command line's isolation tests use).
 std::vector<fs::path> crash_inputs() {
     std::vector<fs::path> files;
-    for (const auto& e : fs::directory_iterator(fs::path(FACET_SOURCE_DIR) / "tests" / "regression" / "assimp_crashes"))
+    for (const auto& e : fs::directory_iterator(fs::path(facet_test::k_source_dir) / "tests" / "regression" / "assimp_crashes"))
         files.push_back(e.path());
     std::sort(files.begin(), files.end());
     return files;

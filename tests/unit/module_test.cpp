@@ -13,6 +13,7 @@
 #include "facet/detail/module.hpp"
 #include "io/assimp_import.hpp"
 #include "io/assimp_module.hpp"
+#include "support/paths.hpp"
 
 namespace {
 
@@ -67,7 +68,7 @@ TEST(Modules, TheOpenExrWriterOpensOnceAndOtherSymbolsAreRefused) {
 
 // The point of the modules: `facet` itself does not need assimp's or OpenEXR's libraries to start.
 TEST(Modules, TheCommandLineLinksNeitherAssimpNorOpenExr) {
-    const std::string command = "objdump -p '" FACET_BINARY_DIR "/bin/facet' 2>&1";
+    const std::string command = std::string("objdump -p '") + facet_test::k_binary_dir + "/bin/facet' 2>&1";
     std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
     ASSERT_TRUE(pipe);
     std::string out;

@@ -21,6 +21,7 @@
 #include "facet/renderer.hpp"
 #include "facet/scene.hpp"
 #include "facet/texture.hpp"
+#include "support/paths.hpp"
 #include "support/test_data.hpp"
 
 namespace {
@@ -29,7 +30,7 @@ namespace fs = std::filesystem;
 using namespace facet;
 using facet_test::base64;
 
-const fs::path k_regression_dir = fs::path(FACET_SOURCE_DIR) / "tests" / "regression";
+const fs::path k_regression_dir = fs::path(facet_test::k_source_dir) / "tests" / "regression";
 
 std::string read_bytes(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "support/cli.hpp"
+#include "support/paths.hpp"
 #include "support/test_data.hpp"
 #include "worker.hpp"
 
@@ -33,7 +34,7 @@ using facet_test::CliRun;
 using facet_test::run_facet;
 using facet_test::write_text;
 
-const fs::path k_crash_dir = fs::path(FACET_SOURCE_DIR) / "tests" / "regression" / "assimp_crashes";
+const fs::path k_crash_dir = fs::path(facet_test::k_source_dir) / "tests" / "regression" / "assimp_crashes";
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 // A sanitizer catches the reader's crash in the worker itself, reports it and exits with the test

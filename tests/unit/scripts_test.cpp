@@ -11,13 +11,14 @@
 #include <sstream>
 #include <string>
 
+#include "support/paths.hpp"
 #include "support/test_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path k_source = FACET_SOURCE_DIR;
+const fs::path k_source = facet_test::k_source_dir;
 
 std::string output_of(const std::string& command, int& exit_code) {
     std::string out;

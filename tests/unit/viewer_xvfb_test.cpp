@@ -25,6 +25,7 @@
 
 #include "facet/image.hpp"
 #include "facet/io.hpp"
+#include "support/paths.hpp"
 
 // After facet's headers: Xlib defines macros named Status and Bool.
 #include <X11/Xatom.h>
@@ -38,7 +39,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
-const fs::path k_facet = fs::path(FACET_BINARY_DIR) / "bin" / "facet";
+const fs::path k_facet = fs::path(facet_test::k_binary_dir) / "bin" / "facet";
 
 struct CommandResult {
     int exit_code = -1;
@@ -642,7 +643,7 @@ TEST_F(XvfbViewer, DroppedFilesOpenAndBadOnesShowTheirError) {
 TEST_F(XvfbViewer, ExamplesShowTheirFramesInAWindow) {
     for (const char* name : {"triangle", "spinning_triangle", "lit_cube"}) {
         Child example;
-        const fs::path binary = fs::path(FACET_BINARY_DIR) / "examples" / (std::string("example_") + name);
+        const fs::path binary = fs::path(facet_test::k_binary_dir) / "examples" / (std::string("example_") + name);
         ASSERT_TRUE(example.start({binary.string(), "--window"}, {"DISPLAY=" + display_}, dir_, dir_ / "example.log"));
         std::string title = name;  // the example's window: "facet: lit cube" (not the last one's, closing)
         std::replace(title.begin(), title.end(), '_', ' ');
@@ -734,7 +735,7 @@ TEST(ExamplesCli, WindowWithoutADisplayWritesThePngInstead) {
     const fs::path dir = fs::temp_directory_path() / ("facet_examples_no_display_" + std::to_string(getpid()));
     fs::remove_all(dir);
     fs::create_directories(dir);
-    const fs::path binary = fs::path(FACET_BINARY_DIR) / "examples" / "example_triangle";
+    const fs::path binary = fs::path(facet_test::k_binary_dir) / "examples" / "example_triangle";
     const CommandResult r = run("cd " + dir.string() + " && env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER timeout 30 " +
                                 binary.string() + " --window 2>&1");
     EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -750,7 +751,7 @@ TEST(ExamplesCli, HelpAndBadArguments) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     auto example = [&](const std::string& name, const std::string& args) {
-        const fs::path binary = fs::path(FACET_BINARY_DIR) / "examples" / ("example_" + name);
+        const fs::path binary = fs::path(facet_test::k_binary_dir) / "examples" / ("example_" + name);
         return run("cd " + dir.string() + " && timeout 30 " + binary.string() + " " + args + " 2>&1");
     };
     for (const char* name : {"triangle", "spinning_triangle", "lit_cube"}) {
