@@ -144,16 +144,17 @@ void Renderer::run_front_end(const DrawInput& input, Plan& plan, std::size_t fir
     if (chunks_.size() < plan.chunk_count) chunks_.resize(plan.chunk_count);
     const std::size_t tiles = static_cast<std::size_t>(plan.params.tiles_x) * plan.params.tiles_y;
     const std::size_t per_chunk = (count + plan.chunk_count - 1) / plan.chunk_count;
-    // Where chunk c starts. With three chunks a thread, each round of chunks (one a thread, handed
-    // out in index order) is smaller than the one before, weights 3, 2, 1: the last round, whose
-    // chunks decide how long one thread waits for the other, is the shortest.
+    // Where chunk c starts. Each thread first draws its own share of the chunks, the triangles
+    // whose vertices its share of the vertex stage mostly wrote (parallel_for_shares). With three
+    // chunks a thread, a share's chunks are smaller one after the other, weights 3, 2, 1: its last
+    // chunk, which decides how long one thread waits for the other, is the shortest.
     const auto chunk_start = [&](std::size_t c) {
         if (!large) return std::min(end, first + c * per_chunk);
         std::size_t before = 0;
-        for (std::size_t k = 0; k < c; ++k) before += per_thread - k / thread_count;
+        for (std::size_t k = 0; k < c; ++k) before += per_thread - k % per_thread;
         return first + count * before / (thread_count * per_thread * (per_thread + 1) / 2);
     };
-    pool_.parallel_for(plan.chunk_count, [&](std::size_t c) {
+    pool_.parallel_for_shares(plan.chunk_count, [&](std::size_t c) {
         const std::size_t chunk_first = chunk_start(c);
         const std::size_t chunk_end = chunk_start(c + 1);
         chunks_[c].reset(tiles, plan.stride, plan.passes ? passes_->draw.layout.count : -1);

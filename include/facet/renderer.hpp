@@ -103,6 +103,22 @@ private:
 namespace detail {
 // Vertices per task in the vertex stage: large enough to amortize scheduling, small enough to balance.
 constexpr std::size_t k_vertex_block = 4096;
+// A vertex stage of fewer blocks than this many a thread has as many blocks as the next multiple of
+// the thread count, of even size (a multiple of 64 vertices, so that no two threads write one cache
+// line of the outputs): a mesh of 5,000 vertices is otherwise a block of 4,096 and one of 904, and
+// one thread waits for the other (docs/BENCHMARKS.md, small meshes, session 16). The outputs do
+// not depend on the blocks.
+constexpr std::size_t k_even_vertex_blocks = 4;
+constexpr std::size_t k_vertex_align = 64;
+
+// The vertex stage's block size for `vertex_count` vertices on `threads` threads.
+inline std::size_t vertex_block(std::size_t vertex_count, std::size_t threads) {
+    std::size_t blocks = (vertex_count + k_vertex_block - 1) / k_vertex_block;
+    if (threads < 2 || blocks == 0 || blocks >= k_even_vertex_blocks * threads) return k_vertex_block;
+    blocks = (blocks + threads - 1) / threads * threads;
+    const std::size_t even = (vertex_count + blocks - 1) / blocks;
+    return (even + k_vertex_align - 1) / k_vertex_align * k_vertex_align;
+}
 // Vertices per piece of a compiled vertex stage's block: their clip positions (4 KB) stay in L1
 // between the transform and the projection, and are never written to ClipVertices::pos.
 constexpr std::size_t k_vertex_piece = 256;
@@ -135,10 +151,11 @@ void Renderer::run_vertex_stage(const S& shader, std::uint32_t vertex_count, con
         vertices_.recompute = [](const void* s, std::uint32_t i) { return Compiled::position(*static_cast<const S*>(s), i); };
         vertices_.source = &shader;
     }
-    const std::size_t blocks = (vertex_count + detail::k_vertex_block - 1) / detail::k_vertex_block;
-    pool_.parallel_for(blocks, [&](std::size_t block) {
-        const std::size_t begin = block * detail::k_vertex_block;
-        const std::size_t end = std::min<std::size_t>(vertex_count, begin + detail::k_vertex_block);
+    const std::size_t size = detail::vertex_block(vertex_count, static_cast<std::size_t>(threads()));
+    const std::size_t blocks = (vertex_count + size - 1) / size;
+    pool_.parallel_for_shares(blocks, [&](std::size_t block) {
+        const std::size_t begin = block * size;
+        const std::size_t end = std::min<std::size_t>(vertex_count, begin + size);
         if constexpr (Compiled::available) {
             alignas(64) Vec4 clip[detail::k_vertex_piece];
             for (std::size_t first = begin; first < end; first += detail::k_vertex_piece) {

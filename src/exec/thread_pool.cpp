@@ -10,7 +10,9 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -63,15 +65,48 @@ struct ThreadPool::State {
     ThreadPool::TaskRef task{};
     ThreadPool::DoneRef done{};
     std::size_t count = 0;
-    std::atomic<std::size_t> next{0};
+    bool by_shares = false;  // parallel_for_shares
     std::atomic<bool> failed{false};
     std::exception_ptr error;
+    // The next task of parallel_for, on a line of its own: each worker's fetch_add takes the line
+    // from the other's cache, and the fields above, read at every task, would go with it.
+    alignas(64) std::atomic<std::size_t> next{0};
+    // parallel_for_shares: worker w's remaining tasks [low 32 bits, high 32 bits), a line each.
+    struct alignas(64) Share {
+        std::atomic<std::uint64_t> span{0};
+    };
+    std::unique_ptr<Share[]> shares;
+    static constexpr std::uint64_t k_low = 0xffffffffu;
+
+    // The next task of worker w's share, from its front (`own`) or its back; false when none is left.
+    bool take(Share& share, bool own, std::size_t& i) {
+        std::uint64_t v = share.span.load(std::memory_order_relaxed);
+        for (;;) {
+            const std::uint64_t front = v & k_low, back = v >> 32;
+            if (front >= back) return false;
+            const std::uint64_t taken = own ? v + 1 : ((back - 1) << 32 | front);
+            if (share.span.compare_exchange_weak(v, taken, std::memory_order_relaxed)) {
+                i = static_cast<std::size_t>(own ? front : back - 1);
+                return true;
+            }
+        }
+    }
+    bool next_task(int worker, std::size_t& i) {
+        if (!by_shares) {
+            i = next.fetch_add(1, std::memory_order_relaxed);
+            return i < count;
+        }
+        if (take(shares[static_cast<std::size_t>(worker)], true, i)) return true;
+        for (int k = 1; k < size; ++k)
+            if (take(shares[static_cast<std::size_t>((worker + k) % size)], false, i)) return true;
+        return false;
+    }
 
     // The loop's tasks this worker takes, then `done` if it took one.
     void run_tasks(int worker) {
         for (bool ran = false;; ran = true) {
-            std::size_t i = next.fetch_add(1, std::memory_order_relaxed);
-            if (i >= count || failed.load(std::memory_order_relaxed)) {
+            std::size_t i;
+            if (!next_task(worker, i) || failed.load(std::memory_order_relaxed)) {
                 if (ran) done(worker);
                 return;
             }
@@ -179,6 +214,7 @@ void ThreadPool::State::serve(Seat* seat) {
 ThreadPool::ThreadPool(int threads) : state_(std::make_unique<State>()) {
     threads = resolve_threads(threads);
     state_->size = threads;
+    state_->shares = std::make_unique<State::Share[]>(static_cast<std::size_t>(threads));
     state_->attached = threads - 1;
     State::Spare& s = State::spare();
     bool woke = false;
@@ -221,7 +257,7 @@ ThreadPool::~ThreadPool() {
 
 int ThreadPool::size() const { return state_->size; }
 
-void ThreadPool::run(std::size_t count, TaskRef task, DoneRef done) {
+void ThreadPool::run(std::size_t count, TaskRef task, DoneRef done, bool shares) {
     State& s = *state_;
     if (count == 0) return;
     if (s.size == 1 || count == 1) {
@@ -238,6 +274,13 @@ void ThreadPool::run(std::size_t count, TaskRef task, DoneRef done) {
         s.done = done;
         s.count = count;
         s.next = 0;
+        // Shares of a loop of 2^32 tasks or more would not fit their halves of a word.
+        s.by_shares = shares && count <= State::k_low;
+        if (s.by_shares) {
+            const auto n = static_cast<std::uint64_t>(s.size);
+            for (std::uint64_t w = 0; w < n; ++w)
+                s.shares[w].span.store(count * (w + 1) / n << 32 | count * w / n, std::memory_order_relaxed);
+        }
         s.failed = false;
         s.error = nullptr;
         s.busy.store(s.size - 1, std::memory_order_relaxed);

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <latch>
@@ -76,6 +77,55 @@ TEST(ThreadPool, DoneRunsOnceAfterTheLastTaskOfEachWorkerThatRanOne) {
                      4, [](std::size_t) { throw std::runtime_error("every task"); }, [&](int) { dones++; }),
                  std::runtime_error);
     EXPECT_GE(dones.load(), 1);
+}
+
+// parallel_for_shares: every task once, `done` as parallel_for's; each worker starts on its own
+// contiguous share in order, and a worker whose share is done takes the others' tasks from the back.
+TEST(ThreadPool, SharesRunEveryTaskOnceAndTheIdleWorkerTakesTheOthersFromTheBack) {
+    for (int threads : {1, 2, 5}) {
+        detail::ThreadPool pool(threads);
+        for (std::size_t count : {0u, 1u, 7u, 1000u}) {
+            std::vector<std::atomic<int>> hits(count), tasks(static_cast<std::size_t>(threads)), dones(tasks.size());
+            pool.parallel_for_shares(
+                count,
+                [&](std::size_t i, int worker) {
+                    hits[i]++;
+                    tasks[static_cast<std::size_t>(worker)]++;
+                },
+                [&](int worker) { dones[static_cast<std::size_t>(worker)]++; });
+            for (std::size_t i = 0; i < count; ++i) EXPECT_EQ(hits[i].load(), 1) << threads << " " << i;
+            for (std::size_t w = 0; w < tasks.size(); ++w)
+                EXPECT_EQ(dones[w].load(), tasks[w].load() > 0 ? 1 : 0) << threads << " " << count << " " << w;
+        }
+    }
+    // Worker 0 holds its first task (0) until the other 99 are done; worker 1 waits in its first
+    // task until worker 0 has begun, so it cannot have taken task 0 first.
+    detail::ThreadPool pool(2);
+    constexpr std::size_t count = 100;
+    std::vector<std::size_t> order[2];
+    std::atomic<bool> started{false};
+    std::atomic<int> finished{0};
+    const auto wait_for = [](const auto& ok) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+        while (!ok() && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+        return ok();
+    };
+    pool.parallel_for_shares(count, [&](std::size_t i, int worker) {
+        order[static_cast<std::size_t>(worker)].push_back(i);
+        if (worker == 0 && order[0].size() == 1) {
+            started = true;
+            EXPECT_TRUE(wait_for([&] { return finished.load() == static_cast<int>(count) - 1; }));
+        }
+        if (worker == 1 && order[1].size() == 1) {
+            EXPECT_TRUE(wait_for([&] { return started.load(); }));
+        }
+        finished++;
+    });
+    std::vector<std::size_t> expected;
+    for (std::size_t i = count / 2; i < count; ++i) expected.push_back(i);
+    for (std::size_t i = count / 2; i-- > 1;) expected.push_back(i);
+    EXPECT_EQ(order[0], std::vector<std::size_t>{0});
+    EXPECT_EQ(order[1], expected);
 }
 
 TEST(ThreadPool, ExceptionsReachTheCallerAndThePoolStaysUsable) {

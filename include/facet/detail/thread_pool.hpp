@@ -41,6 +41,23 @@ public:
         run(count, task_ref(task), DoneRef{&done, [](const void* g, int worker) { (*static_cast<const G*>(g))(worker); }});
     }
 
+    // parallel_for (with or without done) that first gives each worker its own share of the
+    // indices: worker w runs the w-th of size() contiguous, nearly equal ranges of [0, count) in
+    // order, and a worker whose share is done takes the others' remaining tasks from their ends,
+    // one at a time. For loops whose consecutive tasks use data that the same thread wrote or read
+    // in the loop before (a draw's vertex blocks, then the front end's chunks of the triangles that
+    // use them): on two cores each line fetched from the other core's cache costs about as much as
+    // the work on it. Tasks must not wait for one another.
+    template <class F>
+    void parallel_for_shares(std::size_t count, const F& task) {
+        run(count, task_ref(task), DoneRef{}, true);
+    }
+    template <class F, class G>
+    void parallel_for_shares(std::size_t count, const F& task, const G& done) {
+        run(count, task_ref(task), DoneRef{&done, [](const void* g, int worker) { (*static_cast<const G*>(g))(worker); }},
+            true);
+    }
+
     struct TaskRef {
         const void* callable;
         void (*call)(const void* callable, std::size_t i, int worker);
@@ -64,7 +81,7 @@ private:
                         (*static_cast<const F*>(f))(i);
                 }};
     }
-    void run(std::size_t count, TaskRef task, DoneRef done);
+    void run(std::size_t count, TaskRef task, DoneRef done, bool shares = false);
 
     struct State;
     std::unique_ptr<State> state_;
