@@ -392,11 +392,15 @@ ViewRequest view_request(const RenderPlan& plan) {
 DrawStats render_plan(ViewRenderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
                       Image& colour, std::vector<float>* depth) {
     colour.width = plan.width, colour.height = plan.height;
-    const std::size_t n = static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height);
-    colour.pixels.resize(n);
-    if (depth) depth->resize(n);
+    colour.pixels.resize(static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height));
+    return render_plan(renderer, scene, plan, camera, colour.pixels.data(), depth);
+}
+
+DrawStats render_plan(ViewRenderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
+                      Rgba8* colour, std::vector<float>* depth) {
+    if (depth) depth->resize(static_cast<std::size_t>(plan.width) * static_cast<std::size_t>(plan.height));
     PassImages out;
-    out.colour = colour.pixels.data();
+    out.colour = colour;
     out.window_depth = depth ? depth->data() : nullptr;
     ViewRequest request = view_request(plan);
     request.settings.keep_depth = depth != nullptr;  // otherwise only the colour is read

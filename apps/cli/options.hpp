@@ -160,6 +160,10 @@ ViewRequest view_request(const RenderPlan& plan);
 // its quad is drawn too. `facet render` and `facet thumbs` draw their images with it.
 DrawStats render_plan(ViewRenderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
                       Image& colour, std::vector<float>* depth);
+// The same into plan.width x plan.height pixels at `colour`, which the render writes whole (its
+// contents before do not matter: facet render's image is not cleared first).
+DrawStats render_plan(ViewRenderer& renderer, const Scene& scene, const RenderPlan& plan, const Camera& camera,
+                      Rgba8* colour, std::vector<float>* depth);
 
 // --print-config (print_config.cpp): the settings a run resolves to, one `key = value` line each in
 // a fixed order, after a `#` comment line; README, "Printing the settings", lists the keys. Values

@@ -12,6 +12,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <new>
 #include <string>
 
 #include "facet/io.hpp"
@@ -30,6 +33,27 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
+
+// The frame's colour image: width x height pixels in memory that nothing writes before the render,
+// which writes them whole (an Image's vector would first clear the megabyte of a 512x512 frame:
+// 0.03 ms in quiet minutes, 0.4 in busy ones, docs/BENCHMARKS.md), its rows on 64-byte lines.
+class FrameImage {
+public:
+    FrameImage(int width, int height) {
+        constexpr std::size_t line = 64;
+        const std::size_t bytes = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * sizeof(Rgba8);
+        // Rgba8 is an aggregate of bytes: the allocation makes its pixels (C++20's implicit objects).
+        pixels_.reset(static_cast<Rgba8*>(std::aligned_alloc(line, (bytes + line - 1) / line * line)));
+        if (!pixels_) throw std::bad_alloc();
+    }
+    Rgba8* data() const { return pixels_.get(); }
+
+private:
+    struct Free {
+        void operator()(Rgba8* p) const { std::free(p); }
+    };
+    std::unique_ptr<Rgba8, Free> pixels_;
+};
 
 // Window depth in [0, 1] to 16 bits: round(d * 65535); the background (depth 1) is 65535.
 std::vector<std::uint16_t> depth_to_u16(const std::vector<float>& depth) {
@@ -125,7 +149,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
 
     report.phase(WorkerPhase::rendering);
     if (plan.views && !r.print_config) return views_job(r, *scene, load_ms);
-    Image colour;
+    const FrameImage colour(plan.width, plan.height);
     std::vector<float> depth;
     std::vector<float>* depth_ptr = r.depth_out.empty() ? nullptr : &depth;
     DrawStats stats;
@@ -141,7 +165,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
         }
         const Clock::time_point render_start = Clock::now();
         const Camera camera = plan_camera(*scene, plan);
-        stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
+        stats = render_plan(renderer, *scene, plan, camera, colour.data(), depth_ptr);
         render_ms = ms_since(render_start);
         if (r.benchmark_frames > 0) {
             // The first frame above was the warm-up; time the next ones, each a draw and the copy of
@@ -149,7 +173,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
             std::vector<double> frames;
             for (int i = 0; i < r.benchmark_frames; ++i) {
                 const Clock::time_point start = Clock::now();
-                stats = render_plan(renderer, *scene, plan, camera, colour, depth_ptr);
+                stats = render_plan(renderer, *scene, plan, camera, colour.data(), depth_ptr);
                 frames.push_back(ms_since(start));
             }
             print_benchmark(frames, load_ms, scene->triangle_count(), threads, plan.width, plan.height);
@@ -168,7 +192,7 @@ int render_job(const RenderRequest& r, const WorkerReport& report) {
         if (!replaced->empty()) (void)::open(replaced->c_str(), O_PATH | O_CLOEXEC);
     // Runs only (zlib's Z_RLE), as thumbs: a render's smooth shading on a plain background deflates
     // in ~25% less time than at level 2, its file ~10% larger (docs/BENCHMARKS.md).
-    if (Status s = write_png(r.output, colour, {.threads = threads, .runs_only = true}); !s) {
+    if (Status s = write_png(r.output, plan.width, plan.height, colour.data(), {.threads = threads, .runs_only = true}); !s) {
         std::fprintf(stderr, "facet render: %s\n", s.error().message.c_str());
         return k_exit_failed;
     }

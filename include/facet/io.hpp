@@ -27,6 +27,9 @@ struct PngOptions {
 
 // 8-bit PNG: RGB when every pixel is opaque (alpha 255), RGBA otherwise; read back, the pixels are the same.
 Status write_png(const std::string& path, const Image& image, const PngOptions& options = {});
+// The same PNG of width * height pixels at `pixels`, rows top first: for an image in memory that is
+// not an Image's (facet render draws into memory it does not clear first).
+Status write_png(const std::string& path, int width, int height, const Rgba8* pixels, const PngOptions& options = {});
 // 8-bit and 16-bit grayscale PNG of width * height values, first row at the top.
 Status write_png_gray8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& values);
 Status write_png_gray16(const std::string& path, int width, int height, const std::vector<std::uint16_t>& values);

@@ -232,20 +232,22 @@ Result<std::vector<unsigned char>> encode(const std::string& path, const PngLayo
     return png;
 }
 
-// Whether every pixel has alpha 255 (an AND over all of them, which the compiler vectorizes).
-bool opaque(const Image& image) {
+// Whether every one of the n pixels has alpha 255 (an AND over all of them, which the compiler
+// vectorizes).
+bool opaque(const Rgba8* pixels, std::size_t n) {
     std::uint32_t all = ~0u;
-    for (const Rgba8& p : image.pixels) all &= static_cast<std::uint32_t>(p.a);
+    for (std::size_t i = 0; i < n; ++i) all &= static_cast<std::uint32_t>(pixels[i].a);
     return all == 255;
 }
 
 // An 8-bit image: RGB when it is opaque (the same pixels read back, a quarter less to compress),
 // RGBA otherwise.
-Result<std::vector<unsigned char>> encode_image(const std::string& path, const Image& image, const PngOptions& options) {
-    const auto width = static_cast<std::size_t>(image.width);
-    const auto* pixels = reinterpret_cast<const unsigned char*>(image.pixels.data());
-    PngLayout layout{static_cast<std::uint32_t>(image.width), static_cast<std::uint32_t>(image.height), 8, 6, width * 4};
-    if (!opaque(image))
+Result<std::vector<unsigned char>> encode_image(const std::string& path, int w, int h, const Rgba8* image,
+                                                const PngOptions& options) {
+    const auto width = static_cast<std::size_t>(w);
+    const auto* pixels = reinterpret_cast<const unsigned char*>(image);
+    PngLayout layout{static_cast<std::uint32_t>(w), static_cast<std::uint32_t>(h), 8, 6, width * 4};
+    if (!opaque(image, width * static_cast<std::size_t>(h)))
         return encode(path, layout, options, [&](std::uint32_t y, unsigned char*) { return pixels + y * width * 4; });
     layout.color_type = 2;
     layout.row_bytes = width * 3;
@@ -317,9 +319,15 @@ Status write_png(const std::string& path, const Image& image, const PngOptions& 
     if (image.width <= 0 || image.height <= 0 ||
         image.pixels.size() != static_cast<std::size_t>(image.width) * image.height)
         return Error{ErrorCode::invalid_argument, path + ": image size and pixel count do not match"};
+    return write_png(path, image.width, image.height, image.pixels.data(), options);
+}
+
+Status write_png(const std::string& path, int width, int height, const Rgba8* pixels, const PngOptions& options) {
+    if (width <= 0 || height <= 0 || !pixels)
+        return Error{ErrorCode::invalid_argument, path + ": the image has no pixels"};
     if (options.level < 0 || options.level > 9)
         return Error{ErrorCode::invalid_argument, path + ": PNG level " + std::to_string(options.level) + " is not in 0..9"};
-    auto png = encode_image(path, image, options);
+    auto png = encode_image(path, width, height, pixels, options);
     if (!png) return png.error();
     return write_file_atomic(path, png->data(), png->size());
 }

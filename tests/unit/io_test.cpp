@@ -187,6 +187,24 @@ TEST(Png, WritingIntoAMissingDirectoryFailsAndNamesTheFile) {
     EXPECT_NE(s.error().message.find(path), std::string::npos);
 }
 
+// facet render writes its frame from memory that is not an Image's: the same file, RGB or RGBA.
+TEST(Png, PixelsInMemoryWriteTheSameFileAsTheirImage) {
+    const fs::path dir = temp_dir("pointer");
+    for (bool opaque : {true, false}) {
+        const Image img = noise(64, 40, opaque);
+        const fs::path from_image = dir / "image.png", from_memory = dir / "memory.png";
+        ASSERT_TRUE(write_png(from_image.string(), img, {.threads = 2}).ok());
+        ASSERT_TRUE(write_png(from_memory.string(), img.width, img.height, img.pixels.data(), {.threads = 2}).ok());
+        EXPECT_EQ(png_colour_type(from_memory), opaque ? 2 : 6);
+        EXPECT_EQ(file_bytes(from_memory), file_bytes(from_image));
+    }
+    const Status none = write_png((dir / "none.png").string(), 0, 10, nullptr);
+    ASSERT_FALSE(none.ok());
+    EXPECT_EQ(none.error().code, ErrorCode::invalid_argument);
+    EXPECT_NE(none.error().message.find("none.png"), std::string::npos);
+    EXPECT_FALSE(fs::exists(dir / "none.png"));
+}
+
 TEST(Png, MismatchedImageIsRejectedBeforeWriting) {
     const fs::path dir = temp_dir("mismatch");
     Image bad{10, 10, std::vector<Rgba8>(50)};
