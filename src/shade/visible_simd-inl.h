@@ -404,9 +404,10 @@ constexpr int k_max_lanes = HWY_MAX_BYTES / sizeof(float);
 // Rows of the worker's empty tiles (DeferredFills) written before each block with visible pixels:
 // the pass's long chains of arithmetic leave the stores room to drain (the same rows written
 // between the triangles of pass one, whose own stores they compete with, cost 2-4% more of a mesh
-// frame). Three rows a block clear the empty tiles around the scanned meshes at 1920x1080 within
-// their shading; what is left is written after the tiles (drain_fills).
-constexpr int k_fill_rows_per_block = 3;
+// frame). Two rows a block (512 bytes at 16 lanes) still clear the empty tiles around the scanned
+// meshes at 1920x1080 within their shading, and fewer streaming stores wait on each other than with
+// three; one row a block leaves much of the clear to be written alone after the tiles (drain_fills).
+constexpr int k_fill_rows_per_block = 2;
 
 // Pixels are shaded in blocks of W x H (4 x 4 with 16 lanes, 4 x 2 with 8, 4 x 1 with 4): the
 // pixels of a block belong to fewer triangles than a row of as many pixels (measured on a bunny at
