@@ -69,6 +69,7 @@ inline bool cpu_has_conflict_detection() {
 #include "facet/shaders.hpp"
 #include "tile/stream_fill-inl.h"
 #include "simd/mask_bits-inl.h"
+#include "simd/masked_compare-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
@@ -132,7 +133,8 @@ HWY_INLINE VF dot_self(const Vec3Lanes& a) {
 HWY_INLINE Vec3Lanes normalize(const Vec3Lanes& a, MF& scalar, float min_length = 0.0f) {
     const DF df;
     const VF l = hn::Sqrt(dot_self(a));
-    const MF ok = hn::And(hn::Gt(l, hn::Set(df, min_length)), hn::Lt(l, hn::Set(df, std::numeric_limits<float>::infinity())));
+    const MF ok = and_compare<Compare::gt>(df, hn::Lt(l, hn::Set(df, std::numeric_limits<float>::infinity())), l,
+                                           hn::Set(df, min_length));
     scalar = hn::Or(scalar, hn::Not(ok));
     return {hn::Div(a.x, l), hn::Div(a.y, l), hn::Div(a.z, l)};
 }
@@ -567,8 +569,8 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
         if (!hn::AllTrue(df, in.visible))
             rgba = hn::IfThenElse(hn::RebindMask(du, in.visible), rgba, load_block(du, colour, colour_stride));
         store_block(du, rgba, colour, colour_stride);
+        if (HWY_LIKELY(none_in_both(df, in.scalar, in.visible))) return;
         const MF redo_lanes = hn::And(in.scalar, in.visible);
-        if (HWY_LIKELY(hn::AllFalse(df, redo_lanes))) return;
         const std::uint64_t redo_bits = mask_bits(redo_lanes);
         for (int r = 0; r < bh; ++r) redo[shading_r0 + r] |= ((redo_bits >> (r * bw)) & block_row_bits) << i;
     };
@@ -608,7 +610,7 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             }
             std::uint8_t bytes[8];
             std::memcpy(bytes, &bits, sizeof(bytes));
-            const MF visible = hn::RebindMask(df, hn::And(hn::LoadMaskBits(du, bytes), hn::Ne(owners, none)));
+            const MF visible = hn::RebindMask(df, and_compare<Compare::ne>(du, hn::LoadMaskBits(du, bytes), owners, none));
             if (hn::AllFalse(df, visible)) continue;
             stream_fill_rows(*vis.idle, k_fill_rows_per_block);
             // Two to four runs (most shared blocks) with the count known at compile time: the masks
@@ -639,8 +641,8 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             // below), name the runs from registers, with no store and reload per run.
             if (conflict_leaders) {
                 const auto owned = hn::IfThenElse(hn::RebindMask(du, visible), owners, none);
-                const auto leaders = hn::And(hn::RebindMask(du, visible),
-                                             hn::Eq(earlier_equal_lanes(owned), hn::Zero(du)));
+                const auto leaders =
+                    and_compare<Compare::eq>(du, hn::RebindMask(du, visible), earlier_equal_lanes(owned), hn::Zero(du));
                 const int runs = static_cast<int>(hn::CountTrue(du, leaders));
                 const auto run_owners = hn::Compress(owned, leaders);
                 auto record_of = [&](std::uint32_t owner) FACET_FORCE_INLINE {
@@ -703,12 +705,13 @@ void ShadeVisibleTile(const S& shader, const Lanes& lanes_in, const VisibleTile&
             if (!hn::AllFalse(df, hn::AndNot(first_run, visible))) {
                 auto repeats = hn::FirstN(du, 0);
                 for (int k = 0; k < k_neighbours; ++k)
-                    repeats = hn::Or(repeats, hn::And(has_neighbour[k],
-                                                      hn::Eq(owners, hn::TableLookupLanes(owners, neighbour[k]))));
+                    repeats = hn::Or(repeats, and_compare<Compare::eq>(du, has_neighbour[k], owners,
+                                                                       hn::TableLookupLanes(owners, neighbour[k])));
                 std::uint64_t leaders = mask_bits(hn::AndNot(hn::RebindMask(df, repeats), visible));
                 for (leaders &= leaders - 1; leaders != 0; leaders &= leaders - 1, ++runs) {
                     const std::uint32_t owner = owner_of[std::countr_zero(leaders)];
-                    run_mask[runs] = hn::And(visible, hn::RebindMask(df, hn::Eq(owners, hn::Set(du, owner))));
+                    run_mask[runs] =
+                        hn::RebindMask(df, and_compare<Compare::eq>(du, hn::RebindMask(du, visible), owners, hn::Set(du, owner)));
                     run_record[runs] = records + static_cast<std::size_t>(owner) * vis.record_stride;
                 }
             }

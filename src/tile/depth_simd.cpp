@@ -24,6 +24,7 @@
 
 #include "raster/segment.hpp"
 #include "tile/depth_pass.hpp"
+#include "simd/masked_compare-inl.h"
 
 #ifndef FACET_TILE_DEPTH_SIMD_ONCE
 #define FACET_TILE_DEPTH_SIMD_ONCE
@@ -119,26 +120,13 @@ HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-// Where the covered lanes pass the depth test. On AVX-512 the compare takes the covered mask itself
-// (a masked compare: the same predicate, one mask AND fewer on each row's chain).
+// Where the covered lanes pass the depth test (on AVX-512 one compare under the covered mask).
 template <DepthTest D, class DF, class M>
-M depth_test(DF, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
-#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
-    constexpr int predicate = D == DepthTest::less      ? _CMP_LT_OQ
-                              : D == DepthTest::lequal  ? _CMP_LE_OQ
-                              : D == DepthTest::equal   ? _CMP_EQ_OQ
-                              : D == DepthTest::greater ? _CMP_GT_OQ
-                                                        : -1;
-    if constexpr (predicate >= 0) {
-        if constexpr (sizeof(z.raw) == 64) return M{_mm512_mask_cmp_ps_mask(covered.raw, z.raw, stored.raw, predicate)};
-        else if constexpr (sizeof(z.raw) == 32) return M{_mm256_mask_cmp_ps_mask(covered.raw, z.raw, stored.raw, predicate)};
-        else if constexpr (sizeof(z.raw) == 16) return M{_mm_mask_cmp_ps_mask(covered.raw, z.raw, stored.raw, predicate)};
-    }
-#endif
-    if constexpr (D == DepthTest::less) return hn::And(covered, hn::Lt(z, stored));
-    else if constexpr (D == DepthTest::lequal) return hn::And(covered, hn::Le(z, stored));
-    else if constexpr (D == DepthTest::equal) return hn::And(covered, hn::Eq(z, stored));
-    else if constexpr (D == DepthTest::greater) return hn::And(covered, hn::Gt(z, stored));
+M depth_test(DF df, hn::Vec<DF> z, hn::Vec<DF> stored, M covered) {
+    if constexpr (D == DepthTest::less) return and_compare<Compare::lt>(df, covered, z, stored);
+    else if constexpr (D == DepthTest::lequal) return and_compare<Compare::le>(df, covered, z, stored);
+    else if constexpr (D == DepthTest::equal) return and_compare<Compare::eq>(df, covered, z, stored);
+    else if constexpr (D == DepthTest::greater) return and_compare<Compare::gt>(df, covered, z, stored);
     else {
         static_assert(D == DepthTest::always, "never draws nothing (DrawOrder::nothing): no kernel");
         return covered;
@@ -167,28 +155,16 @@ HWY_INLINE V or_of(const V (&e)[K]) {
     return v;
 }
 
-// The lanes of m where a < b (32-bit integers). On AVX-512 one compare under the mask.
-template <class DI, class M>
-HWY_INLINE M and_less(DI, M m, hn::Vec<DI> a, hn::Vec<DI> b) {
-#if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
-    if constexpr (sizeof(a.raw) == 64) return M{_mm512_mask_cmplt_epi32_mask(m.raw, a.raw, b.raw)};
-    else if constexpr (sizeof(a.raw) == 32) return M{_mm256_mask_cmplt_epi32_mask(m.raw, a.raw, b.raw)};
-    else if constexpr (sizeof(a.raw) == 16) return M{_mm_mask_cmplt_epi32_mask(m.raw, a.raw, b.raw)};
-#endif
-    return hn::And(m, hn::Lt(a, b));
-}
-
 // The lanes of `in_rect` inside the triangle: where no edge is negative (no sign bit in or_of(e)). On
 // AVX-512 one compare under the mask.
 template <int K, class DI, class M>
 HWY_INLINE M inside_of(DI di, const hn::Vec<DI> (&e)[K], M in_rect) {
     const auto v = or_of(e);
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX3
-    if constexpr (sizeof(v.raw) == 64) return M{_mm512_mask_cmpge_epi32_mask(in_rect.raw, v.raw, _mm512_setzero_si512())};
-    else if constexpr (sizeof(v.raw) == 32) return M{_mm256_mask_cmpge_epi32_mask(in_rect.raw, v.raw, _mm256_setzero_si256())};
-    else if constexpr (sizeof(v.raw) == 16) return M{_mm_mask_cmpge_epi32_mask(in_rect.raw, v.raw, _mm_setzero_si128())};
-#endif
+    return and_compare<Compare::ge>(di, in_rect, v, hn::Zero(di));
+#else
     return hn::AndNot(hn::Lt(v, hn::Zero(di)), in_rect);
+#endif
 }
 
 // Each edge of a rectangle along a strip's first row, r.y0: e[k] lane j is edge k at column

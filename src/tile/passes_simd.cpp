@@ -20,6 +20,7 @@
 
 #include "tile/passes.hpp"
 #include "simd/mask_bits-inl.h"
+#include "simd/masked_compare-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace facet::detail::HWY_NAMESPACE {
@@ -87,8 +88,8 @@ HWY_INLINE PassLanes pass_lanes(const PassDraw& d, const Setup& setup, const Fie
             x = varying(l.normal_at), y = varying(l.normal_at + 1), z = varying(l.normal_at + 2);
             // facet::normalize's common case, a / length(a); the others to the specification.
             const VF length = hn::Sqrt(hn::Add(hn::Add(hn::Add(hn::Zero(df), hn::Mul(x, x)), hn::Mul(y, y)), hn::Mul(z, z)));
-            const MF ok = hn::And(hn::Gt(length, hn::Zero(df)),
-                                  hn::Lt(length, hn::Set(df, std::numeric_limits<float>::infinity())));
+            const MF ok = and_compare<Compare::gt>(
+                df, hn::Lt(length, hn::Set(df, std::numeric_limits<float>::infinity())), length, hn::Zero(df));
             scalar = hn::Or(scalar, hn::Not(ok));
             x = hn::Div(x, length), y = hn::Div(y, length), z = hn::Div(z, length);
         } else {
@@ -286,7 +287,7 @@ bool WritePassRow(const VisibleTile& tile, const float* records, int record_stri
         int runs = 1;
         const MF first_run = hn::RebindMask(df, hn::Eq(owners, hn::Set(du, first_owner)));
         if (!hn::AllFalse(df, hn::AndNot(first_run, visible))) {
-            const MU repeats = hn::And(not_first, hn::Eq(owners, hn::TableLookupLanes(owners, left)));
+            const MU repeats = and_compare<Compare::eq>(du, not_first, owners, hn::TableLookupLanes(owners, left));
             std::uint64_t leaders = mask_bits(hn::AndNot(hn::RebindMask(df, repeats), visible));
             for (leaders &= leaders - 1; leaders != 0; leaders &= leaders - 1, ++runs) {
                 const std::uint32_t owner = owner_of[std::countr_zero(leaders)];
