@@ -4,6 +4,7 @@
 #include "facet/sandbox.hpp"
 
 #include "facet/detail/module.hpp"
+#include "exec/sanitized.hpp"
 
 #if defined(__linux__)
 #include <arpa/inet.h>
@@ -31,19 +32,7 @@
 
 namespace facet {
 
-bool sanitizer_build() {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    return true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-    return true;
-#else
-    return false;
-#endif
-#else
-    return false;
-#endif
-}
+bool sanitizer_build() { return FACET_SANITIZED != 0; }
 
 namespace {
 

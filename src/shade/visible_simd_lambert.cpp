@@ -11,6 +11,7 @@
 
 #include "facet/image.hpp"
 #include "facet/shaders.hpp"
+#include "exec/sanitized.hpp"
 #include "shade/visible_simd-inl.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -99,16 +100,7 @@ struct LambertLanes {
 // in sanitizer builds, whose kernels are compiled once per shader (CI time): the copy makes the same
 // accesses as the general kernel, and the release suite compares both with the specification.
 #ifndef FACET_LAMBERT_MODE_KERNEL
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define FACET_LAMBERT_MODE_KERNEL 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-#define FACET_LAMBERT_MODE_KERNEL 0
-#endif
-#endif
-#ifndef FACET_LAMBERT_MODE_KERNEL
-#define FACET_LAMBERT_MODE_KERNEL 1
-#endif
+#define FACET_LAMBERT_MODE_KERNEL (!FACET_SANITIZED)
 #endif
 
 void ShadeLambert(const shaders::Lambert& s, const VisibleTile& tile, TargetView target) {

@@ -84,11 +84,10 @@ struct DeferredFills {
         return true;
     }
 };
-// drain_fills writes all that is left of a queue; both end with a fence when the queue's rows were
+// drain_fills writes all that is left of a queue and ends with a fence when the queue's rows were
 // streamed since the last one: streaming stores are weakly ordered, so they are made visible before
-// the work that wrote them is reported done (fence_fills, by each worker after its last tile of a
-// batch). SIMD, in tile_store_simd.cpp.
+// the work that wrote them is reported done (by each worker after its last tile of a batch). SIMD,
+// in tile_store_simd.cpp.
 void drain_fills(DeferredFills& fills);
-void fence_fills(DeferredFills& fills);
 
 }  // namespace facet::detail

@@ -89,10 +89,8 @@ HWY_EXPORT(StoreTileRows);
 HWY_EXPORT(FillWords);
 HWY_EXPORT(FenceStreams);
 HWY_EXPORT(DrainFills);
-HWY_EXPORT(FenceFills);
 
 void drain_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(DrainFills)(fills); }
-void fence_fills(DeferredFills& fills) { HWY_DYNAMIC_DISPATCH(FenceFills)(fills); }
 
 void fill_words(void* to, std::size_t count, std::uint32_t value) {
     if (!use_scalar_kernels()) return HWY_DYNAMIC_DISPATCH(FillWords)(to, count, value);
