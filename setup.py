@@ -73,7 +73,10 @@ class CMakeBuild(build_ext):
                 shutil.copy2(built_module, folder / built_module.name)
         # The third-party code in these files and the licence texts it asks to be carried with them.
         shutil.copy2(ROOT / "docs" / "THIRD_PARTY.md", module.parent / "THIRD_PARTY.md")
-        shutil.copytree(ROOT / "packaging" / "licenses", module.parent / "licenses", dirs_exist_ok=True)
+        # Copied afresh: setuptools' scratch folder outlives a build, and a notice dropped from
+        # packaging/licenses/ must not stay in the next wheel.
+        shutil.rmtree(module.parent / "licenses", ignore_errors=True)
+        shutil.copytree(ROOT / "packaging" / "licenses", module.parent / "licenses")
 
 
 # setuptools' own scratch (build/, *.egg-info) goes beside the CMake build, not into the sources.
