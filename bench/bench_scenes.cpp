@@ -11,6 +11,7 @@
 #include <random>
 #include <unordered_map>
 
+#include "bench_data_dir.hpp"
 #include "facet/model.hpp"
 
 namespace facet::bench {
@@ -23,7 +24,7 @@ constexpr const char* k_cgal_names[] = {"bunny00.off", "armadillo.off", "refined
 
 std::optional<fs::path> cgal_mesh_dir() {
     static const std::optional<fs::path> dir = []() -> std::optional<fs::path> {
-        const fs::path out = fs::path(FACET_BENCH_DATA_DIR) / "cgal";
+        const fs::path out = fs::path(k_bench_data_dir) / "cgal";
         const fs::path meshes = out / "data" / "meshes";
         auto present = [&] {
             return std::all_of(std::begin(k_cgal_names), std::end(k_cgal_names),

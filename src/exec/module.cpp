@@ -10,6 +10,8 @@
 #include <map>
 #include <mutex>
 
+#include "exec/module_build_dir.hpp"
+
 namespace facet::detail {
 namespace {
 
@@ -33,7 +35,7 @@ std::vector<std::string> candidate_dirs() {
             dirs.push_back((here / FACET_MODULE_RELATIVE_DIR).lexically_normal().string());
         }
     }
-    dirs.push_back(FACET_MODULE_BUILD_DIR);
+    dirs.push_back(k_module_build_dir);
     dirs.push_back(FACET_MODULE_INSTALL_DIR);
     return dirs;
 }
