@@ -6,7 +6,7 @@
 //    keyword ("OFF", or "COFF" for colours), the three counts; the body begins at the next word;
 //  - vertices: SkipSpaces then fast_atoreal_move<float> three times, for COFF four more (a '#'
 //    after one leaves the rest at 0, 0, 1), the rest of the line ignored;
-//  - faces: SkipSpaces then strtoul10 for the count and each index, the rest ignored (a missing
+//  - faces: SkipSpaces then strtoul10 (read_uint) for the count and each index, the rest ignored (a missing
 //    index reads as 0 in both);
 //  - Triangulate, for a mesh with a polygon (io/assimp_triangulate.hpp): quads split at their
 //    concave corner, larger polygons cut into ears, every triangle through the NGONEncoder;
@@ -141,7 +141,7 @@ std::optional<std::size_t> read_piece(const char* begin, const char* end, std::s
         } else {
             const std::size_t face = line - to.vertex_count - skipped;
             c = skip_spaces(c);
-            const std::uint32_t corners = Assimp::strtoul10(c, &c);
+            const std::uint32_t corners = read_uint(c, &c, to.readable_end);
             if (corners == 1 || corners == 2) return std::nullopt;  // a point or a line: SortByPType splits the mesh
             // No corners (a comment read as a face, too) or more than 9: assimp drops the face with an error.
             const bool drop = corners == 0 || corners > 9;
@@ -151,7 +151,7 @@ std::optional<std::size_t> read_piece(const char* begin, const char* end, std::s
             std::uint32_t* index = polygon.corners == 3 ? to.indices + 3 * face : polygon.index;
             for (std::size_t k = 0; k < polygon.corners; ++k) {
                 c = skip_spaces(c);
-                index[k] = Assimp::strtoul10(c, &c);
+                index[k] = read_uint(c, &c, to.readable_end);
                 if (index[k] >= to.vertex_count) return std::nullopt;  // assimp clamps it and logs an error
             }
             if (polygon.corners > 3) polygons.push_back(polygon);

@@ -115,4 +115,26 @@ TEST(AssimpText, ReadFloatEdgeForms) {
         expect_as_fast_atof(s);
 }
 
+// read_uint is strtoul10 (the value modulo 2^32 and the end), digit by digit near `readable_end` and
+// 8 digits at a time before it, whatever follows the digits.
+TEST(AssimpText, ReadUintIsStrtoul10OnRandomStrings) {
+    std::mt19937_64 rng(17);
+    const char* const suffixes[] = {"", " ", "\n", "\r\n", "/", ":", "x", "\xff", ".5", "\t7"};
+    std::string s;
+    for (int i = 0; i < 200000; ++i) {
+        s.clear();
+        const std::size_t digits = rng() % 24;  // 0 to 23: past 8, 16 and the 32 bits' 10
+        for (std::size_t d = 0; d < digits; ++d) s += static_cast<char>('0' + rng() % 10);
+        s += suffixes[rng() % std::size(suffixes)];
+        const char* their_end = nullptr;
+        const unsigned theirs = Assimp::strtoul10(s.c_str(), &their_end);
+        const char* our_end = nullptr;
+        ASSERT_EQ(facet::io_detail::read_uint(s.c_str(), &our_end, s.c_str()), theirs) << s;
+        ASSERT_EQ(our_end, their_end) << s;
+        const std::string padded = s + std::string(1, '\0') + "9876543210 \xff";
+        ASSERT_EQ(facet::io_detail::read_uint(padded.c_str(), &our_end, padded.c_str() + padded.size()), theirs) << s;
+        ASSERT_EQ(our_end - padded.c_str(), their_end - s.c_str()) << s;
+    }
+}
+
 }  // namespace
