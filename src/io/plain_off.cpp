@@ -106,62 +106,85 @@ struct OffPolygon {
     std::uint32_t index[9];
 };
 
-// Reads the lines of the piece [begin, end), the first of them line number `line` of the body;
-// returns the number after the last line read, or nullopt where assimp's reader would read the
-// file differently. A line's reader stops at or before its end (numbers and spaces never take a
-// line-end character), and the line is skipped from there.
+// Reads the lines of the piece [begin, end), the first of them line number `line` of the body, a
+// line a step; where assimp's reader would read the file differently it fails. A line's reader
+// stops at or before its end (numbers and spaces never take a line-end character), and the line is
+// skipped from there.
 // Faces assimp drops do not count: the reading goes on until it has face_count others. They are
-// counted in `dropped`, or, without it (threads read pieces whose lines are numbered before), decline.
-std::optional<std::size_t> read_piece(const char* begin, const char* end, std::size_t line, const OffTarget& to,
-                                      std::vector<OffPolygon>& polygons, std::size_t* dropped) {
-    const std::size_t last = std::size_t{to.vertex_count} + to.face_count;
-    std::size_t skipped = 0;
-    for (const char* c = begin; line < last + skipped; ++line) {
-        while (c < end && is_line_end(*c)) ++c;
-        if (c >= end) break;
+// counted in `skipped` if `may_drop`, or (threads read pieces whose lines are numbered before) fail.
+class PieceReader {
+public:
+    PieceReader(const char* begin, const char* end, std::size_t line, const OffTarget& to, std::vector<OffPolygon>& polygons,
+                bool may_drop)
+        : c_(begin), end_(end), line_(line), last_(std::size_t{to.vertex_count} + to.face_count), to_(to),
+          polygons_(polygons), may_drop_(may_drop) {}
+
+    // Reads the next line; false once the piece or the lines wanted are done, or failed.
+    [[gnu::always_inline]] bool step() {
+        if (stopped_) return false;
+        while (c_ < end_ && is_line_end(*c_)) ++c_;
+        if (line_ >= last_ + skipped_ || c_ >= end_) return stop(false);
+        const char* c = c_;
         const char* const start = c;
-        if (line < to.vertex_count) {
-            Vec3& p = to.positions[line];
+        if (line_ < to_.vertex_count) {
+            Vec3& p = to_.positions[line_];
             for (std::size_t dim = 0; dim < 3; ++dim) {
                 c = skip_spaces(c);
-                c = read_float(c, p[dim], to.readable_end);  // throws where assimp's reader fails
-                if (!std::isfinite(p[dim])) return std::nullopt;
+                c = read_float(c, p[dim], to_.readable_end);  // throws where assimp's reader fails
+                if (!std::isfinite(p[dim])) return stop(true);
             }
-            if (to.colours) {
-                std::array<float, 4>& rgba = to.colours[line];
+            if (to_.colours) {
+                std::array<float, 4>& rgba = to_.colours[line_];
                 constexpr float cut_off[4] = {0, 0, 0, 1};  // what assimp gives the channels after a '#'
-                c = read_float(skip_spaces(c), rgba[0], to.readable_end);
+                c = read_float(skip_spaces(c), rgba[0], to_.readable_end);
                 for (std::size_t k = 1; k < 4; ++k) {
                     if (*c == '#')
                         rgba[k] = cut_off[k];
                     else
-                        c = read_float(skip_spaces(c), rgba[k], to.readable_end);
+                        c = read_float(skip_spaces(c), rgba[k], to_.readable_end);
                 }
             }
         } else {
-            const std::size_t face = line - to.vertex_count - skipped;
+            const std::size_t face = line_ - to_.vertex_count - skipped_;
             c = skip_spaces(c);
-            const std::uint32_t corners = read_uint(c, &c, to.readable_end);
-            if (corners == 1 || corners == 2) return std::nullopt;  // a point or a line: SortByPType splits the mesh
+            const std::uint32_t corners = read_uint(c, &c, to_.readable_end);
+            if (corners == 1 || corners == 2) return stop(true);  // a point or a line: SortByPType splits the mesh
             // No corners (a comment read as a face, too) or more than 9: assimp drops the face with an error.
             const bool drop = corners == 0 || corners > 9;
-            if (drop && !dropped) return std::nullopt;
-            skipped += drop;
+            if (drop && !may_drop_) return stop(true);
+            skipped_ += drop;
             OffPolygon polygon{static_cast<std::uint32_t>(face), drop ? 0 : corners, {}};
-            std::uint32_t* index = polygon.corners == 3 ? to.indices + 3 * face : polygon.index;
+            std::uint32_t* index = polygon.corners == 3 ? to_.indices + 3 * face : polygon.index;
             for (std::size_t k = 0; k < polygon.corners; ++k) {
                 c = skip_spaces(c);
-                index[k] = read_uint(c, &c, to.readable_end);
-                if (index[k] >= to.vertex_count) return std::nullopt;  // assimp clamps it and logs an error
+                index[k] = read_uint(c, &c, to_.readable_end);
+                if (index[k] >= to_.vertex_count) return stop(true);  // assimp clamps it and logs an error
             }
-            if (polygon.corners > 3) polygons.push_back(polygon);
+            if (polygon.corners > 3) polygons_.push_back(polygon);
         }
         while (*c != '\0' && !is_line_end(*c)) ++c;
-        if (c - start >= k_max_line) return std::nullopt;
+        if (c - start >= k_max_line) return stop(true);
+        c_ = c;
+        ++line_;
+        return true;
     }
-    if (dropped) *dropped = skipped;
-    return line;
-}
+    bool failed() const { return failed_; }
+    // The number after the last line read, and the faces dropped.
+    std::size_t line() const { return line_; }
+    std::size_t skipped() const { return skipped_; }
+
+private:
+    bool stop(bool failed) {
+        stopped_ = true, failed_ = failed;
+        return false;
+    }
+    const char* c_;
+    const char* end_;
+    std::size_t line_, last_, skipped_ = 0;
+    const OffTarget& to_;
+    std::vector<OffPolygon>& polygons_;
+    bool may_drop_, stopped_ = false, failed_ = false;
+};
 
 // Triangulate's faces of a mesh with a polygon: `indices` (three per face, a polygon's unset; the
 // polygons of faces past them not used) becomes the triangles, every one through the NGONEncoder.
@@ -317,20 +340,34 @@ std::optional<PlainOffMesh> read_plain_off_with_header(std::string_view text, co
     std::vector<char> declined(piece.size() - 1, 0);
     std::vector<std::vector<OffPolygon>> polygons(piece.size() - 1);  // per piece, in face order
     std::size_t dropped = 0;
-    auto read = [&](std::size_t k) {
+    // A thread reads two pieces at once, a line of each in turn: a line's numbers are read one
+    // after another (where each ends is where the next begins), and the two pieces' chains overlap.
+    auto read_pair = [&](std::size_t pair) {
+        const std::size_t k = 2 * pair;
         try {
-            const std::optional<std::size_t> read_to =
-                read_piece(piece[k], piece[k + 1], first_line[k], target, polygons[k], pool ? nullptr : &dropped);
-            declined[k] = !read_to;
-            stopped[k] = read_to.value_or(0);
+            PieceReader a(piece[k], piece[k + 1], first_line[k], target, polygons[k], !pool);
+            if (k + 1 < stopped.size()) {
+                PieceReader b(piece[k + 1], piece[k + 2], first_line[k + 1], target, polygons[k + 1], false);
+                for (bool more = true; more;) {  // both stepped each time
+                    const bool more_a = a.step(), more_b = b.step();
+                    more = more_a && more_b;
+                }
+                while (b.step()) {
+                }
+                declined[k + 1] = b.failed(), stopped[k + 1] = b.line();
+            }
+            while (a.step()) {
+            }
+            declined[k] = a.failed(), stopped[k] = a.line();
+            if (!pool) dropped = a.skipped();
         } catch (const NotANumber&) {
             declined[k] = 1;
         }
     };
     if (pool)
-        pool->parallel_for(stopped.size(), read);
+        pool->parallel_for((stopped.size() + 1) / 2, read_pair);
     else
-        read(0);
+        read_pair(0);
     if (std::find(declined.begin(), declined.end(), 1) != declined.end()) return std::nullopt;
     // Threads: the lines were counted before. One thread: assimp's mesh has face_count faces less
     // the dropped ones: the first of those read, or, where the lines ran out after a drop, all of
