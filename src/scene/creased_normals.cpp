@@ -147,7 +147,16 @@ void for_blocks(detail::ThreadPool* pool, std::size_t count, const Block& block,
 }
 
 // The corners of the valid triangles grouped by welded position: the corners at position w are
-// corner[start[w] .. start[w + 1]), in increasing order (a counting sort).
+// corner[start[w] .. start[w + 1]), in increasing order (a counting sort). A corner is numbered
+// 4 * triangle + k here (k_corner_shift), not 3 * triangle + k as elsewhere: the split finds its
+// triangle and k by a shift and a mask instead of a division and a remainder by 3 (the same order).
+constexpr std::uint32_t k_corner_shift = 2;
+// At most this many triangles, so that 4 * triangle + k fits in 32 bits (more: one thread).
+constexpr std::size_t k_max_grouped_triangles = std::size_t{1} << 30;
+std::uint32_t triangle_of(std::uint32_t grouped) { return grouped >> k_corner_shift; }
+std::uint32_t k_of(std::uint32_t grouped) { return grouped & ((1u << k_corner_shift) - 1); }
+// The corner's number as everything but the split has it.
+std::uint32_t corner_of(std::uint32_t grouped) { return 3 * triangle_of(grouped) + k_of(grouped); }
 struct CornersByPosition {
     std::vector<std::uint32_t> start;
     std::vector<std::uint32_t> corner;
@@ -173,7 +182,8 @@ CornersByPosition group_corners(const Mesh& mesh, const PositionOf& position_of,
     std::uint32_t* corner = out.corner.data();
     for (std::size_t t = 0; t < triangles; ++t)
         if (in_range[t])
-            for (std::size_t c = 3 * t; c < 3 * t + 3; ++c) corner[start[position_of(index[c]) + 1]++] = static_cast<std::uint32_t>(c);
+            for (std::uint32_t k = 0; k < 3; ++k)
+                corner[start[position_of(index[3 * t + k]) + 1]++] = static_cast<std::uint32_t>(t << k_corner_shift) + k;
     out.start.pop_back();
     return out;
 }
@@ -415,12 +425,12 @@ Vec3 gather_fan(std::span<const std::uint32_t> corners, const CornerOf& corner_o
     return around;
 }
 
-// A corner as gather_fan takes it, from its triangle's facts.
+// A corner as gather_fan takes it, from its triangle's facts (grouped: its number in CornersByPosition).
 template <class Facts>
-FanCorner corner_from_facts(std::uint32_t c, const Facts& t) {
-    const std::uint32_t k = c % 3;
+FanCorner corner_from_facts(std::uint32_t grouped, const Facts& t) {
+    const std::uint32_t k = k_of(grouped);
     const Vec3 face{t.face[0], t.face[1], t.face[2]};
-    return {c, t.vertex_at(k), t.next_at(k), t.prev_at(k), face, face * t.angle[k]};
+    return {corner_of(grouped), t.vertex_at(k), t.next_at(k), t.prev_at(k), face, face * t.angle[k]};
 }
 
 // Whether no edge has more sides than one is compared with (k_max_edge_neighbours), i.e. whether
@@ -598,7 +608,7 @@ std::vector<Vec3> split_fans(const CornersByPosition& by_position, const Facts* 
             const std::size_t begin = by_position.start[w], end = by_position.start[w + 1];
             for (std::size_t i = begin + k_prefetch_corners; i < std::min(end + k_prefetch_corners, block_end); ++i) {
                 // Both ends: half the 48-byte records span two cache lines.
-                const auto* facts = reinterpret_cast<const char*>(triangles + corner[i] / 3);
+                const auto* facts = reinterpret_cast<const char*>(triangles + triangle_of(corner[i]));
                 __builtin_prefetch(facts);
                 if constexpr (sizeof(Facts) > 32) __builtin_prefetch(facts + sizeof(Facts) - 1);
             }
@@ -607,7 +617,7 @@ std::vector<Vec3> split_fans(const CornersByPosition& by_position, const Facts* 
             if (settle_one_set({corner + begin, corner + end}, triangles, test, static_cast<std::uint32_t>(w), around[w], out))
                 continue;
             around[w] = gather_fan({corner + begin, corner + end},
-                                   [&](std::uint32_t c) { return corner_from_facts(c, triangles[c / 3]); }, s.corners);
+                                   [&](std::uint32_t c) { return corner_from_facts(c, triangles[triangle_of(c)]); }, s.corners);
             assign_set_normals(one_set_by_first_face(test, s.corners) ? 1 : split_into_sets(cos_crease, s), around[w], s,
                                out);
         }
@@ -834,12 +844,12 @@ bool settle_one_set(std::span<const std::uint32_t> corners, const Facts* triangl
     std::uint32_t next[k_sides_read] = {}, prev[k_sides_read] = {}, vertex[k_most];
     std::uint32_t n = 0, set = 0;
     Vec3 sum{}, first{};
-    for (const std::uint32_t c : corners) {
-        const Facts& t = triangles[c / 3];
-        const std::uint32_t k = c % 3;
+    for (const std::uint32_t c : corners) {  // numbered as in CornersByPosition
+        const Facts& t = triangles[triangle_of(c)];
+        const std::uint32_t k = k_of(c);
         const Vec3 face{t.face[0], t.face[1], t.face[2]};
         if (!(dot(face, face) > 0)) continue;  // no area: in no set, nothing in the sum
-        if (n == 0) first = face, set = c;
+        if (n == 0) first = face, set = corner_of(c);
         if (n == k_most || !test.near(face, first)) return false;
         sum += face * t.angle[k];
         next[n] = t.next_at(k), prev[n] = t.prev_at(k);
@@ -1193,7 +1203,8 @@ void detail::compute_creased_normals_on(Mesh& mesh, float crease_angle_radians, 
                                         bool distinct_positions) {
     const std::size_t vertex_count = mesh.positions.size();
     const std::size_t triangles = mesh.indices.size() / 3;
-    detail::ThreadPool* workers = pool && pool->size() > 1 && triangles >= 2 * k_block ? pool : nullptr;
+    detail::ThreadPool* workers =
+        pool && pool->size() > 1 && triangles >= 2 * k_block && triangles <= k_max_grouped_triangles ? pool : nullptr;
 
     Weld welded;
     std::size_t positions = vertex_count;
