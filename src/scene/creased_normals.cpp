@@ -203,6 +203,9 @@ CornersByPosition group_corners(const Mesh& mesh, const PositionOf& position_of,
 // measured, and slower: each corner describing its triangle again from the position's side, with
 // no records (+1.3 ms of 5.8), and records without the vertices and welded positions, fetched
 // from the index and weld arrays instead (24 bytes a triangle instead of 48: +1.1 ms).
+// Whether a face's squared length is within 4e-6 of 1 (FirstFaceTest).
+bool unit_length(Vec3 face) { return std::fabs(dot(face, face) - 1.0f) <= 4e-6f; }
+
 // Plain floats: the array is not zeroed first.
 struct TriangleFacts {
     float face[3];              // the triangle's normal, zero if degenerate
@@ -215,6 +218,7 @@ struct TriangleFacts {
         return facts;
     }
     std::uint32_t vertex_at(std::uint32_t k) const { return vertex[k]; }
+    bool unit_face() const { return unit_length({face[0], face[1], face[2]}); }
     std::uint32_t next_at(std::uint32_t k) const { return position[(k + 1) % 3]; }
     std::uint32_t prev_at(std::uint32_t k) const { return position[(k + 2) % 3]; }
     static constexpr bool k_own_positions = false;  // vertex_at(k) need not be the position's vertex
@@ -228,14 +232,17 @@ constexpr std::size_t k_packed_vertices = std::size_t{1} << k_packed_bits;
 struct alignas(32) PackedFacts {
     float face[3];
     float angle[3];
-    std::uint64_t vertices;  // vertex k at bits 21k
+    std::uint64_t vertices;  // vertex k at bits 21k; bit 63: unit_length(face)
 
     static PackedFacts make(const TriangleFacts& facts, const std::uint32_t* idx, WeldIds) {
         PackedFacts out;
         for (int k = 0; k < 3; ++k) out.face[k] = facts.face[k], out.angle[k] = facts.angle[k];
-        out.vertices = idx[0] | std::uint64_t{idx[1]} << k_packed_bits | std::uint64_t{idx[2]} << 2 * k_packed_bits;
+        out.vertices = idx[0] | std::uint64_t{idx[1]} << k_packed_bits | std::uint64_t{idx[2]} << 2 * k_packed_bits |
+                       std::uint64_t{facts.unit_face()} << 63;
         return out;
     }
+    // Found once while describing rather than at each of the face's three corners in the split.
+    bool unit_face() const { return vertices >> 63; }
     std::uint32_t vertex_at(std::uint32_t k) const {
         return static_cast<std::uint32_t>(vertices >> k_packed_bits * k) & (k_packed_vertices - 1);
     }
@@ -698,9 +705,8 @@ struct FirstFaceTest {
         if (crease >= 0.05f && crease <= k_pi - 0.05f)
             cos_half = static_cast<float>(portable::cos(double{crease} / 2 - 1e-3));
     }
-    bool near(Vec3 face, Vec3 first) const {
-        return std::fabs(dot(face, face) - 1.0f) <= 4e-6f && dot(face, first) > cos_half;
-    }
+    bool near(Vec3 face, Vec3 first) const { return unit_length(face) && near_unit(face, first); }
+    bool near_unit(Vec3 face, Vec3 first) const { return dot(face, first) > cos_half; }
 };
 
 // Every position's sums in one array.
@@ -874,9 +880,12 @@ bool settle_one_set(std::span<const std::uint32_t> corners, const Facts* triangl
         const Facts& t = triangles[triangle_of(c)];
         const std::uint32_t k = k_of(c);
         const Vec3 face{t.face[0], t.face[1], t.face[2]};
-        if (!(dot(face, face) > 0)) continue;  // no area: in no set, nothing in the sum
+        if (!t.unit_face()) {  // as test.near would find it
+            if (!(dot(face, face) > 0)) continue;  // no area: in no set, nothing in the sum
+            return false;
+        }
         if (n == 0) first = face, set = corner_of(c);
-        if (n == k_most || !test.near(face, first)) return false;
+        if (n == k_most || !test.near_unit(face, first)) return false;
         sum += face * t.angle[k];
         next[n] = t.next_at(k), prev[n] = t.prev_at(k);
         if constexpr (!Facts::k_own_positions) vertex[n] = t.vertex_at(k);
