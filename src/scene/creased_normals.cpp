@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <cstdlib>
 #include <cmath>
@@ -158,6 +159,14 @@ std::uint32_t triangle_of(std::uint32_t grouped) { return grouped >> k_corner_sh
 std::uint32_t k_of(std::uint32_t grouped) { return grouped & ((1u << k_corner_shift) - 1); }
 // The corner's number as everything but the split has it.
 std::uint32_t corner_of(std::uint32_t grouped) { return 3 * triangle_of(grouped) + k_of(grouped); }
+// The record of a grouped corner's triangle: at byte (4 * triangle) * (sizeof(Facts) / 4), one mask
+// from the corner's number instead of a shift down and one up.
+template <class Facts>
+const Facts& facts_of(const Facts* triangles, std::uint32_t grouped) {
+    static_assert(sizeof(Facts) % (1u << k_corner_shift) == 0);
+    const std::size_t at = std::size_t{grouped & ~((1u << k_corner_shift) - 1)} * (sizeof(Facts) >> k_corner_shift);
+    return *reinterpret_cast<const Facts*>(reinterpret_cast<const char*>(triangles) + at);
+}
 struct CornersByPosition {
     std::vector<std::uint32_t> start;
     std::vector<std::uint32_t> corner;
@@ -622,7 +631,7 @@ std::vector<Vec3> split_fans(const CornersByPosition& by_position, const Facts* 
             const std::size_t begin = by_position.start[w], end = by_position.start[w + 1];
             for (std::size_t i = begin + k_prefetch_corners; i < std::min(end + k_prefetch_corners, block_end); ++i) {
                 // Both ends: half the 48-byte records span two cache lines.
-                const auto* facts = reinterpret_cast<const char*>(triangles + triangle_of(corner[i]));
+                const auto* facts = reinterpret_cast<const char*>(&facts_of(triangles, corner[i]));
                 __builtin_prefetch(facts);
                 if constexpr (sizeof(Facts) > 32) __builtin_prefetch(facts + sizeof(Facts) - 1);
             }
@@ -800,42 +809,86 @@ std::uint32_t first_side(const std::uint32_t* sides, std::uint32_t n, std::uint3
     const std::uint32_t equal = (equal_at(0) | equal_at(4) << 4 | equal_at(8) << 8) & ((1u << n) - 1);  // a bit a side
     return equal ? static_cast<std::uint32_t>(std::countr_zero(equal)) : n;
 }
-// The same where n <= 8 (most fans): two compares of 4 lanes instead of three.
-std::uint32_t first_side_of_8(const std::uint32_t* sides, std::uint32_t n, std::uint32_t side) {
-    const __m128i wanted = _mm_set1_epi32(static_cast<int>(side));
-    const auto equal_at = [&](std::size_t from) {
-        const __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(sides + from));
-        return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(lanes, wanted))));
+// The sides of up to 8 corners in vector lanes: corners 0-3 in the low vectors, 4-7 in the high.
+struct SidesOf8 {
+    __m128i next_low, next_high, prev_low, prev_high;
+};
+// From arrays of 32-bit sides (8 readable in each).
+SidesOf8 sides_of_8(const std::uint32_t* next, const std::uint32_t* prev) {
+    const auto load = [](const std::uint32_t* from) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(from)); };
+    return {load(next), load(next + 4), load(prev), load(prev + 4)};
+}
+// From a corner's sides in a word each (next | prev << 32; 8 readable), written one by one just
+// before: loaded as they were stored, 8 bytes each (16-byte loads of the arrays, stored 4 bytes at a
+// time, waited for the stores to complete: a seventh of the split's samples).
+SidesOf8 sides_of_8(const std::uint64_t* pairs) {
+    const auto load = [&](int i) { return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(pairs + i)); };
+    const __m128i low_01 = _mm_unpacklo_epi64(load(0), load(1)), low_23 = _mm_unpacklo_epi64(load(2), load(3));
+    const __m128i high_45 = _mm_unpacklo_epi64(load(4), load(5)), high_67 = _mm_unpacklo_epi64(load(6), load(7));
+    const auto even = [](__m128i a, __m128i b) {  // lanes 0 and 2 of each
+        return _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b), 0x88));
     };
-    const std::uint32_t equal = (equal_at(0) | equal_at(4) << 4) & ((1u << n) - 1);
-    return equal ? static_cast<std::uint32_t>(std::countr_zero(equal)) : n;
+    const auto odd = [](__m128i a, __m128i b) {
+        return _mm_castps_si128(_mm_shuffle_ps(_mm_castsi128_ps(a), _mm_castsi128_ps(b), 0xDD));
+    };
+    return {even(low_01, low_23), even(high_45, high_67), odd(low_01, low_23), odd(high_45, high_67)};
+}
+
+// Whether n <= 8 corners make a closed fan as joined_by_sides follows one: from corner 0 to each
+// corner's successor (the first whose previous side is its next side) and back to 0 after all n.
+// The 64 comparisons at once, a byte a corner (bit j: prev[j] == next[i]), then the walk from byte
+// to byte: a third of the instructions of a search per corner.
+[[gnu::always_inline]] inline bool closed_fan_of_8(const SidesOf8& sides, std::uint32_t n) {
+    // Inlined (the compiler otherwise calls four_rows: 60 instructions a fan more).
+    const auto row = [&](__m128i next_i) __attribute__((always_inline)) {  // 8 lanes of 16 bits
+        return _mm_packs_epi32(_mm_cmpeq_epi32(next_i, sides.prev_low), _mm_cmpeq_epi32(next_i, sides.prev_high));
+    };
+    const auto rows = [&](__m128i a, __m128i b) __attribute__((always_inline)) {  // two corners' bytes
+        return std::uint64_t{static_cast<std::uint16_t>(_mm_movemask_epi8(_mm_packs_epi16(row(a), row(b))))};
+    };
+    const auto four_rows = [&](__m128i next) __attribute__((always_inline)) {
+        return rows(_mm_shuffle_epi32(next, 0x00), _mm_shuffle_epi32(next, 0x55)) |
+               rows(_mm_shuffle_epi32(next, 0xAA), _mm_shuffle_epi32(next, 0xFF)) << 16;
+    };
+    std::uint64_t successors = four_rows(sides.next_low);
+    if (n > 4) successors |= four_rows(sides.next_high) << 32;
+    successors &= 0x0101010101010101ull * ((1u << n) - 1);  // no corner beyond n
+    for (std::uint32_t at = 0, step = 1; step <= n; ++step) {
+        const auto bits = static_cast<std::uint32_t>(successors >> 8 * at) & 0xFF;
+        if (!bits) return false;
+        if ((at = static_cast<std::uint32_t>(std::countr_zero(bits))) == 0) return step == n;
+    }
+    return false;
 }
 #endif
+
+// Whether the corners make a closed fan as joined_by_sides (below) follows one, by a search for each
+// corner's successor.
+template <class Side>
+bool closed_by_search(const Side* next, const Side* prev, std::uint32_t n) {
+    std::uint32_t successor[k_max_edge_neighbours + 1];
+    for (std::uint32_t i = 0; i < n; ++i) successor[i] = first_side(prev, n, next[i]);
+    for (std::uint32_t at = 0, step = 1; step <= n; ++step) {
+        const std::uint32_t j = successor[at];
+        if (j == n) return false;
+        if ((at = j) == 0) return step == n;
+    }
+    return false;
+}
 
 template <class Side>
 bool joined_by_sides(const Side* next, const Side* prev, std::uint32_t n) {  // n <= k_max_edge_neighbours + 1
     // Closed: from each corner to the first whose previous side is its next side, back to the
     // first corner after all of them (then each was reached once). Each corner's successor is
     // found first, every search independent of the others, then followed.
-    std::uint32_t successor[k_max_edge_neighbours + 1];
-    bool found = false;
+    bool closed;
 #if defined(__SSE2__)
     if constexpr (std::is_same_v<Side, std::uint32_t>)
-        if (n <= 8) {
-            for (std::uint32_t i = 0; i < n; ++i) successor[i] = first_side_of_8(prev, n, next[i]);
-            found = true;
-        }
+        closed = n <= 8 ? closed_fan_of_8(sides_of_8(next, prev), n) : closed_by_search(next, prev, n);
+    else
 #endif
-    if (!found)
-        for (std::uint32_t i = 0; i < n; ++i) successor[i] = first_side(prev, n, next[i]);
-    for (std::uint32_t at = 0, step = 1; step <= n; ++step) {
-        const std::uint32_t j = successor[at];
-        if (j == n) break;
-        if ((at = j) == 0) {
-            if (step == n) return true;
-            break;
-        }
-    }
+        closed = closed_by_search(next, prev, n);
+    if (closed) return true;
     std::uint64_t reached = 1;
     for (const bool forward : {true, false})
         for (std::uint32_t at = 0;;) {
@@ -865,36 +918,98 @@ bool one_set_by_first_face(const FirstFaceTest& test, const std::vector<FanCorne
     return joined_by_sides(next, prev, n);
 }
 
+// A face or a sum of faces in vector lanes where there are some: x, y, z and a lane never read back.
+#if defined(__SSE2__)
+using Lanes3 = __m128;
+// The three floats at xyz and the one after them (a face: its record's first angle).
+Lanes3 load_lanes3(const float* xyz) { return _mm_loadu_ps(xyz); }
+Lanes3 zero_lanes3() { return _mm_setzero_ps(); }
+// dot's operations in its order: ((0 + x) + y) + z of the products.
+float dot_lanes3(Lanes3 a, Lanes3 b) {
+    const __m128 p = _mm_mul_ps(a, b);
+    return _mm_cvtss_f32(_mm_add_ss(_mm_add_ss(_mm_add_ss(_mm_setzero_ps(), p), _mm_shuffle_ps(p, p, 1)), _mm_movehl_ps(p, p)));
+}
+Lanes3 add_scaled(Lanes3 sum, Lanes3 a, float s) { return _mm_add_ps(sum, _mm_mul_ps(a, _mm_set1_ps(s))); }
+Lanes3 divided(Lanes3 a, float s) { return _mm_div_ps(a, _mm_set1_ps(s)); }
+Vec3 vec3_of(Lanes3 a) {
+    alignas(16) float lanes[4];
+    _mm_store_ps(lanes, a);
+    return {lanes[0], lanes[1], lanes[2]};
+}
+#else
+using Lanes3 = Vec3;
+Lanes3 load_lanes3(const float* xyz) { return {xyz[0], xyz[1], xyz[2]}; }
+Lanes3 zero_lanes3() { return {}; }
+float dot_lanes3(Lanes3 a, Lanes3 b) { return dot(a, b); }
+Lanes3 add_scaled(Lanes3 sum, Lanes3 a, float s) { return sum + a * s; }
+Lanes3 divided(Lanes3 a, float s) { return a / s; }
+Vec3 vec3_of(Lanes3 a) { return a; }
+#endif
+
 // The fans one_set_by_first_face finds one set, settled in one pass over their records, as
 // gather_fan, that test and assign_set_normals settle them (the same sum in corner order, the same
 // test, the same writes), without a FanCorner each: at two threads most positions are settled here
-// (the bunny's fans with assign_set_normals: 34.1 -> 27.0 M instructions). False, with nothing written, for any other fan.
+// (the bunny's fans with assign_set_normals: 34.1 -> 27.0 M instructions). False, with nothing
+// written, for any other fan, and for fans of more corners than the test takes, with area or not
+// (the split then finds the same: one set or not, and the same sum).
 template <class Facts>
 bool settle_one_set(std::span<const std::uint32_t> corners, const Facts* triangles, const FirstFaceTest& test,
                     std::uint32_t position, Vec3& around, VertexNormals out) {
     constexpr std::uint32_t k_most = k_max_edge_neighbours + 1;
-    std::uint32_t next[k_sides_read] = {}, prev[k_sides_read] = {}, vertex[k_most];
-    std::uint32_t n = 0, set = 0;
-    Vec3 sum{}, first{};
-    for (const std::uint32_t c : corners) {  // numbered as in CornersByPosition
-        const Facts& t = triangles[triangle_of(c)];
-        const std::uint32_t k = k_of(c);
-        const Vec3 face{t.face[0], t.face[1], t.face[2]};
-        if (!t.unit_face()) {  // as test.near would find it
-            if (!(dot(face, face) > 0)) continue;  // no area: in no set, nothing in the sum
+    if (corners.size() < 2 || corners.size() > k_most) return false;
+    static_assert(offsetof(Facts, angle) == offsetof(Facts, face) + 3 * sizeof(float));  // load_lanes3 reads 4 floats
+    std::uint64_t sides[k_most] = {};  // per corner with area: next | prev << 32
+    std::uint32_t vertex[k_most];
+    std::uint32_t n = 0;
+    const std::uint32_t* c = corners.data();
+    const std::uint32_t* const end = c + corners.size();
+    const auto with_area = [](const Facts& t) { const Vec3 face{t.face[0], t.face[1], t.face[2]}; return dot(face, face) > 0; };
+    // The first corner with area: the others' faces are tested against its face.
+    for (;; ++c) {
+        if (c == end) return false;
+        const Facts& t = facts_of(triangles, *c);
+        if (t.unit_face()) break;
+        if (with_area(t)) return false;  // as test.near would find it
+    }
+    const Lanes3 first = load_lanes3(facts_of(triangles, *c).face);
+    const std::uint32_t set = corner_of(*c);
+    Lanes3 sum = zero_lanes3();
+    const float cos_half = test.cos_half;
+    for (; c != end; ++c) {  // numbered as in CornersByPosition
+        const std::uint32_t grouped = *c;
+        const Facts& t = facts_of(triangles, grouped);
+        const std::uint32_t k = k_of(grouped);
+        if (!t.unit_face()) [[unlikely]] {  // as test.near would find it
+            if (!with_area(t)) continue;  // no area: in no set, nothing in the sum
             return false;
         }
-        if (n == 0) first = face, set = corner_of(c);
-        if (n == k_most || !test.near_unit(face, first)) return false;
-        sum += face * t.angle[k];
-        next[n] = t.next_at(k), prev[n] = t.prev_at(k);
+        const Lanes3 face = load_lanes3(t.face);
+        if (!(dot_lanes3(face, first) > cos_half)) return false;  // test.near_unit
+        sum = add_scaled(sum, face, t.angle[k]);
+        sides[n] = t.next_at(k) | std::uint64_t{t.prev_at(k)} << 32;
         if constexpr (!Facts::k_own_positions) vertex[n] = t.vertex_at(k);
         ++n;
     }
-    if (n < 2 || !joined_by_sides(next, prev, n)) return false;
-    around = sum;
-    const Vec3 normal = normalize(sum);
-    if (!(dot(normal, normal) > 0)) return true;
+    if (n < 2) return false;
+    const auto joined = [&] {  // the other fans (open, or of 9 corners): as arrays
+        std::uint32_t next[k_sides_read] = {}, prev[k_sides_read] = {};
+        for (std::uint32_t i = 0; i < n; ++i) next[i] = static_cast<std::uint32_t>(sides[i]), prev[i] = sides[i] >> 32;
+        return joined_by_sides(next, prev, n);
+    };
+#if defined(__SSE2__)
+    static_assert(k_most >= 8);  // sides_of_8 reads 8
+    if (!(n <= 8 && closed_fan_of_8(sides_of_8(sides), n)) && !joined()) return false;
+#else
+    if (!joined()) return false;
+#endif
+    around = vec3_of(sum);
+    // normalize's usual case here (it is not inlined): then the normal's squared length is near 1.
+    const float length = std::sqrt(dot_lanes3(sum, sum));
+    Vec3 normal;
+    if (length > 0 && length < std::numeric_limits<float>::infinity())
+        normal = vec3_of(divided(sum, length));
+    else if (normal = normalize(around); !(dot(normal, normal) > 0))
+        return true;
     if constexpr (Facts::k_own_positions) {  // every corner's vertex is the position's own, in no set yet
         out.set_of(position) = set, out.normals[position] = normal;
         return true;
