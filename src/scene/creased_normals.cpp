@@ -603,8 +603,9 @@ void assign_set_normals(std::size_t sets, Vec3 around, FanScratch& s, VertexNorm
     }
 }
 
-// The facts of the triangles this many corners ahead are fetched while a position is worked on.
-constexpr std::size_t k_prefetch_corners = 16;
+// The facts of the triangles this many corners ahead are fetched while a position is worked on: far
+// enough for the host's slow minutes, when memory answers later (docs/BENCHMARKS.md, session 18).
+constexpr std::size_t k_prefetch_corners = 32;
 
 // Whether a fan is one set by the test that settles positions by their sums at one thread (below).
 struct FirstFaceTest;
