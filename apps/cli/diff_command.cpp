@@ -30,6 +30,14 @@ std::string fixed(const char* format, double v) {
 
 std::string size_of(int w, int h) { return std::to_string(w) + "x" + std::to_string(h); }
 
+// read_png of a folder fails in zlib ("not a valid PNG file (stream error)"): say what was given instead.
+Result<Image> read_png_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec))
+        return Result<Image>(Error{ErrorCode::io, path + ": is a directory, not a PNG file"});
+    return read_png(path);
+}
+
 std::string json_number(double v, const char* format) { return std::isfinite(v) ? fixed(format, v) : "null"; }
 
 }  // namespace
@@ -116,8 +124,8 @@ int run_diff(const std::string& path_a, const std::string& path_b, const DiffOpt
         std::fprintf(stderr, "facet diff: %s\n", thresholds.error().message.c_str());
         return k_exit_usage;
     }
-    Result<Image> a = read_png(path_a);
-    Result<Image> b = a ? read_png(path_b) : Result<Image>(a.error());
+    Result<Image> a = read_png_file(path_a);
+    Result<Image> b = a ? read_png_file(path_b) : Result<Image>(a.error());
     if (!a || !b) {
         std::fprintf(stderr, "facet diff: %s\n", (a ? b : a).error().message.c_str());
         return k_exit_usage;
@@ -183,7 +191,7 @@ int check_reference(const std::string& output, const ReferenceCheck& r) {
     }
     std::error_code ec;
     const bool exists = std::filesystem::exists(r.reference, ec);
-    Result<Image> reference = exists ? read_png(r.reference) : Result<Image>(Error{ErrorCode::io, ""});
+    Result<Image> reference = exists ? read_png_file(r.reference) : Result<Image>(Error{ErrorCode::io, ""});
     if (exists && !reference && !r.update) {
         std::fprintf(stderr, "%s: %s\n", command, reference.error().message.c_str());
         return k_exit_usage;

@@ -137,7 +137,7 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     add_option(c, "--point-size", o.point_size, "Points' diameter in pixels of the output image (0 < PX <= 256 / ssaa)")
         ->capture_default_str();
     add_option(c, "--point-world-size", o.point_world_size,
-               "Points' diameter in model units instead, perspective-scaled (at most 256 pixels / ssaa)");
+               "Points' diameter in model units instead (0 < S <= 256), perspective-scaled (at most 256 pixels / ssaa)");
     add_option(c, "--point-shape", o.point_shape, "round | square")->check(CLI::IsMember({"round", "square"}))->capture_default_str();
     add_option(c, "--line-width", o.line_width, "Lines' width in pixels of the output image (0 < PX <= 256 / ssaa)")
         ->capture_default_str();
@@ -226,7 +226,9 @@ bool has_camera_options(const CLI::App& c) {
 Result<std::pair<int, int>> parse_image_size(const std::string& name, const std::string& text, int ssaa, bool square) {
     int w = 0, h = 0;
     const std::string wxh = square && text.find('x') == std::string::npos ? text + "x" + text : text;
-    if (!parse_size(wxh, w, h)) return usage(name + (square ? " must be N or WxH, got '" : " must be WxH, got '") + text + "'");
+    if (!parse_size(wxh, w, h))
+        return usage(name + (square ? " must be N or WxH, each at least 1, got '" : " must be WxH, each at least 1, got '") +
+                     text + "'");
     if (static_cast<long>(w) * ssaa > k_max_target_size || static_cast<long>(h) * ssaa > k_max_target_size)
         return usage(name + " times --ssaa must stay within " + std::to_string(k_max_target_size) + " pixels per side");
     return std::pair{w, h};
@@ -324,8 +326,11 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, 
         return usage("--point-size must be more than 0 and at most 256 / --ssaa pixels, got " + general_number(o.point_size));
     if (!(o.line_width > 0 && o.line_width <= most))
         return usage("--line-width must be more than 0 and at most 256 / --ssaa pixels, got " + general_number(o.line_width));
-    if (o.point_world_size && !(*o.point_world_size > 0 && *o.point_world_size < 1e30f))
-        return usage("--point-world-size must be a positive number of model units, got " + general_number(*o.point_world_size));
+    // The draw's limit (PrimitiveStyle::k_max_point_size) holds for sizes in model units too: a larger
+    // one ended the worker in an exception.
+    if (o.point_world_size && !(*o.point_world_size > 0 && *o.point_world_size <= PrimitiveStyle::k_max_point_size))
+        return usage("--point-world-size must be more than 0 and at most 256 model units, got " +
+                     general_number(*o.point_world_size));
     PrimitiveStyle& style = p.settings.primitives;
     style.point_size = (o.point_world_size ? *o.point_world_size : o.point_size) * (o.point_world_size ? 1.0f : static_cast<float>(o.ssaa));
     style.point_shape = o.point_shape == "square" ? PointShape::square : PointShape::round;

@@ -325,12 +325,16 @@ int run_render(const std::string& model, const std::string& output, const std::s
             return render_job(mapped, report);
         },
         *limits);
-    // The worker has printed its own messages for the statuses it chose.
-    if (exited(outcome) && (outcome.status == k_exit_ok || outcome.status == k_exit_failed))
+    // The worker has printed its own messages for the statuses it chose, but not an exception's (run_caught
+    // reports it: std::bad_alloc under --max-memory, say), which ended it with status 1 and no word.
+    const std::string input = model.empty() ? "the default scene" : model;
+    if (exited(outcome) && (outcome.status == k_exit_ok || outcome.status == k_exit_failed)) {
+        if (outcome.status == k_exit_failed && !outcome.message.empty())
+            std::fprintf(stderr, "facet render: %s: %s\n", input.c_str(), outcome.message.c_str());
         return finish_views(then_check(outcome.status));
+    }
     finish_views(k_exit_failed);
     clean_up_after(outcome, request);
-    const std::string input = model.empty() ? "the default scene" : model;
     std::fprintf(stderr, "facet render: %s\n", describe_abnormal_end(outcome, input, *limits).c_str());
     // Any other exit status is passed on (a sanitizer's report in a sanitizer build, say).
     return exited(outcome) && outcome.status != k_exit_ok ? outcome.status : k_exit_failed;

@@ -473,7 +473,12 @@ int run_thumbs(const std::vector<std::string>& inputs, const std::string& output
                const CollectionOptions& collection) {
     const char* command = "facet thumbs";
     RenderOptions o = options;
-    if (o.size.find('x') == std::string::npos) o.size += "x" + o.size;  // --size N means N x N
+    // --size N means N x N; checked as given first, so that a bad one is quoted as the user wrote it.
+    if (Result<std::pair<int, int>> size = parse_image_size("--size", o.size, 1, /*square=*/true); !size) {
+        std::fprintf(stderr, "%s: %s\n", command, size.error().message.c_str());
+        return k_exit_usage;
+    }
+    if (o.size.find('x') == std::string::npos) o.size += "x" + o.size;
     Result<RenderPlan> plan = make_plan(o, /*camera_options_given=*/true);  // models are always framed
     if (!plan) {
         std::fprintf(stderr, "%s: %s\n", command, plan.error().message.c_str());

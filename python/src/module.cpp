@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 #include "binding.hpp"
@@ -60,9 +61,11 @@ void value_error(const std::string& message) { throw py::value_error(message); }
 void raise_file_error(const Error& error, const std::string& path) {
     std::error_code ec;
     if (error.code == ErrorCode::io && !std::filesystem::exists(path, ec)) {
-        py::object e = py::reinterpret_steal<py::object>(PyObject_CallFunction(PyExc_FileNotFoundError, "s", error.message.c_str()));
-        e.attr("errno") = ENOENT;
-        e.attr("filename") = path;
+        // (errno, strerror, filename), as open() raises it: given the message alone with errno and filename set
+        // after, str(e) read "[Errno 2] None: 'path'".
+        py::object e = py::reinterpret_steal<py::object>(
+            PyObject_CallFunction(PyExc_FileNotFoundError, "iss", ENOENT, std::strerror(ENOENT), path.c_str()));
+        if (!e) throw py::error_already_set();
         PyErr_SetObject(PyExc_FileNotFoundError, e.ptr());
         throw py::error_already_set();
     }

@@ -21,8 +21,10 @@ def test_a_missing_file_is_a_file_not_found_error(tmp_path):
     path = tmp_path / "nothing.obj"
     with pytest.raises(FileNotFoundError) as e:
         facet.load(path)
-    assert str(path) in str(e.value)
     assert e.value.filename == str(path) and e.value.errno == 2
+    # As open() words it, naming the file and the reason (not "[Errno 2] None: ...").
+    assert e.value.strerror == os.strerror(2)
+    assert str(e.value) == f"[Errno 2] {os.strerror(2)}: {str(path)!r}"
     with pytest.raises(FileNotFoundError):
         facet.load_isolated(str(path))
 
@@ -207,8 +209,9 @@ BAD_RENDERS = [
     (dict(line_width=-1), ValueError, "line_width must be more than 0"),
     (dict(line_width=1e9), ValueError, "line_width must be more than 0"),
     (dict(point_shape="hexagon"), ValueError, "point_shape must be 'round' or 'square'"),
-    (dict(point_world_size=0), ValueError, "point_world_size must be a positive number"),
-    (dict(point_world_size=float("inf")), ValueError, "point_world_size must be a positive number"),
+    (dict(point_world_size=0), ValueError, "point_world_size must be more than 0 and at most 256 model units"),
+    (dict(point_world_size=float("inf")), ValueError, "point_world_size must be more than 0"),
+    (dict(point_world_size=257), ValueError, "point_world_size must be more than 0 and at most 256 model units, or None, got 257"),
 ]
 
 

@@ -251,7 +251,7 @@ TEST(CliCollection, BadEntriesAreReportedOneByOneAndTheBatchGoesOn) {
                               "\n  duplicate id: 1\n", "\n  bad manifest entry: 6\n"})
         EXPECT_TRUE(contains(r.err, group)) << group << "\n" << r.err;
     EXPECT_TRUE(contains(r.err, "    failed: " + m + ":8: unknown key \"azimuth\"")) << r.err;
-    EXPECT_TRUE(contains(r.err, "    failed: " + m + ":6: size must be N or WxH, got '0x4'")) << r.err;
+    EXPECT_TRUE(contains(r.err, "    failed: " + m + ":6: size must be N or WxH, each at least 1, got '0x4'")) << r.err;
     EXPECT_TRUE(contains(r.err, "    failed: " + m + ":10: views: ")) << r.err;
     EXPECT_TRUE(contains(r.err, "    failed: " + m + ":11: passes: unknown pass 'colour'")) << r.err;
 }

@@ -183,6 +183,9 @@ TEST(CliDiff, BrokenOrMissingFilesAndBadUsageExitTwo) {
     const CliRun missing = diff({(dir / "none.png").string(), a});
     EXPECT_EQ(missing.exit_code, 2) << missing.all();
     EXPECT_NE(missing.err.find("none.png"), std::string::npos) << missing.err;
+    const CliRun folder = diff({a, dir.string()});  // said "not a valid PNG file (stream error)"
+    EXPECT_EQ(folder.exit_code, 2) << folder.all();
+    EXPECT_NE(folder.err.find(dir.string() + ": is a directory"), std::string::npos) << folder.err;
     EXPECT_EQ(diff({a}).exit_code, 2);
     for (const char* bad : {"ssim", "diff=256", "diff=1.5", "pixels=-1", "ssim=2", "colour=1", "diff=1%", "psnr=x"}) {
         const CliRun t = diff({a, a, "--threshold", bad});

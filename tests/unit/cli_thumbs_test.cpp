@@ -202,6 +202,9 @@ TEST(CliThumbs, MissingInputsAndBadOptions) {
         EXPECT_TRUE(!fs::exists(b.out) || fs::is_empty(b.out));
     }
     EXPECT_EQ(run_facet({"thumbs", b.in.string()}).exit_code, 2);  // -o is required
+    // Quoted as given (it said "--size must be WxH, got '0x0'" for --size 0).
+    const CliRun zero = run_facet({"thumbs", b.in.string(), "-o", b.out.string(), "--size", "0"});
+    EXPECT_NE(zero.err.find("--size must be N or WxH, each at least 1, got '0'\n"), std::string::npos) << zero.err;
 }
 
 }  // namespace

@@ -235,6 +235,17 @@ TEST(RenderIsolation, TheMemoryCapStopsAReaderThatAllocatesWithoutBound) {
     EXPECT_TRUE(facet_test::decode_png(dir / "box.png").ok());
 }
 
+TEST(RenderIsolation, ARenderThatRunsOutOfMemorySaysSoNamingTheModel) {
+    if (k_sanitized) GTEST_SKIP() << "no memory cap in sanitizer builds (RLIMIT_DATA would count the shadow memory)";
+    const fs::path dir = facet_test::test_temp_dir("facet_isolation");
+    // The default scene loads in a few MiB, but an 8000x8000 target does not fit in 64 MiB: the worker's
+    // render throws std::bad_alloc. It ended with status 1 and no message.
+    const CliRun r = run_facet({"render", "-o", (dir / "big.png").string(), "--size", "8000x8000", "--max-memory", "64M"});
+    EXPECT_EQ(r.exit_code, 1) << r.all();
+    EXPECT_TRUE(contains(r.err, "facet render: the default scene: out of memory\n")) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "big.png"));
+}
+
 TEST(RenderIsolation, InvalidLimitsAreUsageErrors) {
     const fs::path dir = facet_test::test_temp_dir("facet_isolation");
     for (std::vector<std::string> args : {std::vector<std::string>{"--timeout", "-1"}, {"--timeout", "nan"},
