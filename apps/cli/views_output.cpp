@@ -321,9 +321,10 @@ Result<ViewsStaging> stage_views(const std::string& output, const ViewsPlan& pla
     for (const std::string& f : folders) {
         const fs::path p = f.empty() ? s.folder : s.folder / f;
         if (!fs::create_directory(p, ec) || ec) {
+            // The reason before the clean-up's own error code replaces it (it said "exists" for any).
+            const std::string why = ec ? ec.message() : std::string("exists");
             fs::remove_all(s.folder, ec);
-            return Error{ErrorCode::io, output + ": cannot create files beside it (" + p.string() + ": " +
-                                            (ec ? ec.message() : std::string("exists")) + ")"};
+            return Error{ErrorCode::io, output + ": cannot create files beside it (" + p.string() + ": " + why + ")"};
         }
         s.write_folders.push_back(p.string());
     }

@@ -7,12 +7,14 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "math/portable_trig.hpp"
@@ -240,6 +242,18 @@ TEST(CliViews, UnwritableOutputsFailWithNothingLeft) {
         EXPECT_NE(r.err.find("file"), std::string::npos) << r.err;
         EXPECT_EQ(facet_test::read_file(dir / "file"), "a file, not a folder");
         EXPECT_EQ(entries_besides(dir, {"boxes.obj", "file"}), std::vector<std::string>{});
+    }
+    // The staging folder cannot be made, even by root: sysfs refuses new folders. The reason is the
+    // system's (the clean-up's error code replaced it, and the message said "exists").
+    if (fs::is_directory("/sys/kernel")) {
+        const CliRun sys = render({model, "--views", "orbit:2", "--size", "16x16", "-o", "/sys/facet-views-test"});
+        EXPECT_EQ(sys.exit_code, 1) << sys.all();
+        EXPECT_NE(sys.err.find("/sys/facet-views-test: cannot create files beside it (/sys/facet-views-test.tmp"),
+                  std::string::npos) << sys.err;
+        bool named = false;
+        for (int e : {EPERM, EACCES, EROFS})
+            named = named || sys.err.find(": " + std::generic_category().message(e) + ")") != std::string::npos;
+        EXPECT_TRUE(named) << sys.err;
     }
     // A model that cannot be loaded: exit 1 and no folder, no staging folder.
     const CliRun r = render({(dir / "missing.obj").string(), "--views", "orbit:2", "--passes", "color,depth", "-o",
