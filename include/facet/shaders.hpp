@@ -529,6 +529,20 @@ struct CompiledBlendPass<shaders::PbrUnlitBlended> {
                     std::uint32_t id);
 };
 
+// The shaders render_scene draws anti-aliased lines with (its draw_points_lines): their segments'
+// blended pixels by a SIMD kernel (src/shade/line_aa_simd.cpp), the same bytes as shade_tile.
+#define FACET_COMPILED_LINE_AA_PASS(S)                                                                  \
+    template <>                                                                                       \
+    struct CompiledLineAaPass<shaders::S> {                                                           \
+        static constexpr bool available = true;                                                       \
+        static void run(const void* shader, const TriangleSetup& t, const TileCoverage& coverage, PixelRect tile, \
+                        const float* const (&var)[3], TargetView target, DepthTest test, std::uint32_t* owner, \
+                        std::uint32_t id);                                                            \
+    };
+FACET_COMPILED_LINE_AA_PASS(LambertBaseColour)
+FACET_COMPILED_LINE_AA_PASS(VertexColour)
+#undef FACET_COMPILED_LINE_AA_PASS
+
 // Vertex i's clip position as run_vertex_stage computes it (transform_points: the same bits).
 inline Vec4 clip_position(const MeshArrays& mesh, const ShadingUniforms& u, std::uint32_t i) {
     Vec4 out;

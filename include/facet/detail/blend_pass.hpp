@@ -7,6 +7,9 @@
 //                   std::uint32_t* owner, std::uint32_t id);
 // (TileShading::shade_covered's signature) is drawn by its run() instead, which computes the same
 // bytes (src/shade/blend_simd.cpp: shaders::PbrUnlitBlended, the contact shadow's quad).
+// CompiledLineAaPass is the same hook for anti-aliased line draws (line_aa.hpp), whose records
+// the default draws by shade_tile with their coverage: a run() of the same signature draws them
+// instead, the same bytes (src/shade/line_aa_simd.cpp: the shaders render_scene draws lines with).
 #pragma once
 
 #include "facet/api.hpp"
@@ -21,6 +24,11 @@ struct TargetView;
 
 template <class S>
 struct CompiledBlendPass {
+    static constexpr bool available = false;
+};
+
+template <class S>
+struct CompiledLineAaPass {
     static constexpr bool available = false;
 };
 

@@ -61,7 +61,8 @@ void shade_covered(const void* shader, const TriangleSetup& t, const TileCoverag
 // of `shader` for it: the one place where the order is decided. Depth writes and blending become
 // template parameters here; the depth test stays a run-time argument of the compiled depth pass and
 // of shade_tile (one copy per shader, not five). An anti-aliased line draw (`line_aa`) takes
-// shade_tile, which scales alpha by coverage, rather than a compiled blend pass.
+// shade_tile, which scales alpha by coverage, or the shader's compiled line pass (CompiledLineAaPass)
+// where it has one, rather than a compiled blend pass.
 template <class S>
 TileShading tile_shading(const S& shader, const DrawState& state, std::size_t triangles, bool line_aa = false) {
     TileShading s{.shader = &shader, .varyings = S::k_varyings, .depth_test = state.depth_test,
@@ -81,6 +82,8 @@ TileShading tile_shading(const S& shader, const DrawState& state, std::size_t tr
             s.shade_covered = w ? &shade_covered<S, true, Blend::alpha> : &shade_covered<S, false, Blend::alpha>;
             if constexpr (CompiledBlendPass<S>::available)
                 if (!w && !line_aa) s.shade_covered = &CompiledBlendPass<S>::run;
+            if constexpr (CompiledLineAaPass<S>::available)
+                if (!w && line_aa) s.shade_covered = &CompiledLineAaPass<S>::run;
         } else if constexpr (!can_skip_hidden)
             s.shade_covered = w ? &shade_covered<S, true, Blend::none> : &shade_covered<S, false, Blend::none>;
     }
