@@ -174,6 +174,10 @@ bool reference_usable(const ReferenceCheck& r, const char* command) {
         return false;
     }
     std::error_code ec;
+    if (std::filesystem::is_directory(r.reference, ec)) {  // it was found out after rendering
+        std::fprintf(stderr, "%s: the reference %s is a directory, not a PNG file\n", command, r.reference.c_str());
+        return false;
+    }
     if (!r.update && !std::filesystem::exists(r.reference, ec)) {
         std::fprintf(stderr, "%s: the reference %s does not exist (--update-reference writes it)\n", command,
                      r.reference.c_str());

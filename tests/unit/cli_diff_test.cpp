@@ -235,6 +235,17 @@ TEST(CliRenderReference, WritesComparesAndReportsTheDifference) {
     EXPECT_EQ(missing.exit_code, 2) << missing.all();
     EXPECT_NE(missing.err.find(ref + " does not exist (--update-reference writes it)"), std::string::npos) << missing.err;
     EXPECT_FALSE(fs::exists(out));
+    // So is a folder, with or without --update-reference (it rendered, then failed to read it as a PNG).
+    const std::string folder = (dir / "refs").string();
+    fs::create_directories(folder);
+    for (bool update : {false, true}) {
+        std::vector<std::string> args = {"render", "--size", "64x48", "-o", out, "--reference", folder};
+        if (update) args.push_back("--update-reference");
+        const CliRun r = run_facet(args);
+        EXPECT_EQ(r.exit_code, 2) << r.all();
+        EXPECT_NE(r.err.find(folder + " is a directory, not a PNG file"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
     // --update-reference writes it, and says so.
     const CliRun first = with({"--update-reference"});
     ASSERT_EQ(first.exit_code, 0) << first.all();
