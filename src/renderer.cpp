@@ -93,12 +93,20 @@ Renderer::Plan Renderer::begin_draw(Framebuffer& target, const DrawState& state,
 
     const PrimitiveStyle& style = input.style;
     if (input.topology == Topology::points) {
-        require(style.point_size > 0 && style.point_size <= PrimitiveStyle::k_max_point_size, [&] {
-            return "draw: the point size must be in (0, 256], got " + std::to_string(style.point_size);
-        });
         require(style.model_scale >= 0 && style.model_scale < 1e30f, [&] {
             return "draw: the point model scale must be finite and not negative, got " + std::to_string(style.model_scale);
         });
+        // A size in model units may be any positive number: what is drawn is capped at
+        // k_max_point_size pixels (assemble_points), and a product too large for a float is infinite
+        // there, which the cap takes too.
+        const bool model_units = style.model_scale > 0;
+        require(model_units ? style.point_size > 0 && style.point_size < PrimitiveStyle::k_model_point_size_bound
+                            : style.point_size > 0 && style.point_size <= PrimitiveStyle::k_max_point_size,
+                [&] {
+                    return (model_units ? "draw: the point size in model units must be in (0, 1e30), got "
+                                        : "draw: the point size must be in (0, 256], got ") +
+                           std::to_string(style.point_size);
+                });
     }
     require(input.topology != Topology::lines || (style.line_width > 0 && style.line_width <= PrimitiveStyle::k_max_line_width),
             [&] { return "draw: the line width must be in (0, 256], got " + std::to_string(style.line_width); });

@@ -137,7 +137,7 @@ void add_render_options(CLI::App& c, RenderOptions& o) {
     add_option(c, "--point-size", o.point_size, "Points' diameter in pixels of the output image (0 < PX <= 256 / ssaa)")
         ->capture_default_str();
     add_option(c, "--point-world-size", o.point_world_size,
-               "Points' diameter in model units instead (0 < S <= 256), perspective-scaled (at most 256 pixels / ssaa)");
+               "Points' diameter in model units instead, perspective-scaled (at most 256 pixels / ssaa)");
     add_option(c, "--point-shape", o.point_shape, "round | square")->check(CLI::IsMember({"round", "square"}))->capture_default_str();
     add_option(c, "--line-width", o.line_width, "Lines' width in pixels of the output image (0 < PX <= 256 / ssaa)")
         ->capture_default_str();
@@ -326,10 +326,8 @@ Result<RenderPlan> make_plan(const RenderOptions& o, bool camera_options_given, 
         return usage("--point-size must be more than 0 and at most 256 / --ssaa pixels, got " + general_number(o.point_size));
     if (!(o.line_width > 0 && o.line_width <= most))
         return usage("--line-width must be more than 0 and at most 256 / --ssaa pixels, got " + general_number(o.line_width));
-    // The draw's limit (PrimitiveStyle::k_max_point_size) holds for sizes in model units too: a larger
-    // one ended the worker in an exception.
-    if (o.point_world_size && !(*o.point_world_size > 0 && *o.point_world_size <= PrimitiveStyle::k_max_point_size))
-        return usage("--point-world-size must be more than 0 and at most 256 model units, got " +
+    if (o.point_world_size && !(*o.point_world_size > 0 && *o.point_world_size < PrimitiveStyle::k_model_point_size_bound))
+        return usage("--point-world-size must be more than 0 and less than 1e30 model units, got " +
                      general_number(*o.point_world_size));
     PrimitiveStyle& style = p.settings.primitives;
     style.point_size = (o.point_world_size ? *o.point_world_size : o.point_size) * (o.point_world_size ? 1.0f : static_cast<float>(o.ssaa));

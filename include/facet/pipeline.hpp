@@ -141,7 +141,8 @@ enum class PointShape { round, square };
 // index of one is the first of the next) meet in a mitred join, so strips have neither gaps nor
 // double hits. With `model_scale` > 0 the point size is in model units instead: a point at clip w
 // is size * model_scale / w pixels (model_scale: pixels per unit at w = 1, e.g. the projection's
-// y scale times half the viewport's height), at most k_max_point_size.
+// y scale times half the viewport's height), at most k_max_point_size; such a size may be any number
+// in (0, k_model_point_size_bound).
 // With `line_aa` lines are anti-aliased instead (README.md, "Anti-aliased lines"): each covers the
 // band of half-width width / 2 + 1/2 with a coverage of min(1, the pixel centre's distance to the
 // band's edge), its colour blended over what is behind by it (the draw's blending and depth writes
@@ -149,6 +150,7 @@ enum class PointShape { round, square };
 // strip blends each pixel once.
 struct PrimitiveStyle {
     static constexpr float k_max_point_size = 256.0f;  // pixels; sizes and widths must be in (0, this]
+    static constexpr float k_model_point_size_bound = 1e30f;  // sizes in model units must be in (0, this)
     static constexpr float k_max_line_width = 256.0f;
     float point_size = 1.0f;
     PointShape point_shape = PointShape::round;

@@ -56,7 +56,8 @@ public:
     // Draws triangles, points or lines (input.topology) with `shader`. Invalid geometry (indices out
     // of range, NaN or infinite positions, zero-area triangles, parts behind the eye) is dropped and
     // counted in the returned stats; the rest renders. Throws FacetError for an empty or off-target
-    // viewport, or a point size or line width outside (0, 256]. With `passes`,
+    // viewport, or a point size or line width outside (0, 256] (a point size in model units outside
+    // (0, 1e30)). With `passes`,
     // also writes the render passes of the pixels where the draw's triangles end up visible
     // (facet/passes.hpp; its targets of the target's size); without, a draw costs nothing more.
     template <Shader S>

@@ -115,9 +115,10 @@ void set_primitives(RenderSettings& s, const PrimitiveArgs& a, int ssaa) {
     const std::string range = " must be more than 0 and at most 256 / ssaa pixels, got ";
     if (!(a.point_size > 0 && a.point_size <= most)) value_error("point_size" + range + py::str(py::float_(a.point_size)).cast<std::string>());
     if (!(a.line_width > 0 && a.line_width <= most)) value_error("line_width" + range + py::str(py::float_(a.line_width)).cast<std::string>());
-    // The draw's limit holds for sizes in model units too (it raised "draw: the point size must be ...").
-    if (a.point_world_size && !(*a.point_world_size > 0 && *a.point_world_size <= PrimitiveStyle::k_max_point_size))
-        value_error("point_world_size must be more than 0 and at most 256 model units, or None, got " +
+    // Tested as the float the draw gets (the bound is a float; below 1e30 the conversion is defined).
+    if (a.point_world_size && !(*a.point_world_size > 0 && *a.point_world_size < 1e30 &&
+                                static_cast<float>(*a.point_world_size) < PrimitiveStyle::k_model_point_size_bound))
+        value_error("point_world_size must be more than 0 and less than 1e30 model units, or None, got " +
                     py::str(py::float_(*a.point_world_size)).cast<std::string>());
     if (a.point_shape != "round" && a.point_shape != "square") value_error("point_shape must be 'round' or 'square'");
     PrimitiveStyle& style = s.primitives;
@@ -332,7 +333,8 @@ point_size : float
 point_shape : str
     'round' (default: the pixel centres within point_size / 2) or 'square'.
 point_world_size : float, optional
-    The points' diameter in model units instead (0 < size <= 256), perspective-scaled.
+    The points' diameter in model units instead (0 < size < 1e30), perspective-scaled (at most
+    256 / ssaa pixels).
 line_width : float
     Width of the scene's line segments in pixels of the image (0 < width <= 256 / ssaa).
 line_aa : bool

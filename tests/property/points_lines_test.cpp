@@ -423,6 +423,25 @@ TEST(Points, ModelUnitSizesArePerspectiveScaled) {
     EXPECT_EQ(far.count, pixels8.count);
 }
 
+// A size in model units may exceed 256: the point drawn is capped at 256 pixels, also where the
+// size times the scale is too large for a float. Sizes that are not in (0, 1e30) are refused.
+TEST(Points, ModelUnitSizesAboveTheLimitAreDrawnAtTheLimit) {
+    // The centre 100 pixels left of the 64-pixel target (inside the guard band), so that only the
+    // disc's right part reaches the target and its size shows.
+    std::vector<Vec4> pos = {{-4.125f, 0.1f, 0.5f, 1}};
+    const std::uint32_t point[] = {0};
+    const Hits largest = draw_counting(pos, {point[0]}, Topology::points, {.point_size = PrimitiveStyle::k_max_point_size});
+    const Hits smaller = draw_counting(pos, {point[0]}, Topology::points, {.point_size = 250});
+    ASSERT_NE(largest.count, smaller.count);
+    for (float units : {300.0f, 1e6f, 9e29f}) {
+        const Hits h = draw_counting(pos, {point[0]}, Topology::points, {.point_size = units, .model_scale = 1e20f});
+        EXPECT_EQ(h.count, largest.count) << units;
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (float bad : {0.0f, -1.0f, nan, 1e30f, std::numeric_limits<float>::infinity()})
+        EXPECT_THROW(draw_counting(pos, {point[0]}, Topology::points, {.point_size = bad, .model_scale = 4}), FacetError) << bad;
+}
+
 // A draw is cut into chunks by segment index, more of them with more threads (2048 segments or more
 // make two chunks at one thread): lone segments (a line list's, which the front end queues in a loop of
 // their own), strips and loops through the chunks' boundaries, repeated and out-of-range indices,

@@ -591,7 +591,7 @@ TEST(CliRender, PointAndLineSizesOutOfRangeAreUsageErrors) {
     const fs::path dir = temp_dir();
     const std::string cloud = write_text(dir / "cloud.xyz", "0 0 0\n1 0 0\n0 1 0\n");
     const fs::path out = dir / "o.png";
-    for (std::vector<std::string> bad : {std::vector<std::string>{"--point-world-size", "257"}, {"--point-world-size", "0"},
+    for (std::vector<std::string> bad : {std::vector<std::string>{"--point-world-size", "1e30"}, {"--point-world-size", "0"},
                                          {"--point-size", "0"}, {"--point-size", "200", "--ssaa", "2"},
                                          {"--line-width", "300"}}) {
         std::vector<std::string> args{"render", cloud, "--size", "16x16", "-o", out.string()};
@@ -601,9 +601,9 @@ TEST(CliRender, PointAndLineSizesOutOfRangeAreUsageErrors) {
         EXPECT_NE(r.err.find(bad[0] + " must be more than 0"), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(out));
     }
-    // The largest size in model units draws. A larger one passed the check and ended the worker in the
-    // draw's exception: status 1 and no message.
-    const CliRun r = run_facet({"render", cloud, "--size", "16x16", "-o", out.string(), "--point-world-size", "256"});
+    // A size in model units above the draw's 256 pixels draws, capped at 256 pixels (the draw refused
+    // one above 256 units, which ended the worker in an exception: status 1 and no message).
+    const CliRun r = run_facet({"render", cloud, "--size", "16x16", "-o", out.string(), "--point-world-size", "1e6"});
     EXPECT_EQ(r.exit_code, 0) << r.all();
     EXPECT_TRUE(fs::exists(out));
 }
