@@ -72,14 +72,6 @@ struct AlphaMap {
     }
 };
 
-// The 8-bit channel at `shift` of packed Rgba8 lanes, as to_vec4 reads it: c / 255.
-HWY_INLINE VF channel(hn::Vec<DU> packed, int shift) {
-    const DF df;
-    const DU du;
-    const auto c = hn::And(hn::ShiftRightSame(packed, shift), hn::Set(du, 0xffu));
-    return hn::Div(hn::ConvertTo(df, hn::BitCast(DI(), c)), hn::Set(df, 255.0f));
-}
-
 // The pixels of a row whose bilinear samples of the map may have alpha: the others blend to the
 // target's own bytes (alpha 0: the display colour, in [0, 1], times 0 plus each byte / 255 times 1
 // rounds back to the byte). A sample has alpha only where u and v reach the texels of the map's
@@ -167,10 +159,7 @@ void BlendUnlit(const Shader& s, const TriangleSetup& t, const TileCoverage& cov
     const AlphaMap map = texture ? AlphaMap{reinterpret_cast<const std::uint32_t*>(texture->level(0).pixels.data()),
                                             texture->level(0).width, texture->level(0).height}
                                  : AlphaMap{nullptr, 0, 0};
-    const std::uint32_t pass_set = depth_pass_set(test);
-    const MF none = hn::FirstN(df, 0);
-    const MF pass_lt = (pass_set >> 1) & 1u ? hn::Not(none) : none, pass_eq = (pass_set >> 2) & 1u ? hn::Not(none) : none,
-             pass_gt = (pass_set >> 4) & 1u ? hn::Not(none) : none, pass_nan = pass_set & 1u ? hn::Not(none) : none;
+    const DepthTestLanes depth_test(depth_pass_set(test));
     HWY_ALIGN float iota[lanes];
     HWY_ALIGN std::uint32_t bit_of[lanes];
     for (int l = 0; l < lanes; ++l) iota[l] = static_cast<float>(l), bit_of[l] = 1u << l;
@@ -203,13 +192,7 @@ void BlendUnlit(const Shader& s, const TriangleSetup& t, const TileCoverage& cov
 
             // depth_at and the depth test (depth_passes_in).
             const VF dx = hn::Sub(hn::Add(hn::Add(hn::Set(df, static_cast<float>(x)), lane_x), half), hn::Set(df, t.x0));
-            VF z = hn::Add(hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx)), hn::Mul(hn::Set(df, t.dzdy), dy));
-            z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
-            const VF stored = hn::Load(df, depth_in);
-            const MF lt = hn::Lt(z, stored), eq = hn::Eq(z, stored), gt = hn::Gt(z, stored);
-            const MF passes = hn::Or(hn::Or(hn::And(lt, pass_lt), hn::And(eq, pass_eq)),
-                                     hn::Or(hn::And(gt, pass_gt), hn::AndNot(hn::Or(hn::Or(lt, eq), gt), pass_nan)));
-            const MF drawn = hn::And(covered, passes);
+            const MF drawn = hn::And(covered, depth_test.passes(depth_lanes(t, dx, dy), hn::Load(df, depth_in)));
             if (hn::AllFalse(df, drawn)) continue;
 
             // fragment_at's interpolation of the uv and the colour.
@@ -229,13 +212,8 @@ void BlendUnlit(const Shader& s, const TriangleSetup& t, const TileCoverage& cov
             if (texture) alpha = hn::Mul(alpha, hn::Div(map(varying(uv_at), varying(uv_at + 1)), hn::Set(df, 255.0f)));
 
             // The blend over the target and to_rgba8.
-            const VF a = hn::IfThenElse(hn::Gt(alpha, zero), hn::IfThenElse(hn::Lt(alpha, one), alpha, one), zero);
-            const VF keep = hn::Sub(one, a);
             const auto dst = hn::Load(du, colour_io);
-            const ColourLanes blended{hn::Add(hn::Mul(black_r, a), hn::Mul(channel(dst, 0), keep)),
-                                      hn::Add(hn::Mul(black_g, a), hn::Mul(channel(dst, 8), keep)),
-                                      hn::Add(hn::Mul(black_b, a), hn::Mul(channel(dst, 16), keep)),
-                                      hn::Add(a, hn::Mul(channel(dst, 24), keep))};
+            const ColourLanes blended = blend_over(black_r, black_g, black_b, blend_alpha(alpha), dst);
             const MF vector_lanes = hn::AndNot(scalar, drawn);
             hn::Store(hn::IfThenElse(hn::RebindMask(du, vector_lanes), to_rgba8(blended), dst), du, colour_io);
             std::memcpy(colour_row + x, colour_io, sizeof(std::uint32_t) * static_cast<std::size_t>(n));

@@ -37,9 +37,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 namespace {
 
-// Normals no longer than this go to the specification (as the Lambert visible pass leaves them).
-constexpr float k_min_normal_length = 0x1p-60f;
-
 // The lane-wide fragment() of shaders::LambertBaseColour: shade(base colour, lambert_term(normalize(n))).
 struct LambertBaseColourLineLanes {
     using S = shaders::LambertBaseColour;
@@ -60,14 +57,6 @@ struct VertexColourLineLanes {
     const S& s;
     HWY_INLINE ColourLanes operator()(LanesIn<N>& in) const { return colour_lanes<S::Layout>(in.v); }
 };
-
-// The 8-bit channel at `shift` of packed Rgba8 lanes, as to_vec4 reads it: c / 255.
-HWY_INLINE VF channel(hn::Vec<DU> packed, int shift) {
-    const DF df;
-    const DU du;
-    const auto c = hn::And(hn::ShiftRightSame(packed, shift), hn::Set(du, 0xffu));
-    return hn::Div(hn::ConvertTo(df, hn::BitCast(DI(), c)), hn::Set(df, 255.0f));
-}
 
 // std::min(d, v) of double lanes: v < d ? v : d (x86's min returns its second operand unless the
 // first is less: one instruction).
@@ -116,10 +105,8 @@ void BlendLineAa(const Lanes& lanes, const TriangleSetup& t, const TileCoverage&
         if (aa.per_length[k] > 0) fading[fadings++] = k;
 
     const VaryingPlanes<N> planes(var);
-    const std::uint32_t pass_set = depth_pass_set(test);
+    const DepthTestLanes depth_test(depth_pass_set(test));
     const MF none = hn::FirstN(df, 0);
-    const MF pass_lt = (pass_set >> 1) & 1u ? hn::Not(none) : none, pass_eq = (pass_set >> 2) & 1u ? hn::Not(none) : none,
-             pass_gt = (pass_set >> 4) & 1u ? hn::Not(none) : none, pass_nan = pass_set & 1u ? hn::Not(none) : none;
     const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half_f = hn::Set(df, 0.5f);
     TileCoverage rest;  // pixels for the specification (its rows cleared when the first is found)
     bool any_rest = false;
@@ -148,13 +135,7 @@ void BlendLineAa(const Lanes& lanes, const TriangleSetup& t, const TileCoverage&
         // depth_at and the depth test (depth_passes_in).
         const VF dx = hn::Sub(hn::Add(hn::ConvertTo(df, xi), half_f), hn::Set(df, t.x0));
         const VF dy = hn::Sub(hn::Add(hn::ConvertTo(df, yi), half_f), hn::Set(df, t.y0));
-        VF z = hn::Add(hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx)), hn::Mul(hn::Set(df, t.dzdy), dy));
-        z = hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
-        const VF stored = hn::Load(df, p.depth);
-        const MF lt = hn::Lt(z, stored), eq = hn::Eq(z, stored), gt = hn::Gt(z, stored);
-        const MF passes = hn::Or(hn::Or(hn::And(lt, pass_lt), hn::And(eq, pass_eq)),
-                                 hn::Or(hn::And(gt, pass_gt), hn::AndNot(hn::Or(hn::Or(lt, eq), gt), pass_nan)));
-        const MF drawn = hn::And(active, passes);
+        const MF drawn = hn::And(active, depth_test.passes(depth_lanes(t, dx, dy), hn::Load(df, p.depth)));
         if (hn::AllFalse(df, drawn)) return;
 
         // fragment_at's interpolation.
@@ -172,14 +153,8 @@ void BlendLineAa(const Lanes& lanes, const TriangleSetup& t, const TileCoverage&
         const MF scalar = hn::And(drawn, in.scalar);
 
         // The blend over the target, alpha times coverage, and to_rgba8.
-        const VF a = hn::Mul(hn::IfThenElse(hn::Gt(c.a, zero), hn::IfThenElse(hn::Lt(c.a, one), c.a, one), zero), coverage);
-        const VF keep = hn::Sub(one, a);
-        const auto dst = hn::Load(du, p.colour);
-        const ColourLanes blended{hn::Add(hn::Mul(c.r, a), hn::Mul(channel(dst, 0), keep)),
-                                  hn::Add(hn::Mul(c.g, a), hn::Mul(channel(dst, 8), keep)),
-                                  hn::Add(hn::Mul(c.b, a), hn::Mul(channel(dst, 16), keep)),
-                                  hn::Add(a, hn::Mul(channel(dst, 24), keep))};
-        hn::Store(to_rgba8(blended), du, p.out);
+        const VF a = hn::Mul(blend_alpha(c.a), coverage);
+        hn::Store(to_rgba8(blend_over(c.r, c.g, c.b, a, hn::Load(du, p.colour))), du, p.out);
         for (std::uint64_t m = mask_bits(hn::AndNot(scalar, drawn)); m; m &= m - 1) {
             const int l = std::countr_zero(m);
             std::memcpy(target.colour + static_cast<std::size_t>(p.y[l]) * target.stride + p.x[l], &p.out[l], sizeof(Rgba8));

@@ -333,6 +333,59 @@ HWY_INLINE hn::Vec<DU> grey_to_rgba8(hn::Vec<DU> grey, hn::Vec<DU> alpha_word) {
 #endif
 }
 
+// The largest normal length the Lambert lanes leave to the specification, besides zero and
+// non-finite ones: above it every square and sum of normalize is in the normal float range, so
+// the normalized vector's length is at most 1 + 5 * 2^-24 and dot(n, key) at most
+// |key| (1 + 9 * 2^-24) (Cauchy-Schwarz and each operation's rounding).
+constexpr float k_min_normal_length = 0x1p-60f;
+
+// For the blended kernels (blend_simd.cpp, line_aa_simd.cpp), which follow the one-pass order's pixel
+// loop (fragment.hpp's shade_covered_pixels):
+// depth_at in lanes, at (dx, dy) from the triangle's (x0, y0): its depth plane clamped to [0, 1].
+HWY_INLINE VF depth_lanes(const TriangleSetup& t, VF dx, VF dy) {
+    const DF df;
+    const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+    const VF z = hn::Add(hn::Add(hn::Set(df, t.z0), hn::Mul(hn::Set(df, t.dzdx), dx)), hn::Mul(hn::Set(df, t.dzdy), dy));
+    return hn::IfThenElse(hn::Lt(z, zero), zero, hn::IfThenElse(hn::Gt(z, one), one, z));
+}
+// depth_passes_in in lanes, for a depth test given by its depth_pass_set: each outcome's mask is all
+// lanes or none.
+struct DepthTestLanes {
+    MF lt, eq, gt, unordered;
+    explicit DepthTestLanes(std::uint32_t pass_set) {
+        const DF df;
+        const MF none = hn::FirstN(df, 0), all = hn::Not(none);
+        lt = (pass_set >> 1) & 1u ? all : none, eq = (pass_set >> 2) & 1u ? all : none;
+        gt = (pass_set >> 4) & 1u ? all : none, unordered = pass_set & 1u ? all : none;
+    }
+    HWY_INLINE MF passes(VF z, VF stored) const {
+        const MF z_lt = hn::Lt(z, stored), z_eq = hn::Eq(z, stored), z_gt = hn::Gt(z, stored);
+        return hn::Or(hn::Or(hn::And(z_lt, lt), hn::And(z_eq, eq)),
+                      hn::Or(hn::And(z_gt, gt), hn::AndNot(hn::Or(hn::Or(z_lt, z_eq), z_gt), unordered)));
+    }
+};
+// The 8-bit channel at `shift` of packed Rgba8 lanes, as to_vec4 reads it: c / 255.
+HWY_INLINE VF unpack_channel(hn::Vec<DU> packed, int shift) {
+    const DF df;
+    const DU du;
+    const auto c = hn::And(hn::ShiftRightSame(packed, shift), hn::Set(du, 0xffu));
+    return hn::Div(hn::ConvertTo(df, hn::BitCast(DI(), c)), hn::Set(df, 255.0f));
+}
+// The blend's alpha, as shade_covered_pixels: a > 0 ? (a < 1 ? a : 1) : 0 (NaN to 0).
+HWY_INLINE VF blend_alpha(VF a) {
+    const DF df;
+    const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f);
+    return hn::IfThenElse(hn::Gt(a, zero), hn::IfThenElse(hn::Lt(a, one), a, one), zero);
+}
+// The alpha blend of colour (r, g, b) at alpha a (in [0, 1]) over the packed Rgba8 lanes `dst`, as
+// shade_covered_pixels: c * a + dst * (1 - a), alpha a + dst.a * (1 - a).
+HWY_INLINE ColourLanes blend_over(VF r, VF g, VF b, VF a, hn::Vec<DU> dst) {
+    const VF keep = hn::Sub(hn::Set(DF(), 1.0f), a);
+    return {hn::Add(hn::Mul(r, a), hn::Mul(unpack_channel(dst, 0), keep)),
+            hn::Add(hn::Mul(g, a), hn::Mul(unpack_channel(dst, 8), keep)),
+            hn::Add(hn::Mul(b, a), hn::Mul(unpack_channel(dst, 16), keep)), hn::Add(a, hn::Mul(unpack_channel(dst, 24), keep))};
+}
+
 // How many varyings' derivatives a shader's lanes read: Lanes::D, or none.
 template <class Lanes>
 constexpr int derivative_lanes() {

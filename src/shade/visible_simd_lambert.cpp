@@ -23,12 +23,6 @@ namespace hn = hwy::HWY_NAMESPACE;
 // (LambertBaseColour) so is the colour: both are the lambert mode's (white key light, no fill, grey
 // albedo). The same operations on the same bits: the same bytes. A dark fill light is left out of
 // grey lights (fill_is_dark: the same bytes too).
-// The largest normal length the Lambert lanes leave to the specification, besides zero and
-// non-finite ones: above it every square and sum of normalize is in the normal float range, so
-// the normalized vector's length is at most 1 + 5 * 2^-24 and dot(n, key) at most
-// |key| (1 + 9 * 2^-24) (Cauchy-Schwarz and each operation's rounding).
-constexpr float k_min_normal_length = 0x1p-60f;
-
 // Whether the grey colour of grey lights without fill, base * (ambient + (key * k) * diffuse)
 // with k = max(dot(n, key), 0) (key * k taken as k when `unit_key`), lies in [-0, 1) at every lane
 // the Lambert lanes shade themselves: then to_rgba8's clamps change nothing there. Every factor
